@@ -1,0 +1,343 @@
+#include "comm/comm.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "domain/domain.h"
+#include "neighbor/contact_history.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+int nb(int p) { return p < 0 ? MPI_PROC_NULL : p; }
+
+// Exchange counts then doubles with one partner each way.
+void sendrecv_doubles(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
+                      int recvproc, MPI_Comm world) {
+  int nsend = static_cast<int>(send.size()), nrecv = 0;
+  MPI_Sendrecv(&nsend, 1, MPI_INT, sendproc, 1, &nrecv, 1, MPI_INT, recvproc, 1, world,
+               MPI_STATUS_IGNORE);
+  if (recvproc == MPI_PROC_NULL) nrecv = 0;
+  recv.resize(nrecv);
+  MPI_Sendrecv(send.data(), sendproc == MPI_PROC_NULL ? 0 : nsend, MPI_DOUBLE, sendproc, 2,
+               recv.data(), nrecv, MPI_DOUBLE, recvproc, 2, world, MPI_STATUS_IGNORE);
+}
+}  // namespace
+
+Comm::Comm(Engine& engine) : engine_(engine) {}
+
+void Comm::processors_command(const Args& args) {
+  require_args(args, 3, 3, "processors Px Py Pz  (each an integer or *)");
+  if (engine_.domain->box_exist) throw InputError("processors must come before the box is created");
+  for (int d = 0; d < 3; ++d) {
+    user_grid[d] = args[d] == "*" ? 0 : static_cast<int>(parse_int(args[d], "processors"));
+    if (user_grid[d] < 0) throw InputError("processor counts must be positive or *");
+  }
+  int known = 1;
+  for (int d = 0; d < 3; ++d) known *= user_grid[d] > 0 ? user_grid[d] : 1;
+  if (engine_.nprocs % known != 0) {
+    throw InputError("processors " + join(args) + " does not divide the " +
+                     std::to_string(engine_.nprocs) + " MPI ranks");
+  }
+}
+
+void Comm::modify_command(const Args& args) {
+  // comm_modify / communicate: [single] [vel yes|no] [cutoff D] [mode single]
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& w = args[k];
+    if (w == "single" || w == "multi") continue;
+    if (w == "mode" && k + 1 < args.size()) {
+      ++k;
+      continue;
+    }
+    if ((w == "vel") && k + 1 < args.size()) {
+      ghost_velocity = parse_bool(args[++k], "vel");
+    } else if ((w == "cutoff") && k + 1 < args.size()) {
+      cutghost_user = parse_double(args[++k], "cutoff");
+    } else {
+      throw InputError("unknown keyword '" + w + "' in comm_modify; expected vel yes|no or cutoff D");
+    }
+  }
+}
+
+// Factor nprocs into a grid that minimises the surface between subdomains.
+void Comm::choose_grid() {
+  const int n = engine_.nprocs;
+  const Vec3& prd = engine_.domain->prd;
+  double best = std::numeric_limits<double>::max();
+  std::array<int, 3> grid{{1, 1, n}};
+  for (int px = 1; px <= n; ++px) {
+    if (n % px || (user_grid[0] && user_grid[0] != px)) continue;
+    for (int py = 1; py <= n / px; ++py) {
+      if ((n / px) % py || (user_grid[1] && user_grid[1] != py)) continue;
+      const int pz = n / px / py;
+      if (user_grid[2] && user_grid[2] != pz) continue;
+      const double ax = prd[0] / px, ay = prd[1] / py, az = prd[2] / pz;
+      const double surf = ax * ay + ay * az + ax * az;
+      if (surf < best - 1e-12 * surf) {
+        best = surf;
+        grid = {px, py, pz};
+      }
+    }
+  }
+  if (best == std::numeric_limits<double>::max()) {
+    throw InputError("the processors grid does not match " + std::to_string(n) + " MPI ranks");
+  }
+  procgrid = grid;
+  const int me = engine_.rank;
+  myloc = {me % procgrid[0], (me / procgrid[0]) % procgrid[1], me / (procgrid[0] * procgrid[1])};
+  for (int d = 0; d < 3; ++d) {
+    for (int s = 0; s < 2; ++s) {
+      std::array<int, 3> loc = myloc;
+      loc[d] += s == 0 ? -1 : 1;
+      if (loc[d] < 0 || loc[d] >= procgrid[d]) {
+        if (!engine_.domain->periodic[d]) {
+          procneigh[d][s] = -1;
+          continue;
+        }
+        loc[d] = (loc[d] + procgrid[d]) % procgrid[d];
+      }
+      procneigh[d][s] = loc[0] + procgrid[0] * (loc[1] + procgrid[1] * loc[2]);
+    }
+    split[d].resize(procgrid[d] + 1);
+    for (int k = 0; k <= procgrid[d]; ++k) split[d][k] = static_cast<double>(k) / procgrid[d];
+  }
+  grid_set_ = true;
+}
+
+void Comm::set_subdomain() {
+  Domain& dom = *engine_.domain;
+  for (int d = 0; d < 3; ++d) {
+    dom.sublo[d] = dom.boxlo[d] + split[d][myloc[d]] * dom.prd[d];
+    dom.subhi[d] = myloc[d] == procgrid[d] - 1 ? dom.boxhi[d]
+                                                : dom.boxlo[d] + split[d][myloc[d] + 1] * dom.prd[d];
+  }
+}
+
+void Comm::setup(double cutghost_needed) {
+  if (!grid_set_) choose_grid();
+  set_subdomain();
+  cutghost = std::max(cutghost_needed, cutghost_user);
+  const Domain& dom = *engine_.domain;
+  for (int d = 0; d < 3; ++d) {
+    const double width = dom.subhi[d] - dom.sublo[d];
+    const bool need = procgrid[d] > 1 || dom.periodic[d];
+    if (need && cutghost > width) {
+      throw InputError("the ghost cutoff " + std::to_string(cutghost) + " exceeds the subdomain width " +
+                       std::to_string(width) + " along " + std::string(1, "xyz"[d]) +
+                       "; use fewer MPI ranks along that direction (processors command), a smaller "
+                       "skin, or a larger box");
+    }
+  }
+}
+
+int Comm::owner_of(const Vec3& x) const {
+  const Domain& dom = *engine_.domain;
+  int loc[3];
+  for (int d = 0; d < 3; ++d) {
+    const double frac = (x[d] - dom.boxlo[d]) / dom.prd[d];
+    int k = static_cast<int>(std::upper_bound(split[d].begin(), split[d].end(), frac) - split[d].begin()) - 1;
+    loc[d] = std::clamp(k, 0, procgrid[d] - 1);
+  }
+  return loc[0] + procgrid[0] * (loc[1] + procgrid[1] * loc[2]);
+}
+
+void Comm::exchange(ContactHistory* history) {
+  Particles& p = *engine_.particles;
+  Domain& dom = *engine_.domain;
+  p.clear_ghosts();
+  for (int i = 0; i < p.nlocal; ++i) dom.remap(p.x[i], p.image[i]);
+
+  // Particles outside a fixed ('f') boundary are lost; the caller acts on the count.
+  nlost = 0;
+  for (int i = 0; i < p.nlocal;) {
+    bool out = false;
+    for (int d = 0; d < 3; ++d) {
+      out |= dom.boundary[d][0] == 'f' && p.x[i][d] < dom.boxlo[d];
+      out |= dom.boundary[d][1] == 'f' && p.x[i][d] > dom.boxhi[d];
+    }
+    if (!out) {
+      ++i;
+      continue;
+    }
+    if (nlost == 0) {
+      char buf[256];
+      std::snprintf(buf, sizeof buf, "particle %lld at (%g, %g, %g) with velocity (%g, %g, %g)",
+                    static_cast<long long>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2], p.v[i][0],
+                    p.v[i][1], p.v[i][2]);
+      first_lost = buf;
+    }
+    ++nlost;
+    if (history) history->forget_particle(p.id[i]);
+    p.remove_local(i);
+  }
+
+  for (int d = 0; d < 3; ++d) {
+    if (procgrid[d] == 1) continue;
+    // Repeat until nothing is outside along d (a particle may cross several subdomains).
+    for (int pass = 0; pass < procgrid[d]; ++pass) {
+      std::vector<double> send[2];
+      int i = 0;
+      while (i < p.nlocal) {
+        int side = -1;
+        if (p.x[i][d] < dom.sublo[d] && myloc[d] > 0) side = 0;
+        else if (p.x[i][d] >= dom.subhi[d] && myloc[d] < procgrid[d] - 1) side = 1;
+        else if (dom.periodic[d] && p.x[i][d] < dom.sublo[d]) side = 0;
+        else if (dom.periodic[d] && p.x[i][d] >= dom.subhi[d]) side = 1;
+        if (side < 0) {
+          ++i;
+          continue;
+        }
+        p.pack_exchange(i, send[side]);
+        if (history) {
+          const std::size_t at = send[side].size();
+          history->pack_particle(p.id[i], send[side]);
+          migrated_contacts += static_cast<long long>(send[side][at]);
+        }
+        ++migrated_particles;
+        p.remove_local(i);
+      }
+      int moved_local = static_cast<int>(!send[0].empty() || !send[1].empty()), moved = 0;
+      std::vector<double> recv;
+      for (int s = 0; s < 2; ++s) {
+        // send to the neighbour on side s, receive from the opposite one
+        sendrecv_doubles(send[s], nb(procneigh[d][s]), recv, nb(procneigh[d][1 - s]), engine_.world);
+        std::size_t m = 0;
+        while (m < recv.size()) {
+          m += p.unpack_exchange(&recv[m]);
+          if (history) m += history->unpack_particle(&recv[m]);
+        }
+      }
+      MPI_Allreduce(&moved_local, &moved, 1, MPI_INT, MPI_MAX, engine_.world);
+      if (!moved) break;
+    }
+  }
+}
+
+void Comm::borders() {
+  Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  p.clear_ghosts();
+  swaps_.clear();
+  std::vector<double> recv;
+  for (int d = 0; d < 3; ++d) {
+    const int nlast = p.size();  // both swaps of this dimension scan what existed before it
+    for (int dir = 0; dir < 2; ++dir) {
+      Swap s;
+      s.dim = d;
+      s.dir = dir;
+      const bool at_edge = dir == 0 ? myloc[d] == 0 : myloc[d] == procgrid[d] - 1;
+      s.active = procneigh[d][dir] >= 0 && (procgrid[d] > 1 || dom.periodic[d]);
+      s.sendproc = s.active ? procneigh[d][dir] : MPI_PROC_NULL;
+      // We receive from the opposite neighbour what it sends in this direction.
+      const int opp = procneigh[d][1 - dir];
+      s.recvproc = (opp >= 0 && (procgrid[d] > 1 || dom.periodic[d])) ? opp : MPI_PROC_NULL;
+      s.shift.setZero();
+      if (s.active && at_edge && dom.periodic[d]) s.shift[d] = dir == 0 ? dom.prd[d] : -dom.prd[d];
+      sendbuf_.clear();
+      if (s.active) {
+        const double lo = dom.sublo[d] + cutghost, hi = dom.subhi[d] - cutghost;
+        for (int i = 0; i < nlast; ++i) {
+          const bool send = dir == 0 ? p.x[i][d] < lo : p.x[i][d] >= hi;
+          if (send) {
+            s.sendlist.push_back(i);
+            p.pack_border(i, s.shift, sendbuf_);
+          }
+        }
+      }
+      sendrecv_doubles(sendbuf_, s.sendproc, recv, s.recvproc, engine_.world);
+      s.firstrecv = p.size();
+      std::size_t m = 0;
+      while (m < recv.size()) m += p.unpack_border(&recv[m]);
+      s.nrecv = p.size() - s.firstrecv;
+      swaps_.push_back(std::move(s));
+    }
+  }
+}
+
+void Comm::forward_comm() {
+  Particles& p = *engine_.particles;
+  const int per = ghost_velocity ? 9 : 3;
+  for (const Swap& s : swaps_) {
+    sendbuf_.clear();
+    sendbuf_.reserve(s.sendlist.size() * per);
+    for (int i : s.sendlist) {
+      for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.x[i][d] + s.shift[d]);
+      if (ghost_velocity) {
+        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.v[i][d]);
+        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.omega[i][d]);
+      }
+    }
+    sendrecv_doubles(sendbuf_, s.sendproc, recvbuf_, s.recvproc, engine_.world);
+    std::size_t m = 0;
+    for (int k = 0; k < s.nrecv; ++k) {
+      const int j = s.firstrecv + k;
+      for (int d = 0; d < 3; ++d) p.x[j][d] = recvbuf_[m++];
+      if (ghost_velocity) {
+        for (int d = 0; d < 3; ++d) p.v[j][d] = recvbuf_[m++];
+        for (int d = 0; d < 3; ++d) p.omega[j][d] = recvbuf_[m++];
+      }
+    }
+  }
+}
+
+void Comm::reverse_comm() {
+  Particles& p = *engine_.particles;
+  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
+    const Swap& s = *it;
+    sendbuf_.clear();
+    for (int k = 0; k < s.nrecv; ++k) {
+      const int j = s.firstrecv + k;
+      for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.f[j][d]);
+      for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.torque[j][d]);
+    }
+    // back along the swap: to whom we received from, from whom we sent to
+    sendrecv_doubles(sendbuf_, s.recvproc, recvbuf_, s.sendproc, engine_.world);
+    std::size_t m = 0;
+    for (int i : s.sendlist) {
+      for (int d = 0; d < 3; ++d) p.f[i][d] += recvbuf_[m++];
+      for (int d = 0; d < 3; ++d) p.torque[i][d] += recvbuf_[m++];
+    }
+  }
+}
+
+void Comm::forward_comm_field(std::vector<double>& data, int ncomp) {
+  for (const Swap& s : swaps_) {
+    sendbuf_.clear();
+    for (int i : s.sendlist)
+      sendbuf_.insert(sendbuf_.end(), data.begin() + static_cast<std::size_t>(i) * ncomp,
+                      data.begin() + static_cast<std::size_t>(i + 1) * ncomp);
+    sendrecv_doubles(sendbuf_, s.sendproc, recvbuf_, s.recvproc, engine_.world);
+    std::copy(recvbuf_.begin(), recvbuf_.end(), data.begin() + static_cast<std::size_t>(s.firstrecv) * ncomp);
+  }
+}
+
+void Comm::reverse_comm_field(std::vector<double>& data, int ncomp) {
+  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
+    const Swap& s = *it;
+    sendbuf_.assign(data.begin() + static_cast<std::size_t>(s.firstrecv) * ncomp,
+                    data.begin() + static_cast<std::size_t>(s.firstrecv + s.nrecv) * ncomp);
+    sendrecv_doubles(sendbuf_, s.recvproc, recvbuf_, s.sendproc, engine_.world);
+    std::size_t m = 0;
+    for (int i : s.sendlist)
+      for (int c = 0; c < ncomp; ++c) data[static_cast<std::size_t>(i) * ncomp + c] += recvbuf_[m++];
+  }
+}
+
+// `processors`, `communicate` and `comm_modify` commands.
+void cmd_processors(Engine& e, const Args& a) { e.comm->processors_command(a); }
+void cmd_comm_modify(Engine& e, const Args& a) { e.comm->modify_command(a); }
+GRANARY_COMMAND("processors", cmd_processors);
+GRANARY_COMMAND("communicate", cmd_comm_modify);
+GRANARY_COMMAND("comm_modify", cmd_comm_modify);
+
+}  // namespace granary

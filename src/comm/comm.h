@@ -1,0 +1,81 @@
+// MPI domain decomposition on a regular grid of ranks.
+//
+// Each rank owns the particles inside its subdomain. Ghosts (copies of
+// particles within cutghost of the subdomain, including periodic images) are
+// gathered in six swaps: -x, +x, then -y, +y including the x ghosts, then
+// -z, +z, so corner neighbours arrive without diagonal messages. Each swap
+// remembers what it sent, so every step only positions, velocities and spins
+// travel forward, and forces and torques travel back in reverse order.
+// Subdomain boundaries are fractions of the box per dimension (`split`), so
+// load balancing can move them.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/utils.h"
+#include "core/vec3.h"
+
+namespace granary {
+
+class Engine;
+class ContactHistory;
+
+class Comm {
+ public:
+  explicit Comm(Engine& engine);
+
+  std::array<int, 3> user_grid{{0, 0, 0}};  // `processors`, 0 = automatic
+  std::array<int, 3> procgrid{{1, 1, 1}};
+  std::array<int, 3> myloc{{0, 0, 0}};
+  std::array<std::array<int, 2>, 3> procneigh{};  // rank of the lower/upper neighbour per dim
+  std::array<std::vector<double>, 3> split;          // procgrid[d]+1 fractions in [0, 1]
+  bool ghost_velocity = true;  // `communicate single vel yes`
+  double cutghost_user = 0.0;
+  double cutghost = 0.0;
+  long long migrated_particles = 0;  // particles this rank sent away, since the engine started
+  long long migrated_contacts = 0;   // contact-history entries that travelled with them
+  int nlost = 0;           // particles this rank removed at the last exchange (outside 'f' bounds)
+  std::string first_lost;  // description of the first of them
+
+  void processors_command(const Args& args);
+  void modify_command(const Args& args);  // comm_modify / communicate
+
+  /// Choose the processor grid (first call) and set this rank's subdomain.
+  void setup(double cutghost_needed);
+  /// Move particles that left this subdomain to their new owners (with their
+  /// contact history entries); particles outside a fixed box are lost.
+  void exchange(ContactHistory* history);
+  /// Build ghost particles from scratch.
+  void borders();
+  /// Copy x (with periodic shifts), v and omega of owned particles to their ghosts.
+  void forward_comm();
+  /// Sum f and torque of ghosts back onto their owners.
+  void reverse_comm();
+  /// Forward communication of an extra per-particle field (ncomp doubles each).
+  void forward_comm_field(std::vector<double>& data, int ncomp);
+  /// Reverse communication (sum) of an extra per-particle field.
+  void reverse_comm_field(std::vector<double>& data, int ncomp);
+
+  /// Rank owning a point (regular grid).
+  int owner_of(const Vec3& x) const;
+
+ private:
+  struct Swap {
+    int dim = 0, dir = 0;          // dir 0: send to lower neighbour, 1: upper
+    int sendproc = -1, recvproc = -1;
+    bool active = false;
+    Vec3 shift{0, 0, 0};           // periodic shift applied to sent positions
+    std::vector<int> sendlist;
+    int firstrecv = 0, nrecv = 0;
+  };
+  void choose_grid();
+  void set_subdomain();
+  Engine& engine_;
+  std::vector<Swap> swaps_;
+  std::vector<double> sendbuf_, recvbuf_;
+  bool grid_set_ = false;
+};
+
+}  // namespace granary

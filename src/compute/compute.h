@@ -1,0 +1,51 @@
+// Base class of computes: quantities evaluated on demand (c_ID, c_ID[i], per-atom).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/utils.h"
+
+namespace granary {
+
+class Engine;
+
+class Compute {
+ public:
+  /// args = "ID group-ID style style-args...".
+  Compute(Engine& engine, const Args& args);
+  virtual ~Compute() = default;
+
+  virtual void init() {}
+  /// Global scalar (collective: every rank calls it together).
+  virtual double compute_scalar() { return 0.0; }
+  /// Global vector into `vector` (collective).
+  virtual void compute_vector() {}
+  /// Per-atom values of the local particles into vector_atom (cols 0) or array_atom.
+  virtual void compute_peratom() {}
+
+  bool scalar_flag = false;
+  int size_vector = 0;
+  bool peratom_flag = false;
+  int peratom_cols = 0;  // 0: a per-atom vector
+  bool extensive = false;  // scalar grows with the number of particles (thermo_modify norm)
+
+  std::vector<double> vector;
+  std::vector<double> vector_atom;
+  std::vector<std::vector<double>> array_atom;  // [col][i]
+
+  // cache: step at which each output was last computed (-1: never)
+  std::int64_t invoked_scalar = -1, invoked_vector = -1, invoked_peratom = -1;
+  double scalar = 0.0;
+
+  std::string id, style;
+  int igroup = 0;
+  int groupbit = 1;
+
+ protected:
+  Engine& engine_;
+  Args args_;
+};
+
+}  // namespace granary

@@ -1,0 +1,265 @@
+// Inline, templated contact kernels. Each sub-model slot is one small function
+// templated on its model enum; evaluate_t<Normal, Tangential, Rolling, Limit>
+// chains them for one contact with no allocation, no virtual call and no
+// runtime branch on the model choice.
+//
+// Instantiated combinations: all of them. The current slots span
+// 2 normal x 3 tangential x 3 rolling x limitForce on/off = 36 kernels, few
+// enough that every combination is compiled and no generic slow path exists.
+// dispatch_model() turns a runtime ModelSpec into the matching Kernel type once,
+// so a pair loop can be compiled for exactly that kernel:
+//
+//   dispatch_model(spec, [&](auto kernel) {
+//     using K = decltype(kernel);
+//     for (...) K::evaluate(spec, state, material, history, result);
+//   });
+//
+// Formulas and sign conventions: doc/contact_models.md.
+#pragma once
+
+#include <Eigen/Geometry>  // cross products
+#include <algorithm>
+#include <cmath>
+
+#include "contact/contact_model.h"
+
+namespace granary::contact {
+
+namespace detail {
+
+constexpr double kSqrtFiveSixths = 0.91287092917527685576;  // sqrt(5/6)
+
+/// Stiffness and damping coefficients of one contact evaluation.
+struct Coefficients {
+  double kn;       ///< normal stiffness: elastic normal force = kn * overlap
+  double kt;       ///< tangential stiffness
+  double gamma_n;  ///< normal damping coefficient (>= 0)
+  double gamma_t;  ///< tangential damping coefficient (>= 0)
+};
+
+/// Normal sub-model: stiffness and damping for the current overlap.
+template <NormalModel N>
+inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c,
+                                        const PairMaterial& m) {
+  Coefficients k;
+  if constexpr (N == NormalModel::Hertz) {
+    // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
+    const double sqrtval = std::sqrt(c.r_eff * c.overlap);
+    const double sn = 2.0 * m.Y_eff * sqrtval;
+    const double st = 8.0 * m.G_eff * sqrtval;
+    k.kn = (4.0 / 3.0) * m.Y_eff * sqrtval;
+    k.kt = st;
+    k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(sn * c.m_eff);
+    k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(st * c.m_eff);
+  } else {
+    // Linear spring whose stiffness gives the Hertz maximum overlap at the
+    // characteristic impact velocity V:
+    //   kn = 16/15 sqrt(R*) Y* (15 m* V^2 / (16 sqrt(R*) Y*))^(1/5).
+    const double sqrt_r = std::sqrt(c.r_eff);
+    const double v = m.char_velocity;
+    k.kn = (16.0 / 15.0) * sqrt_r * m.Y_eff *
+           std::pow(15.0 * c.m_eff * v * v / (16.0 * sqrt_r * m.Y_eff), 0.2);
+    k.kt = spec.kt_to_kn_user ? (2.0 / 7.0) * k.kn : k.kn;
+    // sqrt(4 m* kn / (1 + (pi/ln e)^2)) written so that e = 1 gives exactly 0.
+    k.gamma_n = -2.0 * m.beta * std::sqrt(c.m_eff * k.kn);
+    k.gamma_t = k.gamma_n;
+  }
+  if (!spec.tangential_damping) k.gamma_t = 0.0;
+  return k;
+}
+
+/// Size of the history block of each slot (doubles).
+template <TangentialModel T>
+constexpr int tangential_history_size() {
+  return T == TangentialModel::History ? 3 : 0;
+}
+template <RollingModel R>
+constexpr int rolling_history_size() {
+  return R == RollingModel::Epsd2 ? 3 : 0;
+}
+
+/// Tangential sub-model: force on i at the contact point. `vt` is the
+/// tangential relative velocity of the contact point, `fn` the total normal
+/// force, `shear` the slot's history block (only read for History).
+template <TangentialModel T>
+inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const Coefficients& k,
+                             double fn, const Vec3& vt, double* shear) {
+  const double ft_max = m.friction * std::abs(fn);
+  if constexpr (T == TangentialModel::NoHistory) {
+    // Pure viscous friction, limited by Coulomb: -min(gamma_t |vt|, mu |Fn|) vt/|vt|.
+    const double vt_mag = vt.norm();
+    if (vt_mag <= 0.0) return Vec3::Zero();
+    const double ft_mag = std::min(k.gamma_t * vt_mag, ft_max);
+    return (-ft_mag / vt_mag) * vt;
+  } else if constexpr (T == TangentialModel::History) {
+    // Integrate the tangential displacement, then keep it in the current
+    // tangent plane (the contact normal may have rotated since the last step).
+    Eigen::Map<Vec3> s(shear);
+    s += c.dt * vt;
+    s -= s.dot(c.n) * c.n;
+    Vec3 ft = -k.kt * s;
+    const double ft_spring = k.kt * s.norm();
+    if (ft_spring > ft_max) {
+      // Slip (ft_spring > 0 here): the spring force is held at the Coulomb limit
+      // and the stored displacement shrunk to match; no damping in a slipping step.
+      ft *= ft_max / ft_spring;
+      s = ft / (-k.kt);
+    } else {
+      ft -= k.gamma_t * vt;  // stick: spring + dashpot
+    }
+    return ft;
+  } else {
+    (void)c, (void)m, (void)k, (void)fn, (void)vt, (void)shear, (void)ft_max;
+    return Vec3::Zero();
+  }
+}
+
+/// Rolling sub-model: rolling-resistance torque on i (j receives the opposite).
+/// `fn` is the total normal force, `fn_elastic` = kn * overlap, `hist` the
+/// slot's history block (only used by epsd2).
+template <RollingModel R>
+inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const Coefficients& k,
+                           double fn, double fn_elastic, double* hist) {
+  if constexpr (R == RollingModel::None) {
+    (void)c, (void)m, (void)k, (void)fn, (void)fn_elastic, (void)hist;
+    return Vec3::Zero();
+  } else {
+    // Relative spin without its twisting (normal) part.
+    Vec3 w = c.omega_i - c.omega_j;
+    w -= w.dot(c.n) * c.n;
+    if constexpr (R == RollingModel::Cdt) {
+      // Constant directional torque: mu_r (kn delta) R* opposing w.
+      (void)hist, (void)fn;
+      const double w_mag = w.norm();
+      if (w_mag <= 0.0) return Vec3::Zero();
+      return (-m.rolling_friction * fn_elastic * c.r_eff / w_mag) * w;
+    } else {
+      // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,
+      // capped at full mobilisation mu_r R* |Fn|.
+      (void)fn_elastic;
+      Eigen::Map<Vec3> torque(hist);
+      const double kr = k.kt * c.r_eff * c.r_eff;
+      torque -= (kr * c.dt) * w;
+      const double t_max = m.rolling_friction * c.r_eff * std::abs(fn);
+      const double t_mag = torque.norm();
+      if (t_mag > t_max) torque *= t_max / t_mag;
+      return torque;
+    }
+  }
+}
+
+}  // namespace detail
+
+/// One contact with the sub-models fixed at compile time. Same contract as
+/// evaluate(); `Limit` replaces spec.limit_force, the other spec switches
+/// (tangential_damping, kt_to_kn_user) are read at run time.
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit>
+inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairMaterial& m,
+                       double* history, ContactResult& out) {
+  constexpr int kShear = 0;
+  constexpr int kRolling = detail::tangential_history_size<T>();
+  constexpr int kSize = kRolling + detail::rolling_history_size<R>();
+
+  out.torque_i.setZero();
+  out.torque_j.setZero();
+  out.ft.setZero();
+  if (!(c.overlap > 0.0)) {
+    out.force.setZero();
+    out.fn = 0.0;
+    for (int h = 0; h < kSize; ++h) history[h] = 0.0;
+    return;
+  }
+
+  const detail::Coefficients k = detail::normal_coefficients<N>(spec, c, m);
+
+  // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
+  // pushes the bodies apart on approach and pulls on separation.
+  const double vn = c.v_rel.dot(c.n);
+  const double fn_elastic = k.kn * c.overlap;
+  double fn = fn_elastic - k.gamma_n * vn;
+  if constexpr (Limit) {
+    if (fn < 0.0) fn = 0.0;
+  }
+  out.fn = fn;
+  out.force = fn * c.n;
+
+  if constexpr (T != TangentialModel::None) {
+    // Lever arms: the contact point lies in the middle of the overlap region,
+    // at distance r - delta/2 from each centre (a wall has no lever arm).
+    const double cr_i = c.r_i - 0.5 * c.overlap;
+    const double cr_j = c.r_j > 0.0 ? c.r_j - 0.5 * c.overlap : 0.0;
+    // Relative velocity of the contact points, tangential part.
+    const Vec3 w = cr_i * c.omega_i + cr_j * c.omega_j;
+    const Vec3 vr = c.v_rel - w.cross(c.n);
+    const Vec3 vt = vr - vr.dot(c.n) * c.n;
+    const Vec3 ft = detail::tangential_force<T>(c, m, k, fn, vt, history + kShear);
+    out.ft = ft;
+    out.force += ft;
+    // ft acts on i at x_i - cr_i n and -ft on j at x_j + cr_j n.
+    const Vec3 n_x_ft = c.n.cross(ft);
+    out.torque_i = -cr_i * n_x_ft;
+    out.torque_j = -cr_j * n_x_ft;
+  }
+
+  if constexpr (R != RollingModel::None) {
+    const Vec3 mr = detail::rolling_torque<R>(c, m, k, fn, fn_elastic, history + kRolling);
+    out.torque_i += mr;
+    out.torque_j -= mr;
+  }
+}
+
+/// A compiled kernel as a type, handed to the callback of dispatch_model().
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit>
+struct Kernel {
+  static constexpr NormalModel normal = N;
+  static constexpr TangentialModel tangential = T;
+  static constexpr RollingModel rolling = R;
+  static constexpr bool limit_force = Limit;
+  static constexpr int history_size =
+      detail::tangential_history_size<T>() + detail::rolling_history_size<R>();
+  static void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m,
+                       double* history, ContactResult& out) {
+    evaluate_t<N, T, R, Limit>(spec, c, m, history, out);
+  }
+};
+
+namespace detail {
+
+template <NormalModel N, TangentialModel T, RollingModel R, class Fn>
+inline decltype(auto) dispatch_limit(const ModelSpec& s, Fn&& fn) {
+  if (s.limit_force) return fn(Kernel<N, T, R, true>{});
+  return fn(Kernel<N, T, R, false>{});
+}
+
+template <NormalModel N, TangentialModel T, class Fn>
+inline decltype(auto) dispatch_rolling(const ModelSpec& s, Fn&& fn) {
+  switch (s.rolling) {
+    case RollingModel::Cdt: return dispatch_limit<N, T, RollingModel::Cdt>(s, fn);
+    case RollingModel::Epsd2: return dispatch_limit<N, T, RollingModel::Epsd2>(s, fn);
+    case RollingModel::None: break;
+  }
+  return dispatch_limit<N, T, RollingModel::None>(s, fn);
+}
+
+template <NormalModel N, class Fn>
+inline decltype(auto) dispatch_tangential(const ModelSpec& s, Fn&& fn) {
+  switch (s.tangential) {
+    case TangentialModel::None: return dispatch_rolling<N, TangentialModel::None>(s, fn);
+    case TangentialModel::NoHistory: return dispatch_rolling<N, TangentialModel::NoHistory>(s, fn);
+    case TangentialModel::History: break;
+  }
+  return dispatch_rolling<N, TangentialModel::History>(s, fn);
+}
+
+}  // namespace detail
+
+/// Call fn(Kernel<...>{}) with the kernel type matching the runtime spec and
+/// return what fn returns (fn must return the same type for every kernel).
+template <class Fn>
+inline decltype(auto) dispatch_model(const ModelSpec& spec, Fn&& fn) {
+  if (spec.normal == NormalModel::Hooke)
+    return detail::dispatch_tangential<NormalModel::Hooke>(spec, fn);
+  return detail::dispatch_tangential<NormalModel::Hertz>(spec, fn);
+}
+
+}  // namespace granary::contact

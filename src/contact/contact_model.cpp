@@ -1,0 +1,227 @@
+// Contact model set-up: parsing of the LIGGGHTS model words, history layout,
+// material mixing, and the runtime dispatch onto the templated kernels of
+// contact_kernels.h.
+#include "contact/contact_model.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "contact/contact_kernels.h"
+
+namespace granary::contact {
+
+// ---------------------------------------------------------------------------
+// History layout: [shear x,y,z if tangential history][rolling torque x,y,z if epsd2]
+
+HistoryLayout history_layout(const ModelSpec& spec) {
+  HistoryLayout layout;
+  if (spec.tangential == TangentialModel::History) {
+    layout.shear = layout.size;
+    layout.size += 3;
+  }
+  if (spec.rolling == RollingModel::Epsd2) {
+    layout.rolling = layout.size;
+    layout.size += 3;
+  }
+  return layout;
+}
+
+int history_size(const ModelSpec& spec) { return history_layout(spec).size; }
+
+void history_swap_signs(const ModelSpec& spec, double* signs) {
+  // Both stored vectors are odd under i <-> j: the shear displacement is the
+  // integral of the relative contact-point velocity of i with respect to j,
+  // and the rolling spring torque is the torque on i (j carries its negative).
+  const int n = history_size(spec);
+  for (int h = 0; h < n; ++h) signs[h] = -1.0;
+}
+
+// ---------------------------------------------------------------------------
+// Parsing
+
+namespace {
+
+[[noreturn]] void fail(const std::string& message) {
+  throw std::invalid_argument("contact model: " + message);
+}
+
+// Value of a slot or setting: the word after args[pos].
+const std::string& value_of(const std::vector<std::string>& args, std::size_t pos) {
+  if (pos + 1 >= args.size()) fail("missing value after '" + args[pos] + "'");
+  return args[pos + 1];
+}
+
+bool on_off(const std::vector<std::string>& args, std::size_t pos) {
+  const std::string& v = value_of(args, pos);
+  if (v == "on") return true;
+  if (v == "off") return false;
+  fail("expected 'on' or 'off' after '" + args[pos] + "', got '" + v + "'");
+}
+
+// LIGGGHTS sub-models that exist there but are not implemented here.
+bool is_known_unsupported(const std::string& slot, const std::string& name) {
+  static const std::vector<std::pair<std::string, std::string>> known = {
+      {"model", "hertz/stiffness"},
+      {"model", "hooke/stiffness"},
+      {"model", "hooke/hysteresis"},
+      {"rolling_friction", "epsd"},
+      {"rolling_friction", "epsd3"},
+      {"cohesion", "sjkr"},
+      {"cohesion", "sjkr2"},
+      {"cohesion", "easo/capillary/viscous"},
+      {"cohesion", "washino/capillary/viscous"},
+      {"surface", "superquadric"}};
+  for (const auto& k : known)
+    if (k.first == slot && k.second == name) return true;
+  return false;
+}
+
+[[noreturn]] void bad_model(const std::string& slot, const std::string& name,
+                            const std::string& supported) {
+  if (is_known_unsupported(slot, name))
+    fail("'" + slot + " " + name + "' is not supported (supported: " + supported + ")");
+  const std::string what = slot == "model" ? "normal" : slot;
+  fail("unknown " + what + " model '" + name + "' (supported: " + supported + ")");
+}
+
+// Model settings of LIGGGHTS that only switch on bookkeeping or features not
+// implemented here: accepted when "off", rejected when "on".
+bool is_unsupported_setting(const std::string& w) {
+  static const std::vector<std::string> names = {"heating_normal_hertz",
+                                                 "heating_normal_hooke",
+                                                 "heating_tangential_history",
+                                                 "heating_tracking",
+                                                 "computeElasticPotential",
+                                                 "computeDissipatedEnergy",
+                                                 "viscous",
+                                                 "disableNormalWhenBonded"};
+  for (const auto& n : names)
+    if (n == w) return true;
+  return false;
+}
+
+}  // namespace
+
+ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& pos) {
+  ModelSpec spec;
+  spec.normal = NormalModel::Hertz;         // LIGGGHTS default "model hertz"
+  spec.tangential = TangentialModel::None;  // LIGGGHTS default "tangential off"
+  spec.rolling = RollingModel::None;        // LIGGGHTS default "rolling_friction off"
+  bool seen_model = false, seen_tangential = false, seen_rolling = false;
+  bool seen_cohesion = false, seen_surface = false, seen_kt_to_kn = false;
+
+  auto once = [](bool& seen, const std::string& word) {
+    if (seen) fail("'" + word + "' given twice");
+    seen = true;
+  };
+
+  while (pos < args.size()) {
+    const std::string& w = args[pos];
+    if (w == "model") {
+      once(seen_model, w);
+      const std::string& v = value_of(args, pos);
+      if (v == "hertz") spec.normal = NormalModel::Hertz;
+      else if (v == "hooke") spec.normal = NormalModel::Hooke;
+      else bad_model(w, v, "hertz, hooke");
+    } else if (w == "tangential") {
+      once(seen_tangential, w);
+      const std::string& v = value_of(args, pos);
+      if (v == "history") spec.tangential = TangentialModel::History;
+      else if (v == "no_history") spec.tangential = TangentialModel::NoHistory;
+      else if (v == "off") spec.tangential = TangentialModel::None;
+      else bad_model(w, v, "history, no_history, off");
+    } else if (w == "rolling_friction") {
+      once(seen_rolling, w);
+      const std::string& v = value_of(args, pos);
+      if (v == "cdt") spec.rolling = RollingModel::Cdt;
+      else if (v == "epsd2") spec.rolling = RollingModel::Epsd2;
+      else if (v == "off") spec.rolling = RollingModel::None;
+      else bad_model(w, v, "cdt, epsd2, off");
+    } else if (w == "cohesion") {
+      once(seen_cohesion, w);
+      const std::string& v = value_of(args, pos);
+      if (v != "off") bad_model(w, v, "off");
+    } else if (w == "surface") {
+      once(seen_surface, w);
+      const std::string& v = value_of(args, pos);
+      if (v != "default" && v != "sphere") bad_model(w, v, "default (= sphere)");
+    } else if (w == "limitForce") {
+      spec.limit_force = on_off(args, pos);
+    } else if (w == "tangential_damping") {
+      spec.tangential_damping = on_off(args, pos);
+    } else if (w == "ktToKnUser") {
+      spec.kt_to_kn_user = on_off(args, pos);
+      seen_kt_to_kn = true;
+    } else if (is_unsupported_setting(w)) {
+      if (on_off(args, pos)) fail("'" + w + " on' is not supported (only 'off')");
+    } else {
+      break;  // not a model word: the caller goes on from here
+    }
+    pos += 2;
+  }
+  if (seen_kt_to_kn && spec.normal != NormalModel::Hooke)
+    fail("'ktToKnUser' applies only to 'model hooke'");
+  return spec;
+}
+
+std::string model_words(const ModelSpec& spec) {
+  std::string s = spec.normal == NormalModel::Hooke ? "model hooke" : "model hertz";
+  switch (spec.tangential) {
+    case TangentialModel::None: s += " tangential off"; break;
+    case TangentialModel::NoHistory: s += " tangential no_history"; break;
+    case TangentialModel::History: s += " tangential history"; break;
+  }
+  switch (spec.rolling) {
+    case RollingModel::None: break;
+    case RollingModel::Cdt: s += " rolling_friction cdt"; break;
+    case RollingModel::Epsd2: s += " rolling_friction epsd2"; break;
+  }
+  if (spec.limit_force) s += " limitForce on";
+  if (!spec.tangential_damping) s += " tangential_damping off";
+  if (spec.kt_to_kn_user) s += " ktToKnUser on";
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Materials
+
+PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, double e, double mu,
+                           double mu_r, double char_vel) {
+  auto check = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument("contact material: " + what);
+  };
+  check(Y_i > 0.0 && Y_j > 0.0, "Young's modulus must be > 0");
+  check(nu_i > -1.0 && nu_i <= 0.5 && nu_j > -1.0 && nu_j <= 0.5,
+        "Poisson's ratio must be in (-1, 0.5]");
+  check(e > 0.0 && e <= 1.0, "coefficient of restitution must be in (0, 1]");
+  check(mu >= 0.0, "coefficient of friction must be >= 0");
+  check(mu_r >= 0.0, "coefficient of rolling friction must be >= 0");
+  check(char_vel >= 0.0, "characteristic velocity must be >= 0");
+
+  PairMaterial m;
+  m.Y_eff = 1.0 / ((1.0 - nu_i * nu_i) / Y_i + (1.0 - nu_j * nu_j) / Y_j);
+  m.G_eff =
+      1.0 / (2.0 * (2.0 - nu_i) * (1.0 + nu_i) / Y_i + 2.0 * (2.0 - nu_j) * (1.0 + nu_j) / Y_j);
+  m.restitution = e;
+  const double log_e = std::log(e);
+  m.beta = log_e / std::sqrt(log_e * log_e + M_PI * M_PI);  // e = 1: log_e = 0, beta = 0
+  m.friction = mu;
+  m.rolling_friction = mu_r;
+  m.char_velocity = char_vel;
+  return m;
+}
+
+// ---------------------------------------------------------------------------
+// Dispatch
+
+KernelFn select_kernel(const ModelSpec& spec) {
+  return dispatch_model(spec, [](auto kernel) -> KernelFn { return &decltype(kernel)::evaluate; });
+}
+
+void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
+              ContactResult& out) {
+  dispatch_model(spec, [&](auto kernel) { decltype(kernel)::evaluate(spec, c, m, history, out); });
+}
+
+}  // namespace granary::contact

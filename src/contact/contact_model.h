@@ -1,0 +1,128 @@
+// Contact model description and the public entry points of the contact physics:
+// which sub-models a pair style or wall uses (ModelSpec), the mixed material
+// parameters of a pair of types (PairMaterial), the geometric and kinematic
+// state of one contact (ContactState) and its result (ContactResult).
+//
+// Everything here is SI in, SI out and stateless: the per-contact history
+// (tangential displacement, rolling spring torque) is owned by the caller and
+// passed in as a plain array of doubles. The templated kernels behind
+// evaluate() live in contact_kernels.h; the formulas are documented in
+// doc/contact_models.md.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace granary::contact {
+
+using Vec3 = Eigen::Vector3d;
+
+/// Normal force law ("model hertz" / "model hooke").
+enum class NormalModel { Hertz, Hooke };
+/// Tangential force law: "tangential off", "tangential no_history", "tangential history".
+enum class TangentialModel { None, NoHistory, History };
+/// Rolling resistance: "rolling_friction off", "rolling_friction cdt", "rolling_friction epsd2".
+enum class RollingModel { None, Cdt, Epsd2 };
+
+/// Which sub-model fills each slot, plus the model switches of the input syntax.
+struct ModelSpec {
+  NormalModel normal = NormalModel::Hertz;
+  TangentialModel tangential = TangentialModel::History;
+  RollingModel rolling = RollingModel::None;
+  /// Forbid attraction: the total normal force is clamped at >= 0 ("limitForce on").
+  bool limit_force = false;
+  /// Viscous damping of the tangential force ("tangential_damping", default on).
+  bool tangential_damping = true;
+  /// Hooke only: kt = 2/7 kn instead of kt = kn ("ktToKnUser on").
+  bool kt_to_kn_user = false;
+};
+
+/// Number of history doubles per contact this model needs
+/// (tangential history: 3 for the shear displacement, epsd2: 3 for the spring torque).
+int history_size(const ModelSpec&);
+
+/// Where each sub-model keeps its values inside one contact's history array
+/// (-1 when that sub-model stores nothing).
+struct HistoryLayout {
+  int shear = -1;    ///< tangential displacement vector [m], 3 doubles
+  int rolling = -1;  ///< epsd2 rolling spring torque acting on i [N m], 3 doubles
+  int size = 0;      ///< total number of doubles (== history_size)
+};
+HistoryLayout history_layout(const ModelSpec&);
+
+/// Sign applied to each history value when the roles of i and j are swapped
+/// (-1 for the shear displacement and the rolling torque), used when history
+/// stored for (i,j) is looked up as (j,i). `signs` has history_size() entries.
+void history_swap_signs(const ModelSpec&, double* signs);
+
+/// Parse LIGGGHTS contact-model words starting at args[pos], e.g.
+///   model hertz tangential history rolling_friction cdt limitForce on
+/// Recognised slots: model, tangential, cohesion (off only), rolling_friction,
+/// surface (default/sphere only); settings: limitForce, tangential_damping,
+/// ktToKnUser (hooke), and the LIGGGHTS bookkeeping switches (accepted as "off").
+/// Slots that are not given take the LIGGGHTS defaults: model hertz,
+/// tangential off, rolling_friction off.
+/// Parsing stops at the first word that is neither a slot nor a model setting
+/// (e.g. "primitive" of fix wall/gran); pos is left on that word and the caller
+/// decides whether it is valid there (pair_style gran: pos must reach the end).
+/// Throws std::invalid_argument with a clear message on an unknown or
+/// unsupported model name, a missing or invalid value, or a repeated slot.
+ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& pos);
+
+/// The LIGGGHTS words that describe `spec` (round-trips through parse_model_words).
+std::string model_words(const ModelSpec& spec);
+
+/// Mixed material parameters of one pair of atom types (or an atom type and a wall type).
+struct PairMaterial {
+  double Y_eff = 0.0;             ///< Y* = 1/((1-nu_i^2)/Y_i + (1-nu_j^2)/Y_j) [Pa]
+  double G_eff = 0.0;             ///< G* = 1/(2(2-nu_i)(1+nu_i)/Y_i + 2(2-nu_j)(1+nu_j)/Y_j) [Pa]
+  double restitution = 1.0;       ///< e
+  double beta = 0.0;              ///< ln(e)/sqrt(ln(e)^2 + pi^2) (e = 1 gives 0)
+  double friction = 0.0;          ///< Coulomb mu
+  double rolling_friction = 0.0;  ///< mu_r
+  double char_velocity = 0.0;     ///< Hooke only: characteristicVelocity [m/s]
+};
+
+/// Mix the properties of type i and type j. Throws std::invalid_argument for
+/// Y <= 0, nu outside (-1, 0.5], e outside (0, 1], or negative mu, mu_r, char_vel.
+PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, double e, double mu,
+                           double mu_r, double char_vel);
+
+/// Geometric and kinematic state of one contact, SI units.
+struct ContactState {
+  Vec3 n = Vec3::Zero();        ///< unit normal pointing from j to i
+  double overlap = 0.0;         ///< delta = r_i + r_j - |x_i - x_j| (> 0 in contact) [m]
+  double r_i = 0.0, r_j = 0.0;  ///< radii; r_j = 0 means j is a wall (flat, infinite radius)
+  double r_eff = 0.0;           ///< R* = r_i r_j/(r_i+r_j), or r_i for a wall
+  double m_eff = 0.0;           ///< m* = m_i m_j/(m_i+m_j), or m_i for a wall
+  Vec3 v_rel = Vec3::Zero();  ///< v_i - v_j (centre velocities; wall: its velocity at the contact)
+  Vec3 omega_i = Vec3::Zero();  ///< spin of i [rad/s]
+  Vec3 omega_j = Vec3::Zero();  ///< spin of j (0 for a wall)
+  double dt = 0.0;              ///< timestep, for history integration [s]
+};
+
+/// What one contact does to i and j.
+struct ContactResult {
+  Vec3 force = Vec3::Zero();     ///< total force on i (j receives -force)
+  Vec3 torque_i = Vec3::Zero();  ///< torque on i about its centre
+  Vec3 torque_j = Vec3::Zero();  ///< torque on j about its centre
+  double fn = 0.0;               ///< signed normal force (elastic + damping, after limit_force)
+  Vec3 ft = Vec3::Zero();        ///< tangential part of `force` (0 without a tangential model)
+};
+
+/// Evaluate one contact. `history` points to history_size(spec) doubles owned by
+/// the caller (zero at first touch); it is updated in place. A state with
+/// overlap <= 0 yields a zero result and zeroes the history.
+void evaluate(const ModelSpec&, const ContactState&, const PairMaterial&, double* history,
+              ContactResult&);
+
+/// Signature of one compiled kernel (see contact_kernels.h).
+using KernelFn = void (*)(const ModelSpec&, const ContactState&, const PairMaterial&, double*,
+                          ContactResult&);
+/// The compiled kernel for `spec`; resolve once per run and call it per contact
+/// to skip the dispatch. Equivalent to evaluate().
+KernelFn select_kernel(const ModelSpec& spec);
+
+}  // namespace granary::contact

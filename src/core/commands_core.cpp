@@ -1,0 +1,165 @@
+// Core setup commands: units, atom_style, atom_modify, boundary, newton,
+// dimension, create_box, region, fix/unfix, compute/uncompute, compute_modify,
+// pair_style, pair_coeff.
+#include "comm/comm.h"
+#include "compute/compute.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "domain/domain.h"
+#include "domain/region.h"
+#include "fix/modify.h"
+#include "neighbor/neighbor.h"
+#include "pair/force.h"
+#include "pair/pair.h"
+#include "particles/particles.h"
+
+namespace granary {
+namespace {
+
+void require_no_box(Engine& e, const std::string& cmd) {
+  if (e.domain->box_exist) throw InputError(cmd + " must come before the box is created (create_box or read_restart)");
+}
+void require_box(Engine& e, const std::string& cmd) {
+  if (!e.domain->box_exist) throw InputError(cmd + " needs the box: use create_box or read_restart first");
+}
+
+void cmd_units(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "units si|cgs");
+  require_no_box(e, "units");
+  if (a[0] != "si" && a[0] != "cgs") {
+    throw InputError("units '" + a[0] + "' is not supported; granular scripts use si (or cgs)");
+  }
+  e.domain->units = a[0];
+  if (a[0] == "cgs") e.neighbor->skin = 0.1;  // 1 mm as for si
+}
+
+void cmd_atom_style(Engine& e, const Args& a) {
+  require_args(a, 1, 100, "atom_style granular|sphere");
+  require_no_box(e, "atom_style");
+  if (a[0] != "granular" && a[0] != "sphere") {
+    throw InputError("atom_style '" + a[0] + "' is not supported; use granular (or sphere)");
+  }
+}
+
+void cmd_atom_modify(Engine& e, const Args& a) {
+  if (a.empty()) throw InputError("usage: atom_modify map array|hash | sort N BINSIZE | first G");
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k] == "map" && k + 1 < a.size()) {
+      ++k;  // the id map is always an array here
+    } else if (a[k] == "sort" && k + 2 < a.size()) {
+      e.neighbor->sort_every = static_cast<int>(parse_int(a[k + 1], "atom_modify sort"));
+      e.neighbor->sort_binsize = parse_double(a[k + 2], "atom_modify sort binsize");
+      k += 2;
+    } else if (a[k] == "first" && k + 1 < a.size()) {
+      ++k;
+    } else {
+      throw InputError("unknown atom_modify keyword '" + a[k] + "'; expected map, sort or first");
+    }
+  }
+}
+
+void cmd_boundary(Engine& e, const Args& a) {
+  require_args(a, 3, 3, "boundary X Y Z   (each p, f, s, m or a pair like fm)");
+  require_no_box(e, "boundary");
+  Domain& d = *e.domain;
+  for (int dim = 0; dim < 3; ++dim) {
+    const std::string& w = a[dim];
+    if (w.size() != 1 && w.size() != 2) throw InputError("boundary '" + w + "' must be one or two of p f s m");
+    const char lo = w[0], hi = w.size() == 2 ? w[1] : w[0];
+    for (char c : {lo, hi}) {
+      if (c != 'p' && c != 'f' && c != 's' && c != 'm') {
+        throw InputError("boundary letter '" + std::string(1, c) + "' is not one of p f s m");
+      }
+    }
+    if ((lo == 'p') != (hi == 'p')) throw InputError("a periodic boundary must be periodic on both sides");
+    d.boundary[dim] = {lo, hi};
+    d.periodic[dim] = lo == 'p';
+  }
+}
+
+void cmd_newton(Engine& e, const Args& a) {
+  require_args(a, 1, 2, "newton on|off [on|off]");
+  e.force->newton_pair = parse_bool(a.size() == 2 ? a[0] : a[0], "newton");
+}
+
+void cmd_dimension(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "dimension 3");
+  if (a[0] != "3") throw InputError("only 3d simulations are supported");
+}
+
+void cmd_create_box(Engine& e, const Args& a) {
+  require_args(a, 2, 100, "create_box NTYPES REGION-ID");
+  require_no_box(e, "create_box");
+  const long long ntypes = parse_int(a[0], "create_box number of types");
+  if (ntypes < 1) throw InputError("create_box needs at least one atom type");
+  Region* r = e.domain->region_or_error(a[1], "create_box");
+  Vec3 lo, hi;
+  if (!r->bounds(lo, hi)) throw InputError("create_box needs a bounded region; '" + a[1] + "' has no finite bounds");
+  e.domain->set_box(lo, hi);
+  e.particles->ntypes = static_cast<int>(ntypes);
+  e.comm->setup(0.0);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "Created box = (%g %g %g) to (%g %g %g)\n  %d by %d by %d MPI processor grid\n",
+                lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], e.comm->procgrid[0], e.comm->procgrid[1],
+                e.comm->procgrid[2]);
+  e.logger->print(buf);
+}
+
+void cmd_region(Engine& e, const Args& a) { e.domain->add_region(a); }
+
+void cmd_fix(Engine& e, const Args& a) {
+  require_box(e, "fix");
+  e.modify->add_fix(a);
+}
+void cmd_unfix(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "unfix ID");
+  e.modify->delete_fix(a[0]);
+}
+void cmd_compute(Engine& e, const Args& a) {
+  require_box(e, "compute");
+  e.modify->add_compute(a);
+}
+void cmd_uncompute(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "uncompute ID");
+  e.modify->delete_compute(a[0]);
+}
+void cmd_compute_modify(Engine& e, const Args& a) {
+  require_args(a, 3, 100, "compute_modify ID keyword value ...");
+  // LIGGGHTS scripts set "compute_modify thermo_temp dynamic yes": the particle
+  // count is always current here, so the built-in thermo computes accept it.
+  if (a[0] == "thermo_temp" || a[0] == "thermo_press") return;
+  Compute* c = e.modify->compute_or_error(a[0], "compute_modify");
+  for (std::size_t k = 1; k + 1 < a.size(); k += 2) {
+    if (a[k] == "dynamic" || a[k] == "dynamic/dof" || a[k] == "extra" || a[k] == "extra/dof") continue;
+    throw InputError("unknown compute_modify keyword '" + a[k] + "' for compute " + c->id);
+  }
+}
+
+void cmd_pair_style(Engine& e, const Args& a) { e.force->create_pair(a); }
+void cmd_pair_coeff(Engine& e, const Args& a) {
+  require_box(e, "pair_coeff");
+  if (!e.force->pair) throw InputError("pair_coeff needs a pair style: use pair_style first");
+  e.force->pair->coeff(a);
+}
+
+}  // namespace
+
+GRANARY_COMMAND("units", cmd_units);
+GRANARY_COMMAND("atom_style", cmd_atom_style);
+GRANARY_COMMAND("atom_modify", cmd_atom_modify);
+GRANARY_COMMAND("boundary", cmd_boundary);
+GRANARY_COMMAND("newton", cmd_newton);
+GRANARY_COMMAND("dimension", cmd_dimension);
+GRANARY_COMMAND("create_box", cmd_create_box);
+GRANARY_COMMAND("region", cmd_region);
+GRANARY_COMMAND("fix", cmd_fix);
+GRANARY_COMMAND("unfix", cmd_unfix);
+GRANARY_COMMAND("compute", cmd_compute);
+GRANARY_COMMAND("uncompute", cmd_uncompute);
+GRANARY_COMMAND("compute_modify", cmd_compute_modify);
+GRANARY_COMMAND("pair_style", cmd_pair_style);
+GRANARY_COMMAND("pair_coeff", cmd_pair_coeff);
+
+}  // namespace granary

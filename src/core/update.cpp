@@ -1,0 +1,303 @@
+#include "core/update.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "comm/comm.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "domain/domain.h"
+#include "fix/modify.h"
+#include "neighbor/contact_history.h"
+#include "neighbor/neighbor.h"
+#include "output/thermo.h"
+#include "pair/force.h"
+#include "pair/pair.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+Update::Update(Engine& engine) : engine_(engine) {}
+
+void Update::set_timestep(double new_dt) {
+  if (!(new_dt > 0.0)) throw InputError("timestep must be positive");
+  // keep the simulated time continuous across a change of dt
+  atime = time();
+  atimestep = ntimestep;
+  dt = new_dt;
+  dt_set = true;
+  if (engine_.modify) engine_.modify->reset_dt();
+}
+
+namespace {
+struct Timer {
+  double& slot;
+  double t0;
+  explicit Timer(double& s) : slot(s), t0(MPI_Wtime()) {}
+  ~Timer() { slot += MPI_Wtime() - t0; }
+};
+}  // namespace
+
+// Reneighbouring: migrate particles with their contact history, rebuild ghosts and lists.
+// During a run the list-aligned history is saved first; at setup it is already
+// in the keyed store (saved at the end of the previous run, or read from a restart).
+void Update::reneighbor(bool save_history) {
+  Engine& e = engine_;
+  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  {
+    Timer t(timers[kModify]);
+    e.modify->pre_exchange();
+  }
+  Timer t(timers[kNeigh]);
+  if (history && save_history) history->save(*e.neighbor, *e.particles);
+  e.domain->reset_box();
+  e.comm->setup(e.neighbor->cutneighmax);
+  e.comm->exchange(history);
+  check_lost();
+  e.particles->map_clear();
+  e.comm->borders();
+  e.modify->pre_neighbor();
+  e.neighbor->build();
+  if (history) history->restore(*e.neighbor, *e.particles);
+  e.modify->post_neighbor();
+}
+
+void Update::check_lost() {
+  Engine& e = engine_;
+  int local = e.comm->nlost, total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_INT, MPI_SUM, e.world);
+  if (total == 0) return;
+  e.particles->natoms -= total;
+  if (e.thermo->lost == Thermo::Lost::Ignore) return;
+  // the lowest rank that lost one describes it
+  int who = local > 0 ? e.rank : e.nprocs, first = 0;
+  MPI_Allreduce(&who, &first, 1, MPI_INT, MPI_MIN, e.world);
+  char text[256] = {0};
+  if (e.rank == first) std::snprintf(text, sizeof text, "%s", e.comm->first_lost.c_str());
+  MPI_Bcast(text, sizeof text, MPI_CHAR, first, e.world);
+  const std::string msg = std::to_string(total) + " particle(s) left the box through a fixed boundary at step " +
+                          std::to_string(ntimestep) + " (first: " + text + ")";
+  if (e.thermo->lost == Thermo::Lost::Warn) {
+    e.logger->warning(msg);
+    return;
+  }
+  throw RunError(msg + "; contain them with walls, use shrink-wrapped boundaries (boundary m m m), "
+                       "or accept the loss with thermo_modify lost ignore");
+}
+
+void Update::compute_forces() {
+  Engine& e = engine_;
+  Particles& p = *e.particles;
+  const int n = p.size();
+  for (int i = 0; i < n; ++i) {
+    p.f[i].setZero();
+    p.torque[i].setZero();
+  }
+  {
+    Timer t(timers[kModify]);
+    e.modify->pre_force();
+  }
+  if (e.force->pair) {
+    Timer t(timers[kPair]);
+    e.force->pair->compute();
+  }
+  if (e.force->newton_pair) {
+    Timer t(timers[kComm]);
+    e.comm->reverse_comm();
+  }
+  Timer t(timers[kModify]);
+  e.modify->post_force();
+}
+
+void Update::setup() {
+  Engine& e = engine_;
+  if (!e.domain->box_exist) throw InputError("run needs a simulation box: use create_box or read_restart first");
+  e.logger->print("Setting up run ...\n");
+  std::fill(std::begin(timers), std::end(timers), 0.0);
+  e.particles->natoms = count_global();
+  e.thermo->natoms_expected = e.particles->natoms;
+  if (e.force->pair) e.force->pair->init();
+  e.neighbor->init();
+  e.modify->init();
+  reneighbor(false);
+  compute_forces();
+  e.modify->setup();
+  e.thermo->header();
+  e.thermo->line();
+}
+
+std::int64_t Update::count_global() const {
+  long long local = engine_.particles->nlocal, total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_LONG_LONG, MPI_SUM, engine_.world);
+  return total;
+}
+
+void Update::step_loop(std::int64_t n) {
+  Engine& e = engine_;
+  Modify& modify = *e.modify;
+  for (std::int64_t k = 0; k < n; ++k) {
+    ++ntimestep;
+    {
+      Timer t(timers[kModify]);
+      modify.initial_integrate();
+      modify.post_integrate();
+    }
+    ++e.neighbor->ago;
+    if (e.neighbor->decide()) {
+      reneighbor(true);
+    } else {
+      Timer t(timers[kComm]);
+      e.comm->forward_comm();
+    }
+    compute_forces();
+    {
+      Timer t(timers[kModify]);
+      modify.final_integrate();
+      modify.end_of_step(ntimestep);
+    }
+    Timer t(timers[kOutput]);
+    const bool last = ntimestep == laststep;
+    if (last || (e.thermo->every > 0 && ntimestep % e.thermo->every == 0)) e.thermo->line();
+    // Fixes that halt a run decide collectively, so every rank leaves together.
+    if (halt_requested) {
+      if (!last) e.thermo->line();
+      break;
+    }
+  }
+}
+
+void Update::run(std::int64_t n, bool pre, bool post) {
+  Engine& e = engine_;
+  if (n < 0) throw InputError("run needs a non-negative number of steps");
+  firststep = ntimestep;
+  laststep = ntimestep + n;
+  if (!bounds_set_) {
+    beginstep = firststep;
+    endstep = laststep;
+  }
+  bounds_set_ = false;
+  running = true;
+  halt_requested = false;
+  if (pre || first_run) setup();
+  first_run = false;
+  const double t0 = MPI_Wtime();
+  step_loop(n);
+  run_wall_time = MPI_Wtime() - t0;
+  running = false;
+  // Keep contact history keyed by particle ids between runs (particles may be
+  // added, deleted or moved before the next run rebuilds the lists).
+  if (e.force->pair && e.force->pair->history()) e.force->pair->history()->save(*e.neighbor, *e.particles);
+  if (post) report();
+}
+
+void Update::report() {
+  Engine& e = engine_;
+  const std::int64_t steps = ntimestep - firststep;
+  char line[512];
+  std::snprintf(line, sizeof line, "Loop time of %g on %d procs for %lld steps with %lld atoms\n\n",
+                run_wall_time, e.nprocs, static_cast<long long>(steps),
+                static_cast<long long>(e.particles->natoms));
+  e.logger->print(line);
+  if (run_wall_time > 0 && steps > 0) {
+    std::snprintf(line, sizeof line, "Performance: %.4g particle-steps/s, %.4g steps/s\n",
+                  static_cast<double>(e.particles->natoms) * steps / run_wall_time, steps / run_wall_time);
+    e.logger->print(line);
+  }
+  static const char* names[kNumTimers] = {"Pair", "Neigh", "Comm", "Modify", "Output"};
+  double other = run_wall_time;
+  e.logger->print("Section |  time (s) | %total\n");
+  for (int k = 0; k < kNumTimers; ++k) {
+    double tmax = 0.0;
+    MPI_Allreduce(&timers[k], &tmax, 1, MPI_DOUBLE, MPI_MAX, e.world);
+    other -= tmax;
+    std::snprintf(line, sizeof line, "%-7s | %9.4g | %5.1f\n", names[k], tmax,
+                  run_wall_time > 0 ? 100.0 * tmax / run_wall_time : 0.0);
+    e.logger->print(line);
+  }
+  std::snprintf(line, sizeof line, "%-7s | %9.4g | %5.1f\n\n", "Other", std::max(0.0, other),
+                run_wall_time > 0 ? 100.0 * std::max(0.0, other) / run_wall_time : 0.0);
+  e.logger->print(line);
+  e.logger->flush();
+}
+
+// run N [upto] [start S] [stop S] [pre yes|no] [post yes|no] [every M "commands"]
+void Update::run_command(const Args& args) {
+  if (args.empty()) throw InputError("usage: run N [upto] [start S] [stop S] [pre yes|no] [post yes|no] [every M command ...]");
+  std::int64_t n = parse_int(args[0], "run steps");
+  bool upto = false, pre = true, post = true;
+  std::int64_t start = -1, stop = -1, every = 0;
+  std::vector<std::string> commands;
+  for (std::size_t k = 1; k < args.size(); ++k) {
+    const std::string& w = args[k];
+    auto value = [&]() -> const std::string& {
+      if (k + 1 >= args.size()) throw InputError("run keyword '" + w + "' needs a value");
+      return args[++k];
+    };
+    if (w == "upto") upto = true;
+    else if (w == "start") start = parse_int(value(), "run start");
+    else if (w == "stop") stop = parse_int(value(), "run stop");
+    else if (w == "pre") pre = parse_bool(value(), "run pre");
+    else if (w == "post") post = parse_bool(value(), "run post");
+    else if (w == "every") {
+      every = parse_int(value(), "run every");
+      if (every <= 0) throw InputError("run every needs a positive number of steps");
+      commands.assign(args.begin() + k + 1, args.end());
+      break;
+    } else {
+      throw InputError("unknown run keyword '" + w + "'; expected upto, start, stop, pre, post or every");
+    }
+  }
+  if (upto) n -= ntimestep;
+  if (n < 0) throw InputError("run upto a step that has already passed");
+  if (start >= 0 || stop >= 0) {
+    beginstep = start >= 0 ? start : ntimestep;
+    endstep = stop >= 0 ? stop : ntimestep + n;
+    bounds_set_ = true;
+  }
+  if (every == 0) {
+    run(n, pre, post);
+    return;
+  }
+  // run in chunks of `every` steps, executing the commands after each chunk
+  std::int64_t done = 0;
+  bool first = true;
+  const bool keep_bounds = bounds_set_;
+  if (!keep_bounds) {
+    beginstep = ntimestep;
+    endstep = ntimestep + n;
+  }
+  while (done < n) {
+    const std::int64_t chunk = std::min(every, n - done);
+    bounds_set_ = true;
+    run(chunk, first || pre, post);
+    first = false;
+    done += chunk;
+    for (const auto& c : commands) {
+      if (c != "NULL") engine_.input_line(c);
+    }
+  }
+}
+
+void cmd_run(Engine& e, const Args& a) { e.update->run_command(a); }
+void cmd_timestep(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "timestep DT");
+  e.update->set_timestep(parse_double(a[0], "timestep"));
+}
+void cmd_reset_timestep(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "reset_timestep N");
+  const auto n = parse_int(a[0], "reset_timestep");
+  if (n < 0) throw InputError("reset_timestep needs N >= 0");
+  e.update->atime = e.update->time();
+  e.update->ntimestep = n;
+  e.update->atimestep = n;
+}
+GRANARY_COMMAND("run", cmd_run);
+GRANARY_COMMAND("timestep", cmd_timestep);
+GRANARY_COMMAND("reset_timestep", cmd_reset_timestep);
+
+}  // namespace granary

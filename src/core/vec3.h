@@ -1,0 +1,8 @@
+// Small vector type used throughout: Eigen's fixed 3-vector (SI units).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace granary {
+using Vec3 = Eigen::Vector3d;
+}  // namespace granary

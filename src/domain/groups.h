@@ -1,0 +1,43 @@
+// Named particle groups as bits of the per-particle mask (at most 32, "all" is bit 0).
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "core/utils.h"
+#include "core/vec3.h"
+
+namespace granary {
+
+class Engine;
+class Region;
+
+class Groups {
+ public:
+  static constexpr int kMaxGroups = 32;
+  explicit Groups(Engine& engine);
+
+  /// Index of a group, or -1.
+  int find(const std::string& name) const;
+  /// Index of a group or InputError naming `what` with a suggestion.
+  int find_or_error(const std::string& name, const std::string& what) const;
+  int bitmask(int index) const { return 1 << index; }
+  /// Create the group if needed and return its index.
+  int find_or_create(const std::string& name);
+  /// The `group` command.
+  void command(const Args& args);
+
+  // group functions (collective over ranks); region may be null
+  double count(int igroup, const Region* region = nullptr) const;
+  double mass(int igroup, const Region* region = nullptr) const;
+  Vec3 xcm(int igroup, const Region* region = nullptr) const;
+  Vec3 vcm(int igroup, const Region* region = nullptr) const;
+  void bounds(int igroup, Vec3& lo, Vec3& hi, const Region* region = nullptr) const;
+
+  std::array<std::string, kMaxGroups> names;
+
+ private:
+  Engine& engine_;
+};
+
+}  // namespace granary

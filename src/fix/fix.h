@@ -1,0 +1,74 @@
+// Base class of fixes: operations applied during the timestep.
+//
+// A fix declares the hooks it needs (hooks() returns a bit mask); Modify keeps
+// one list per hook and calls them in the order the fixes were defined. The
+// order of one timestep is written down in doc/architecture.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/utils.h"
+
+namespace granary {
+
+class Engine;
+
+class Fix {
+ public:
+  enum Hook : unsigned {
+    INITIAL_INTEGRATE = 1u << 0,  // first half-kick and drift
+    POST_INTEGRATE = 1u << 1,     // after the drift, before communication
+    PRE_EXCHANGE = 1u << 2,       // before particles migrate (reneighbour steps only)
+    PRE_NEIGHBOR = 1u << 3,       // after migration and ghosts, before the list build
+    POST_NEIGHBOR = 1u << 4,      // after the neighbour list build
+    PRE_FORCE = 1u << 5,          // after forces are zeroed, before pair forces
+    POST_FORCE = 1u << 6,         // after pair forces (walls, gravity, ...)
+    FINAL_INTEGRATE = 1u << 7,    // second half-kick
+    END_OF_STEP = 1u << 8,        // output-time work every nevery steps
+  };
+
+  /// args = "ID group-ID style style-args...".
+  Fix(Engine& engine, const Args& args);
+  virtual ~Fix() = default;
+
+  virtual unsigned hooks() const = 0;
+
+  virtual void init() {}   // before every run: check settings, cache lookups
+  virtual void setup() {}  // start of a run, after the first forces are computed
+  virtual void initial_integrate() {}
+  virtual void post_integrate() {}
+  virtual void pre_exchange() {}
+  virtual void pre_neighbor() {}
+  virtual void post_neighbor() {}
+  virtual void pre_force() {}
+  virtual void post_force() {}
+  virtual void final_integrate() {}
+  virtual void end_of_step() {}
+  virtual void reset_dt() {}
+
+  // Global and per-atom outputs (f_ID, f_ID[i]); indices are 1-based in scripts.
+  virtual double compute_scalar() { return 0.0; }
+  virtual double compute_vector(int /*i: 0-based*/) { return 0.0; }
+  virtual void peratom(int /*col: 0 = vector*/, std::vector<double>& /*out*/) {}
+  bool scalar_flag = false;
+  int size_vector = 0;
+  bool peratom_flag = false;
+  int peratom_cols = 0;  // 0: a per-atom vector
+
+  /// Largest distance from the box at which this fix can still act (walls):
+  /// contributes to shrink-wrap margins; 0 by default.
+  virtual double max_interaction_distance() const { return 0.0; }
+
+  std::string id, style;
+  int igroup = 0;     // group index
+  int groupbit = 1;   // group bit mask
+  int nevery = 1;     // end_of_step period
+  bool time_integrate = false;  // integrates positions (nve/sphere, multisphere, ...)
+
+ protected:
+  Engine& engine_;
+  Args args_;
+};
+
+}  // namespace granary

@@ -1,0 +1,128 @@
+#include "fix/fix_wall_gran.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "contact/contact_kernels.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
+  const std::string usage =
+      "fix ID group wall/gran model hertz tangential history [rolling_friction cdt] primitive type T "
+      "xplane|yplane|zplane POS | zcylinder RADIUS CX CY";
+  std::vector<std::string> words(args.begin() + 3, args.end());
+  std::size_t pos = 0;
+  try {
+    spec_ = contact::parse_model_words(words, pos);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("fix wall/gran: ") + e.what());
+  }
+  if (pos >= words.size()) throw InputError("fix wall/gran needs a wall; usage: " + usage);
+  if (words[pos] == "mesh") {
+    throw InputError("fix wall/gran mesh walls need fix mesh/surface, which is not available yet; "
+                     "use a primitive wall");
+  }
+  if (words[pos] != "primitive") {
+    throw InputError("fix wall/gran: expected 'primitive', got '" + words[pos] + "'; usage: " + usage);
+  }
+  ++pos;
+  if (pos + 1 >= words.size() || words[pos] != "type") throw InputError("fix wall/gran primitive needs 'type T'; usage: " + usage);
+  wall_type_ = static_cast<int>(parse_int(words[pos + 1], "wall type"));
+  if (wall_type_ < 1 || wall_type_ > engine.particles->ntypes) {
+    throw InputError("fix wall/gran: wall type " + words[pos + 1] + " is outside 1.." +
+                     std::to_string(engine.particles->ntypes));
+  }
+  pos += 2;
+  if (pos >= words.size()) throw InputError("fix wall/gran: missing wall shape; usage: " + usage);
+  const std::string& shape = words[pos++];
+  auto need = [&](std::size_t n) {
+    if (pos + n > words.size()) throw InputError("fix wall/gran " + shape + " needs " + std::to_string(n) + " value(s); usage: " + usage);
+  };
+  if (shape == "xplane" || shape == "yplane" || shape == "zplane") {
+    need(1);
+    shape_ = shape == "xplane" ? Shape::XPlane : shape == "yplane" ? Shape::YPlane : Shape::ZPlane;
+    pos_ = parse_double(words[pos++], shape + " position");
+  } else if (shape == "zcylinder") {
+    need(3);
+    shape_ = Shape::ZCylinder;
+    cyl_r_ = parse_double(words[pos++], "zcylinder radius");
+    cyl_cx_ = parse_double(words[pos++], "zcylinder centre x");
+    cyl_cy_ = parse_double(words[pos++], "zcylinder centre y");
+    if (cyl_r_ <= 0) throw InputError("fix wall/gran zcylinder radius must be positive");
+  } else {
+    throw InputError("fix wall/gran: unknown primitive '" + shape + "'; expected xplane, yplane, zplane or zcylinder");
+  }
+  if (pos != words.size()) throw InputError("fix wall/gran: unexpected word '" + words[pos] + "'; usage: " + usage);
+  nhist_ = contact::history_size(spec_);
+  if (nhist_ > 0) field_ = engine.particles->add_field("wall_history/" + id, nhist_, false, true);
+}
+
+void FixWallGran::init() {
+  materials_.build(engine_, spec_, "fix " + id + " wall/gran");
+  if (nhist_ > 0) field_ = engine_.particles->find_field("wall_history/" + id);
+}
+
+bool FixWallGran::contact(const Vec3& x, double r, double& overlap, Vec3& n) const {
+  if (shape_ == Shape::ZCylinder) {
+    const double dx = x[0] - cyl_cx_, dy = x[1] - cyl_cy_;
+    const double rho = std::sqrt(dx * dx + dy * dy);
+    const double gap = std::fabs(rho - cyl_r_);
+    if (gap >= r || rho == 0.0) return false;
+    overlap = r - gap;
+    const double sign = rho < cyl_r_ ? -1.0 : 1.0;  // inside: pushed towards the axis
+    n = Vec3(sign * dx / rho, sign * dy / rho, 0.0);
+    return true;
+  }
+  const int d = shape_ == Shape::XPlane ? 0 : shape_ == Shape::YPlane ? 1 : 2;
+  const double dist = x[d] - pos_;
+  if (std::fabs(dist) >= r) return false;
+  overlap = r - std::fabs(dist);
+  n.setZero();
+  n[d] = dist >= 0 ? 1.0 : -1.0;
+  return true;
+}
+
+void FixWallGran::post_force() {
+  Particles& p = *engine_.particles;
+  const double dt = engine_.update->dt;
+  double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
+  contact::dispatch_model(spec_, [&](auto kernel) {
+    using K = decltype(kernel);
+    contact::ContactState c;
+    contact::ContactResult res;
+    c.dt = dt;
+    c.r_j = 0.0;
+    c.omega_j.setZero();
+    double dummy[6] = {0, 0, 0, 0, 0, 0};
+    for (int i = 0; i < p.nlocal; ++i) {
+      if (!(p.mask[i] & groupbit)) continue;
+      double* h = nhist_ > 0 ? hist_base + static_cast<std::size_t>(i) * nhist_ : dummy;
+      double overlap;
+      Vec3 n;
+      if (!contact(p.x[i], p.radius[i], overlap, n)) {
+        for (int q = 0; q < nhist_; ++q) h[q] = 0.0;
+        continue;
+      }
+      c.n = n;
+      c.overlap = overlap;
+      c.r_i = p.radius[i];
+      c.r_eff = p.radius[i];
+      c.m_eff = p.rmass[i];
+      c.v_rel = p.v[i];
+      c.omega_i = p.omega[i];
+      K::evaluate(spec_, c, materials_(p.type[i], wall_type_), h, res);
+      p.f[i] += res.force;
+      p.torque[i] += res.torque_i;
+    }
+  });
+}
+
+GRANARY_FIX_STYLE("wall/gran", FixWallGran);
+
+}  // namespace granary

@@ -1,0 +1,195 @@
+#include "neighbor/neighbor.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "comm/comm.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "domain/domain.h"
+#include "domain/groups.h"
+#include "pair/force.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+Neighbor::Neighbor(Engine& engine) : engine_(engine) {}
+
+void Neighbor::neighbor_command(const Args& args) {
+  require_args(args, 2, 2, "neighbor SKIN bin|nsq");
+  skin = parse_double(args[0], "neighbor skin");
+  if (skin < 0) throw InputError("neighbor skin must be >= 0");
+  if (args[1] != "bin" && args[1] != "nsq" && args[1] != "multi") {
+    throw InputError("neighbor style must be bin (or nsq), got '" + args[1] + "'");
+  }
+}
+
+void Neighbor::modify_command(const Args& args) {
+  if (args.empty()) throw InputError("usage: neigh_modify keyword value ...");
+  const int ntypes = engine_.particles->ntypes;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& w = args[k];
+    auto value = [&](const char* what) -> const std::string& {
+      if (k + 1 >= args.size()) throw InputError(std::string("neigh_modify ") + what + " needs a value");
+      return args[++k];
+    };
+    if (w == "every") every = static_cast<int>(parse_int(value("every"), "every"));
+    else if (w == "delay") delay = static_cast<int>(parse_int(value("delay"), "delay"));
+    else if (w == "check") check = parse_bool(value("check"), "check");
+    else if (w == "once") once = parse_bool(value("once"), "once");
+    else if (w == "page" || w == "one" || w == "binsize" || w == "contact_distance_factor") value(w.c_str());
+    else if (w == "exclude") {
+      const std::string& kind = value("exclude");
+      if (kind == "none") {
+        exclude_types_.clear();
+        exclude_groups_.clear();
+      } else if (kind == "type") {
+        if (k + 2 >= args.size()) throw InputError("neigh_modify exclude type needs two types");
+        int lo1, hi1, lo2, hi2;
+        parse_type_range(args[k + 1], ntypes, lo1, hi1);
+        parse_type_range(args[k + 2], ntypes, lo2, hi2);
+        for (int a = lo1; a <= hi1; ++a)
+          for (int b = lo2; b <= hi2; ++b) exclude_types_.emplace_back(a, b);
+        k += 2;
+      } else if (kind == "group") {
+        if (k + 2 >= args.size()) throw InputError("neigh_modify exclude group needs two groups");
+        const int g1 = engine_.groups->find_or_error(args[k + 1], "neigh_modify exclude");
+        const int g2 = engine_.groups->find_or_error(args[k + 2], "neigh_modify exclude");
+        exclude_groups_.emplace_back(engine_.groups->bitmask(g1), engine_.groups->bitmask(g2));
+        k += 2;
+      } else if (kind == "molecule" || kind == "molecule/intra") {
+        value("exclude molecule");
+        exclude_body_ = true;
+      } else {
+        throw InputError("neigh_modify exclude takes type, group, molecule/intra or none, got '" + kind + "'");
+      }
+    } else {
+      throw InputError("unknown neigh_modify keyword '" + w +
+                       "'; expected every, delay, check, once or exclude");
+    }
+  }
+  if (every < 1 || delay < 0) throw InputError("neigh_modify needs every >= 1 and delay >= 0");
+}
+
+void Neighbor::init() {
+  const Particles& p = *engine_.particles;
+  double r = 0.0;
+  for (int i = 0; i < p.nlocal; ++i) r = std::max(r, p.radius[i]);
+  MPI_Allreduce(&r, &rmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
+  cutneighmax = 2.0 * rmax + skin;
+}
+
+bool Neighbor::excluded(int i, int j) const {
+  const Particles& p = *engine_.particles;
+  if (exclude_body_ && p.body[i] >= 0 && p.body[i] == p.body[j]) return true;
+  for (const auto& t : exclude_types_) {
+    if ((p.type[i] == t.first && p.type[j] == t.second) || (p.type[i] == t.second && p.type[j] == t.first))
+      return true;
+  }
+  for (const auto& g : exclude_groups_) {
+    if (((p.mask[i] & g.first) && (p.mask[j] & g.second)) || ((p.mask[i] & g.second) && (p.mask[j] & g.first)))
+      return true;
+  }
+  return false;
+}
+
+bool Neighbor::decide() {
+  if (ago < delay || ago % every != 0) return false;
+  if (once) return false;
+  if (!check) return true;
+  const Particles& p = *engine_.particles;
+  const double limit = 0.25 * skin * skin;
+  int moved = 0;
+  const int n = std::min<int>(p.nlocal, static_cast<int>(xhold_.size()));
+  if (n != p.nlocal) moved = 1;
+  for (int i = 0; i < n && !moved; ++i) {
+    if ((p.x[i] - xhold_[i]).squaredNorm() > limit) moved = 1;
+  }
+  int any = 0;
+  MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, engine_.world);
+  return any != 0;
+}
+
+void Neighbor::build() {
+  const Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  const int nlocal = p.nlocal, nall = p.size();
+  const bool newton = engine_.force->newton_pair;
+  xhold_.assign(p.x.begin(), p.x.begin() + nlocal);
+  ago = 0;
+  ++nbuilds;
+
+  offset.assign(nlocal + 1, 0);
+  neigh.clear();
+  if (nlocal == 0) return;
+
+  // Bins cover the subdomain plus the ghost shell; bin size >= the largest cutoff.
+  const double cut = std::max(cutneighmax, 1e-12);
+  const double ghost = engine_.comm->cutghost;
+  Vec3 lo, hi;
+  int nbin[3];
+  double binsize[3];
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = dom.sublo[d] - ghost - 1e-12;
+    hi[d] = dom.subhi[d] + ghost + 1e-12;
+    nbin[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / cut));
+    nbin[d] = std::min(nbin[d], 1 << 10);
+    binsize[d] = (hi[d] - lo[d]) / nbin[d];
+  }
+  auto coord = [&](const Vec3& x, int d) {
+    int c = static_cast<int>((x[d] - lo[d]) / binsize[d]);
+    return std::clamp(c, 0, nbin[d] - 1);
+  };
+  const std::size_t nbins = static_cast<std::size_t>(nbin[0]) * nbin[1] * nbin[2];
+  binhead_.assign(nbins, -1);
+  binnext_.assign(nall, -1);
+  std::vector<int> bin_of(nall);
+  // insert in reverse so each bin's chain runs in increasing index order
+  for (int i = nall - 1; i >= 0; --i) {
+    const int b = (coord(p.x[i], 2) * nbin[1] + coord(p.x[i], 1)) * nbin[0] + coord(p.x[i], 0);
+    bin_of[i] = b;
+    binnext_[i] = binhead_[b];
+    binhead_[b] = i;
+  }
+
+  neigh.reserve(static_cast<std::size_t>(nlocal) * 8);
+  for (int i = 0; i < nlocal; ++i) {
+    offset[i] = static_cast<int>(neigh.size());
+    const int cx = coord(p.x[i], 0), cy = coord(p.x[i], 1), cz = coord(p.x[i], 2);
+    const double ri = p.radius[i];
+    for (int dz = -1; dz <= 1; ++dz) {
+      const int z = cz + dz;
+      if (z < 0 || z >= nbin[2]) continue;
+      for (int dy = -1; dy <= 1; ++dy) {
+        const int y = cy + dy;
+        if (y < 0 || y >= nbin[1]) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xb = cx + dx;
+          if (xb < 0 || xb >= nbin[0]) continue;
+          for (int j = binhead_[(z * nbin[1] + y) * nbin[0] + xb]; j >= 0; j = binnext_[j]) {
+            if (j < nlocal) {
+              if (j <= i) continue;
+            } else if (p.id[j] == p.id[i] || (newton && p.id[j] < p.id[i])) {
+              continue;
+            }
+            const double rc = ri + p.radius[j] + skin;
+            if ((p.x[i] - p.x[j]).squaredNorm() >= rc * rc) continue;
+            if (excluded(i, j)) continue;
+            neigh.push_back(j);
+          }
+        }
+      }
+    }
+  }
+  offset[nlocal] = static_cast<int>(neigh.size());
+}
+
+void cmd_neighbor(Engine& e, const Args& a) { e.neighbor->neighbor_command(a); }
+void cmd_neigh_modify(Engine& e, const Args& a) { e.neighbor->modify_command(a); }
+GRANARY_COMMAND("neighbor", cmd_neighbor);
+GRANARY_COMMAND("neigh_modify", cmd_neigh_modify);
+
+}  // namespace granary

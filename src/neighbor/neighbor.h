@@ -1,0 +1,68 @@
+// Binned half neighbour lists with a skin, and the decision when to rebuild.
+//
+// List rules (see doc/architecture.md):
+// - owned-owned pairs appear once;
+// - owned-ghost pairs: with `newton off` every one appears (each rank computes
+//   the force on its own particle; no reverse communication); with `newton on`
+//   only those where the owned particle has the smaller id (the force on the
+//   ghost is sent back by reverse communication).
+// Pairs excluded by neigh_modify exclude, and sub-spheres of one clump, never appear.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/utils.h"
+#include "core/vec3.h"
+
+namespace granary {
+
+class Engine;
+
+class Neighbor {
+ public:
+  explicit Neighbor(Engine& engine);
+
+  double skin = 0.001;  // [m], `neighbor SKIN bin`
+  int every = 1, delay = 0;
+  bool check = true;
+  bool once = false;
+  int sort_every = 1000;     // atom_modify sort N binsize (0 = off)
+  double sort_binsize = 0.0;
+
+  void neighbor_command(const Args& args);
+  void modify_command(const Args& args);
+
+  /// Set cutoffs before a run from the largest particle radius (collective).
+  void init();
+  /// True when the list must be rebuilt this step (collective).
+  bool decide();
+  /// Build the half list from owned and ghost particles.
+  void build();
+  /// Interaction cutoff plus skin for a pair of radii.
+  double cutneighmax = 0.0;  // 2 * rmax + skin
+  double rmax = 0.0;
+
+  // CSR half list: neighbours of owned particle i are
+  // neigh[offset[i] .. offset[i+1]).
+  std::vector<int> offset;
+  std::vector<int> neigh;
+  std::int64_t ago = 0;  // steps since the last build
+  std::int64_t nbuilds = 0;
+  std::int64_t last_build_step = -1;
+
+  bool excluded(int i, int j) const;
+
+ private:
+  Engine& engine_;
+  std::vector<Vec3> xhold_;
+  std::vector<std::pair<int, int>> exclude_types_;
+  std::vector<std::pair<int, int>> exclude_groups_;
+  bool exclude_body_ = true;  // sub-spheres of one clump never interact
+  // bins
+  std::vector<int> binhead_, binnext_;
+};
+
+}  // namespace granary

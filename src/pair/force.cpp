@@ -1,0 +1,31 @@
+#include "pair/force.h"
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "pair/pair.h"
+
+namespace granary {
+
+Force::Force(Engine& engine) : engine_(engine) {}
+Force::~Force() = default;
+
+void Force::create_pair(const Args& args) {
+  if (args.empty()) throw InputError("usage: pair_style STYLE args...");
+  if (args[0] == "none") {
+    pair.reset();
+    pair_style = "none";
+    return;
+  }
+  const auto& registry = PairRegistry::instance();
+  const PairFactory* factory = registry.find(args[0]);
+  if (!factory) {
+    const std::string hint = did_you_mean(args[0], registry.names());
+    throw InputError("unknown pair style '" + args[0] + "'" +
+                     (hint.empty() ? "; see doc/pairs for the list" : "; " + hint));
+  }
+  pair = (*factory)(engine_, Args(args.begin() + 1, args.end()));
+  pair_style = args[0];
+}
+
+}  // namespace granary

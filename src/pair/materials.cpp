@@ -1,0 +1,70 @@
+#include "pair/materials.h"
+
+#include <mpi.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "fix/fix_property_global.h"
+#include "fix/modify.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const std::string& user) {
+  const Modify& modify = *engine.modify;
+  const int n = engine.particles->ntypes;
+  stride_ = n + 1;
+  table_.assign(static_cast<std::size_t>(stride_) * stride_, contact::PairMaterial{});
+  youngs_.assign(stride_, 0.0);
+  poisson_.assign(stride_, 0.0);
+  auto* Y = FixPropertyGlobal::require(modify, "youngsModulus", user);
+  auto* nu = FixPropertyGlobal::require(modify, "poissonsRatio", user);
+  auto* e = FixPropertyGlobal::require(modify, "coefficientRestitution", user);
+  auto* mu = FixPropertyGlobal::require(modify, "coefficientFriction", user);
+  FixPropertyGlobal* mur = nullptr;
+  if (spec.rolling != contact::RollingModel::None) {
+    mur = FixPropertyGlobal::require(modify, "coefficientRollingFriction", user);
+  }
+  double vchar = 0.0;
+  if (spec.normal == contact::NormalModel::Hooke) {
+    vchar = FixPropertyGlobal::require(modify, "characteristicVelocity", user)->compute_scalar();
+  }
+  for (int a = 1; a <= n; ++a) {
+    youngs_[a] = Y->per_type(a);
+    poisson_[a] = nu->per_type(a);
+  }
+  for (int a = 1; a <= n; ++a) {
+    for (int b = 1; b <= n; ++b) {
+      try {
+        table_[a * stride_ + b] = contact::mix_materials(youngs_[a], poisson_[a], youngs_[b], poisson_[b],
+                                                         e->per_pair(a, b), mu->per_pair(a, b),
+                                                         mur ? mur->per_pair(a, b) : 0.0, vchar);
+      } catch (const std::invalid_argument& ex) {
+        throw InputError(user + ": material of types " + std::to_string(a) + " and " + std::to_string(b) +
+                         ": " + ex.what());
+      }
+    }
+  }
+}
+
+double min_rayleigh_time(Engine& engine, const MaterialTable& materials) {
+  const Particles& p = *engine.particles;
+  double tmin = std::numeric_limits<double>::max();
+  for (int i = 0; i < p.nlocal; ++i) {
+    const int t = p.type[i];
+    if (t < 1 || t > materials.ntypes()) continue;
+    const double Y = materials.youngs(t), nu = materials.poisson(t);
+    const double G = Y / (2.0 * (1.0 + nu));
+    const double tr = M_PI * p.radius[i] * std::sqrt(p.density[i] / G) / (0.1631 * nu + 0.8766);
+    tmin = std::min(tmin, tr);
+  }
+  double all = tmin;
+  MPI_Allreduce(&tmin, &all, 1, MPI_DOUBLE, MPI_MIN, engine.world);
+  return all;
+}
+
+}  // namespace granary

@@ -1,0 +1,35 @@
+// Material table: mixed contact parameters for every pair of atom types, read
+// from the fix property/global entries of a LIGGGHTS script.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "contact/contact_model.h"
+
+namespace granary {
+
+class Engine;
+
+class MaterialTable {
+ public:
+  /// Read youngsModulus, poissonsRatio (peratomtype), coefficientRestitution,
+  /// coefficientFriction, coefficientRollingFriction (peratomtypepair) and
+  /// characteristicVelocity (scalar, Hooke only). `user` names the style for messages.
+  void build(Engine& engine, const contact::ModelSpec& spec, const std::string& user);
+  const contact::PairMaterial& operator()(int ti, int tj) const { return table_[ti * stride_ + tj]; }
+  int ntypes() const { return stride_ - 1; }
+  double youngs(int t) const { return youngs_[t]; }
+  double poisson(int t) const { return poisson_[t]; }
+
+ private:
+  int stride_ = 0;
+  std::vector<contact::PairMaterial> table_;
+  std::vector<double> youngs_, poisson_;
+};
+
+/// Smallest Rayleigh time pi r sqrt(rho/G) / (0.1631 nu + 0.8766) over the owned
+/// particles (collective), with G = Y / (2 (1 + nu)) of each particle's type.
+double min_rayleigh_time(Engine& engine, const MaterialTable& materials);
+
+}  // namespace granary

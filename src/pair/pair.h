@@ -1,0 +1,42 @@
+// Base class of pair styles (particle-particle contacts).
+#pragma once
+
+#include <string>
+
+#include "core/utils.h"
+
+namespace granary {
+
+class Engine;
+class ContactHistory;
+
+class Pair {
+ public:
+  /// args = the words after the style name in `pair_style`.
+  Pair(Engine& engine, const Args& args) : engine_(engine), args_(args) {}
+  virtual ~Pair() = default;
+
+  /// `pair_coeff` (granular styles take only "* *").
+  virtual void coeff(const Args& args) = 0;
+  /// Before every run: read materials, check settings.
+  virtual void init() = 0;
+  /// Add contact forces and torques to f and torque of the particles in the neighbour list.
+  virtual void compute() = 0;
+  /// Number of contact-history values per contact (0 = none).
+  virtual int history_size() const { return 0; }
+  /// Sign of each history value when i and j swap roles.
+  virtual void history_swap_signs(double* signs) const {}
+  /// Shortest collision time for the current materials and particles, used by
+  /// the timestep checks; 0 when unknown.
+  virtual double hertz_time(double v_rel_max) const { return 0.0; }
+  /// Contact history aligned with the neighbour list, or nullptr.
+  virtual ContactHistory* history() { return nullptr; }
+
+  std::string style;
+
+ protected:
+  Engine& engine_;
+  Args args_;
+};
+
+}  // namespace granary

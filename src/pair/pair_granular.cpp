@@ -1,0 +1,161 @@
+#include "pair/pair_granular.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "contact/contact_kernels.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "neighbor/neighbor.h"
+#include "pair/force.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
+  std::vector<std::string> words;
+  if (style == "hertz/rolling") {
+    // Granary's name: Hertz, tangential history and cdt rolling unless overridden.
+    words = {"model", "hertz", "tangential", "history", "rolling_friction", "cdt"};
+    for (std::size_t k = 0; k + 1 < args.size(); k += 2) {
+      const std::string slot = args[k] == "rolling" ? "rolling_friction" : args[k];
+      bool replaced = false;
+      for (std::size_t w = 0; w + 1 < words.size(); w += 2) {
+        if (words[w] == slot) {
+          words[w + 1] = args[k + 1];
+          replaced = true;
+        }
+      }
+      if (!replaced) {
+        words.push_back(slot);
+        words.push_back(args[k + 1]);
+      }
+    }
+    if (args.size() % 2) throw InputError("pair_style hertz/rolling takes keyword/value pairs; '" + args.back() + "' has no value");
+  } else {
+    words = args;
+  }
+  std::size_t pos = 0;
+  contact::ModelSpec spec;
+  try {
+    spec = contact::parse_model_words(words, pos);
+  } catch (const std::invalid_argument& e) {
+    throw InputError("pair_style " + style + ": " + e.what());
+  }
+  if (pos != words.size()) {
+    throw InputError("pair_style " + style + ": unexpected word '" + words[pos] +
+                     "'; expected model, tangential, rolling_friction, cohesion or limitForce");
+  }
+  return spec;
+}
+}  // namespace
+
+PairGranular::PairGranular(Engine& engine, const Args& args, const std::string& style_name)
+    : Pair(engine, args) {
+  style = style_name;
+  spec_ = parse_spec(style_name, args);
+}
+
+void PairGranular::coeff(const Args& args) {
+  require_args(args, 2, 2, "pair_coeff * *");
+  int lo, hi;
+  const int n = engine_.particles->ntypes;
+  parse_type_range(args[0], n, lo, hi);
+  parse_type_range(args[1], n, lo, hi);
+  coeff_set_ = true;
+}
+
+void PairGranular::init() {
+  if (!coeff_set_) throw InputError("pair style " + style + " needs 'pair_coeff * *' before run");
+  materials_.build(engine_, spec_, "pair_style " + style);
+  std::vector<double> signs(history_size());
+  if (!signs.empty()) history_swap_signs(signs.data());
+  if (history_.nvalues() != history_size()) history_.configure(history_size(), signs);
+
+  // A timestep longer than the Rayleigh time cannot resolve a contact.
+  const double tr = min_rayleigh_time(engine_, materials_);
+  const double dt = engine_.update->dt;
+  if (tr > 0 && std::isfinite(tr) && tr < 1e300 && dt > tr) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "timestep %g s is longer than the Rayleigh time %g s of the stiffest particle; "
+                  "contacts cannot be resolved. Use a timestep below %g s (20%% of the Rayleigh time) "
+                  "or a smaller Young's modulus",
+                  dt, tr, 0.2 * tr);
+    throw InputError(buf);
+  }
+}
+
+template <class Kernel>
+void PairGranular::loop() {
+  Particles& p = *engine_.particles;
+  const Neighbor& list = *engine_.neighbor;
+  const int nlocal = p.nlocal;
+  const bool newton = engine_.force->newton_pair;
+  const double dt = engine_.update->dt;
+  constexpr int nh = Kernel::history_size;
+  const bool with_history = nh > 0;
+  if (with_history && history_.touch_.size() != list.neigh.size()) {
+    history_.touch_.assign(list.neigh.size(), 0);
+    history_.values_.assign(list.neigh.size() * nh, 0.0);
+  }
+  double dummy[6] = {0, 0, 0, 0, 0, 0};
+  contact::ContactState c;
+  contact::ContactResult res;
+  c.dt = dt;
+  for (int i = 0; i < nlocal; ++i) {
+    const Vec3 xi = p.x[i];
+    const double ri = p.radius[i];
+    const int ti = p.type[i];
+    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
+      const int j = list.neigh[k];
+      const Vec3 d = xi - p.x[j];
+      const double rsum = ri + p.radius[j];
+      const double r2 = d.squaredNorm();
+      double* h = with_history ? &history_.values_[static_cast<std::size_t>(k) * nh] : dummy;
+      if (r2 >= rsum * rsum || r2 == 0.0) {
+        if constexpr (nh > 0) {
+          if (history_.touch_[k]) {
+            history_.touch_[k] = 0;
+            for (int q = 0; q < nh; ++q) h[q] = 0.0;
+          }
+        }
+        continue;
+      }
+      const double r = std::sqrt(r2);
+      const double rj = p.radius[j];
+      c.n = d / r;
+      c.overlap = rsum - r;
+      c.r_i = ri;
+      c.r_j = rj;
+      c.r_eff = ri * rj / rsum;
+      const double mi = p.rmass[i], mj = p.rmass[j];
+      c.m_eff = mi * mj / (mi + mj);
+      c.v_rel = p.v[i] - p.v[j];
+      c.omega_i = p.omega[i];
+      c.omega_j = p.omega[j];
+      Kernel::evaluate(spec_, c, materials_(ti, p.type[j]), h, res);
+      if constexpr (nh > 0) history_.touch_[k] = 1;
+      p.f[i] += res.force;
+      p.torque[i] += res.torque_i;
+      if (newton || j < nlocal) {
+        p.f[j] -= res.force;
+        p.torque[j] += res.torque_j;
+      }
+    }
+  }
+}
+
+void PairGranular::compute() {
+  contact::dispatch_model(spec_, [this](auto kernel) { this->loop<decltype(kernel)>(); });
+}
+
+GRANARY_PAIR_STYLE("gran", PairGran);
+GRANARY_PAIR_STYLE("hertz/rolling", PairHertzRolling);
+
+}  // namespace granary

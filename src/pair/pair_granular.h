@@ -1,0 +1,50 @@
+// Granular contact pair style, assembled at run time from contact sub-models.
+//
+//   pair_style gran model hertz tangential history rolling_friction cdt   (LIGGGHTS spelling)
+//   pair_style hertz/rolling [rolling_friction cdt|epsd2|off] [tangential history|no_history] ...
+// Both build the same ContactModel; hertz/rolling defaults to Hertz normal
+// force, tangential history and cdt rolling friction.
+#pragma once
+
+#include "contact/contact_model.h"
+#include "neighbor/contact_history.h"
+#include "pair/materials.h"
+#include "pair/pair.h"
+
+namespace granary {
+
+class PairGranular : public Pair {
+ public:
+  PairGranular(Engine& engine, const Args& args, const std::string& style_name);
+  void coeff(const Args& args) override;
+  void init() override;
+  void compute() override;
+  int history_size() const override { return contact::history_size(spec_); }
+  void history_swap_signs(double* signs) const override { contact::history_swap_signs(spec_, signs); }
+  ContactHistory* history() override { return history_size() > 0 ? &history_ : nullptr; }
+
+  const contact::ModelSpec& spec() const { return spec_; }
+  const MaterialTable& materials() const { return materials_; }
+
+ private:
+  template <class Kernel>
+  void loop();
+  contact::ModelSpec spec_;
+  MaterialTable materials_;
+  ContactHistory history_;
+  bool coeff_set_ = false;
+};
+
+/// `pair_style gran ...` (LIGGGHTS spelling).
+class PairGran : public PairGranular {
+ public:
+  PairGran(Engine& engine, const Args& args) : PairGranular(engine, args, "gran") {}
+};
+
+/// `pair_style hertz/rolling ...` (Granary's name for the same model).
+class PairHertzRolling : public PairGranular {
+ public:
+  PairHertzRolling(Engine& engine, const Args& args) : PairGranular(engine, args, "hertz/rolling") {}
+};
+
+}  // namespace granary

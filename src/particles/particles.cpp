@@ -1,0 +1,248 @@
+#include "particles/particles.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace granary {
+
+namespace {
+constexpr int kImageBits = 10;
+constexpr int kImageMask = (1 << kImageBits) - 1;
+constexpr int kImageMax = 1 << (kImageBits - 1);
+}  // namespace
+
+Particles::Particles() = default;
+
+int Particles::image_pack(int ix, int iy, int iz) {
+  return ((iz + kImageMax) & kImageMask) << (2 * kImageBits) |
+         ((iy + kImageMax) & kImageMask) << kImageBits | ((ix + kImageMax) & kImageMask);
+}
+
+void Particles::image_unpack(int image, int& ix, int& iy, int& iz) {
+  ix = (image & kImageMask) - kImageMax;
+  iy = ((image >> kImageBits) & kImageMask) - kImageMax;
+  iz = ((image >> (2 * kImageBits)) & kImageMask) - kImageMax;
+}
+
+double Particles::sphere_mass(double r, double rho) { return 4.0 / 3.0 * M_PI * r * r * r * rho; }
+
+void Particles::resize(int n) {
+  id.resize(n);
+  type.resize(n);
+  mask.resize(n);
+  x.resize(n);
+  v.resize(n);
+  f.resize(n);
+  omega.resize(n);
+  torque.resize(n);
+  radius.resize(n);
+  density.resize(n);
+  rmass.resize(n);
+  body.resize(n);
+  image.resize(n);
+  for (auto& e : extras) e.data.resize(static_cast<std::size_t>(n) * e.ncomp);
+}
+
+int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, double density_) {
+  const int i = nlocal;
+  resize(nlocal + 1);
+  id[i] = id_;
+  type[i] = type_;
+  mask[i] = 1;
+  x[i] = x_;
+  v[i].setZero();
+  f[i].setZero();
+  omega[i].setZero();
+  torque[i].setZero();
+  radius[i] = radius_;
+  density[i] = density_;
+  rmass[i] = sphere_mass(radius_, density_);
+  body[i] = -1;
+  image[i] = image_pack(0, 0, 0);
+  for (auto& e : extras) std::fill_n(e.data.begin() + static_cast<std::size_t>(i) * e.ncomp, e.ncomp, 0.0);
+  ++nlocal;
+  return i;
+}
+
+void Particles::copy(int from, int to) {
+  id[to] = id[from];
+  type[to] = type[from];
+  mask[to] = mask[from];
+  x[to] = x[from];
+  v[to] = v[from];
+  f[to] = f[from];
+  omega[to] = omega[from];
+  torque[to] = torque[from];
+  radius[to] = radius[from];
+  density[to] = density[from];
+  rmass[to] = rmass[from];
+  body[to] = body[from];
+  image[to] = image[from];
+  for (auto& e : extras) {
+    std::copy_n(e.data.begin() + static_cast<std::size_t>(from) * e.ncomp, e.ncomp,
+                e.data.begin() + static_cast<std::size_t>(to) * e.ncomp);
+  }
+}
+
+void Particles::remove_local(int i) {
+  clear_ghosts();
+  if (i != nlocal - 1) copy(nlocal - 1, i);
+  --nlocal;
+  resize(nlocal);
+}
+
+void Particles::clear_ghosts() {
+  nghost = 0;
+  resize(nlocal);
+}
+
+int Particles::exchange_size() const {
+  int n = 19;
+  for (const auto& e : extras)
+    if (e.exchange) n += e.ncomp;
+  return n;
+}
+
+void Particles::pack_exchange(int i, std::vector<double>& buf) const {
+  buf.push_back(static_cast<double>(id[i]));
+  buf.push_back(type[i]);
+  buf.push_back(mask[i]);
+  for (int d = 0; d < 3; ++d) buf.push_back(x[i][d]);
+  for (int d = 0; d < 3; ++d) buf.push_back(v[i][d]);
+  for (int d = 0; d < 3; ++d) buf.push_back(omega[i][d]);
+  buf.push_back(radius[i]);
+  buf.push_back(density[i]);
+  buf.push_back(rmass[i]);
+  buf.push_back(static_cast<double>(body[i]));
+  buf.push_back(image[i]);
+  // forces are recomputed after migration, but keep the layout fixed-size
+  buf.push_back(0.0);
+  buf.push_back(0.0);
+  for (const auto& e : extras) {
+    if (!e.exchange) continue;
+    const double* src = &e.data[static_cast<std::size_t>(i) * e.ncomp];
+    buf.insert(buf.end(), src, src + e.ncomp);
+  }
+}
+
+int Particles::unpack_exchange(const double* buf) {
+  // called only while there are no ghosts (exchange runs before borders)
+  const int i = nlocal;
+  resize(nlocal + 1);
+  int m = 0;
+  id[i] = static_cast<tagint>(buf[m++]);
+  type[i] = static_cast<int>(buf[m++]);
+  mask[i] = static_cast<int>(buf[m++]);
+  for (int d = 0; d < 3; ++d) x[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d) v[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d) omega[i][d] = buf[m++];
+  radius[i] = buf[m++];
+  density[i] = buf[m++];
+  rmass[i] = buf[m++];
+  body[i] = static_cast<tagint>(buf[m++]);
+  image[i] = static_cast<int>(buf[m++]);
+  m += 2;
+  f[i].setZero();
+  torque[i].setZero();
+  for (auto& e : extras) {
+    double* dst = &e.data[static_cast<std::size_t>(i) * e.ncomp];
+    if (e.exchange) {
+      std::copy_n(buf + m, e.ncomp, dst);
+      m += e.ncomp;
+    } else {
+      std::fill_n(dst, e.ncomp, 0.0);
+    }
+  }
+  ++nlocal;
+  return m;
+}
+
+int Particles::border_size() const {
+  int n = 16;
+  for (const auto& e : extras)
+    if (e.ghost) n += e.ncomp;
+  return n;
+}
+
+void Particles::pack_border(int i, const Vec3& shift, std::vector<double>& buf) const {
+  buf.push_back(static_cast<double>(id[i]));
+  buf.push_back(type[i]);
+  buf.push_back(mask[i]);
+  for (int d = 0; d < 3; ++d) buf.push_back(x[i][d] + shift[d]);
+  for (int d = 0; d < 3; ++d) buf.push_back(v[i][d]);
+  for (int d = 0; d < 3; ++d) buf.push_back(omega[i][d]);
+  buf.push_back(radius[i]);
+  buf.push_back(density[i]);
+  buf.push_back(rmass[i]);
+  buf.push_back(static_cast<double>(body[i]));
+  for (const auto& e : extras) {
+    if (!e.ghost) continue;
+    const double* src = &e.data[static_cast<std::size_t>(i) * e.ncomp];
+    buf.insert(buf.end(), src, src + e.ncomp);
+  }
+}
+
+int Particles::unpack_border(const double* buf) {
+  const int i = nlocal + nghost;
+  resize(i + 1);
+  int m = 0;
+  id[i] = static_cast<tagint>(buf[m++]);
+  type[i] = static_cast<int>(buf[m++]);
+  mask[i] = static_cast<int>(buf[m++]);
+  for (int d = 0; d < 3; ++d) x[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d) v[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d) omega[i][d] = buf[m++];
+  radius[i] = buf[m++];
+  density[i] = buf[m++];
+  rmass[i] = buf[m++];
+  body[i] = static_cast<tagint>(buf[m++]);
+  image[i] = image_pack(0, 0, 0);
+  f[i].setZero();
+  torque[i].setZero();
+  for (auto& e : extras) {
+    double* dst = &e.data[static_cast<std::size_t>(i) * e.ncomp];
+    if (e.ghost) {
+      std::copy_n(buf + m, e.ncomp, dst);
+      m += e.ncomp;
+    } else {
+      std::fill_n(dst, e.ncomp, 0.0);
+    }
+  }
+  ++nghost;
+  return m;
+}
+
+void Particles::map_build(tagint max_id) {
+  map_.assign(static_cast<std::size_t>(max_id + 1), -1);
+  // ghosts first, so owned copies overwrite them
+  for (int i = size() - 1; i >= 0; --i) map_[id[i]] = i;
+}
+
+void Particles::map_clear() { map_.clear(); }
+
+tagint Particles::max_local_id() const {
+  tagint m = 0;
+  for (int i = 0; i < nlocal; ++i) m = std::max(m, id[i]);
+  return m;
+}
+
+int Particles::add_field(const std::string& name, int ncomp, bool ghost, bool exchange) {
+  const int existing = find_field(name);
+  if (existing >= 0) return existing;
+  ExtraField e;
+  e.name = name;
+  e.ncomp = ncomp;
+  e.ghost = ghost;
+  e.exchange = exchange;
+  e.data.assign(static_cast<std::size_t>(size()) * ncomp, 0.0);
+  extras.push_back(std::move(e));
+  return static_cast<int>(extras.size()) - 1;
+}
+
+int Particles::find_field(const std::string& name) const {
+  for (std::size_t k = 0; k < extras.size(); ++k)
+    if (extras[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
+}  // namespace granary

@@ -1,0 +1,97 @@
+// Per-particle storage as a structure of arrays.
+//
+// Owned particles occupy [0, nlocal), ghosts (copies of particles owned by
+// other ranks or periodic images) occupy [nlocal, nlocal + nghost). Every field
+// states whether it is sent to ghosts each step (forward), summed back from
+// ghosts (reverse), carried when a particle migrates (exchange) and written to
+// restarts. Fixes that need extra per-particle values register them with
+// add_field() and get the same treatment.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace granary {
+
+using tagint = std::int64_t;
+
+/// An extra per-particle field registered by a style (e.g. a body id or a fix's state).
+struct ExtraField {
+  std::string name;
+  int ncomp = 1;
+  bool ghost = false;    // copied to ghosts when they are built (borders)
+  bool exchange = true;  // migrates with the particle
+  std::vector<double> data;  // ncomp values per particle
+};
+
+class Particles {
+ public:
+  Particles();
+
+  int nlocal = 0;
+  int nghost = 0;
+  int ntypes = 0;
+  tagint natoms = 0;  // global number of particles (kept current by the owner of the count)
+
+  // core fields: [exchange, restart]; x v omega are forward-communicated;
+  // f torque are reverse-communicated (newton on).
+  std::vector<tagint> id;
+  std::vector<int> type;
+  std::vector<int> mask;  // group bits; bit 0 = group "all"
+  std::vector<Vec3> x, v, f, omega, torque;
+  std::vector<double> radius, density, rmass;
+  std::vector<tagint> body;   // clump id, -1 for a free sphere
+  std::vector<int> image;     // periodic image flags packed 10 bits per dimension
+
+  int size() const { return nlocal + nghost; }
+  /// Resize every field to hold n particles (owned + ghost).
+  void resize(int n);
+  /// Append an owned particle (only when there are no ghosts). Returns its index.
+  int add_local(tagint id_, int type_, const Vec3& x_, double radius_, double density_);
+  /// Copy particle `from` over slot `to` (all fields incl. extras).
+  void copy(int from, int to);
+  /// Remove owned particle i by moving the last owned one into its slot (ghosts are dropped).
+  void remove_local(int i);
+  /// Remove all ghosts.
+  void clear_ghosts();
+
+  /// Number of doubles pack_exchange writes for one particle.
+  int exchange_size() const;
+  void pack_exchange(int i, std::vector<double>& buf) const;
+  /// Append an owned particle from a buffer written by pack_exchange; returns doubles read.
+  int unpack_exchange(const double* buf);
+
+  /// Ghost border data (everything a neighbour rank needs to compute contacts).
+  int border_size() const;
+  void pack_border(int i, const Vec3& shift, std::vector<double>& buf) const;
+  int unpack_border(const double* buf);  // appends a ghost
+
+  // id -> local index map (owned copies win over ghosts); -1 when absent.
+  void map_build(tagint max_id);
+  int map(tagint tag) const {
+    return (tag >= 0 && tag < static_cast<tagint>(map_.size())) ? map_[tag] : -1;
+  }
+  void map_clear();
+  /// Largest id anywhere (collective over the engine's ranks is done by the caller).
+  tagint max_local_id() const;
+
+  /// Register an extra field; returns its index in `extras`. Re-registering a name returns the existing one.
+  int add_field(const std::string& name, int ncomp, bool ghost, bool exchange);
+  int find_field(const std::string& name) const;
+  std::vector<ExtraField> extras;
+
+  /// Mass of particle i from radius and density (sphere).
+  static double sphere_mass(double radius, double density);
+
+  // image flags
+  static int image_pack(int ix, int iy, int iz);
+  static void image_unpack(int image, int& ix, int& iy, int& iz);
+
+ private:
+  std::vector<int> map_;
+};
+
+}  // namespace granary

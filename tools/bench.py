@@ -1,0 +1,479 @@
+#!/usr/bin/python3
+"""Benchmark Granary against LIGGGHTS on the same input script.
+
+Runs LIGGGHTS and Granary one after the other on the same input script (by
+default examples/bench/in.bench_spheres) on 1 and 2 MPI ranks, passing
+'-var nsteps N' when --nsteps is given, and prints a table with wall time,
+loop time, throughput (particle-steps per second), Granary/LIGGGHTS speed
+ratio, parallel speed-up and peak memory.
+
+    /usr/bin/python3 tools/bench.py --nsteps 2000
+    /usr/bin/python3 tools/bench.py --only liggghts --nsteps 2000 --json out.json
+    /usr/bin/python3 tools/bench.py --granary build/granary --ranks 1,2,4
+
+What is measured, per run (each run is started from a fresh helper process):
+  wall s       wall-clock time of the whole program run (start-up, setup and
+               time stepping; measured around the process)
+  loop s       the time the program itself reports for its time-stepping loop,
+               from its final "Loop time of X on P procs for N steps with M
+               atoms" line (summed over all such lines if a script has several
+               run commands)
+  particles    M from the last "Loop time" line (fallback: last thermo 'Atoms')
+  steps        N summed over the "Loop time" lines
+  particle-steps/s   particles * steps / loop s
+  speed G/L    Granary particle-steps/s divided by LIGGGHTS particle-steps/s at
+               the same number of ranks (> 1: Granary is faster)
+  speed-up     particle-steps/s at P ranks divided by the same program's value
+               at 1 rank
+  peak RSS MiB peak resident set size summed over all MPI ranks (each rank's
+               VmHWM, sampled from /proc while it runs); the largest single
+               process (getrusage RUSAGE_CHILDREN ru_maxrss) is also kept in
+               the JSON output as max_rank_rss_mib
+  bytes/particle     peak RSS (sum over ranks) / particles
+
+1-rank runs start the program directly, runs on more ranks go through mpirun
+(Open MPI: --allow-run-as-root is added when running as root and
+--oversubscribe when there are more ranks than cores).  Each run happens in
+its own temporary directory with '-log none', so no files are left behind;
+the script path is passed as an absolute path.  OMP_NUM_THREADS is set to 1.
+
+Exit status: 0 if every run succeeded, 1 if a run failed, 2 for usage errors
+(for example a missing executable).  Only the Python standard library is used.
+"""
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import re
+import resource
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_SCRIPT = os.path.join("examples", "bench", "in.bench_spheres")
+DEFAULT_GRANARY = os.path.join("build", "granary")
+
+LOOP_RE = re.compile(r"^Loop time of\s+(\S+)\s+on\s+(\d+)\s+procs?\s+for\s+(\d+)\s+steps?"
+                     r"\s+with\s+(\d+)\s+atoms")
+
+
+# ---------------------------------------------------------------------------
+# helper mode: run one command, measure wall time and memory, write JSON
+# ---------------------------------------------------------------------------
+
+def _proc_table():
+    """pid -> (ppid, comm) for all processes, from /proc."""
+    table = {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                data = f.read()
+        except OSError:
+            continue
+        # comm is in parentheses and may contain spaces
+        lpar, rpar = data.find("("), data.rfind(")")
+        comm = data[lpar + 1:rpar]
+        rest = data[rpar + 2:].split()
+        try:
+            table[int(entry)] = (int(rest[1]), comm)
+        except (IndexError, ValueError):
+            continue
+    return table
+
+
+def _vmhwm_kib(pid):
+    try:
+        with open("/proc/%d/status" % pid) as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1])
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
+def helper_main(argv):
+    """bench.py --_measure RESULT.json PROGRAM_NAME STDOUT_FILE CWD -- cmd ..."""
+    result_path, prog_name, out_path, cwd = argv[:4]
+    cmd = argv[5:]
+    have_proc = os.path.isdir("/proc/self")
+    comm_name = os.path.basename(prog_name)[:15]  # /proc comm is cut at 15 chars
+    hwm = {}  # pid -> last seen VmHWM (KiB) of processes running the program
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    with open(out_path, "w") as out:
+        t0 = time.perf_counter()
+        try:
+            proc = subprocess.Popen(cmd, cwd=cwd, stdout=out, stderr=subprocess.STDOUT, env=env)
+        except OSError as e:
+            with open(result_path, "w") as f:
+                json.dump({"error": "cannot start %s: %s" % (cmd[0], e)}, f)
+            return 0
+        while True:
+            try:
+                rc = proc.wait(timeout=0.05)
+                break
+            except subprocess.TimeoutExpired:
+                pass
+            if not have_proc:
+                continue
+            table = _proc_table()
+            children = {}
+            for pid, (ppid, _) in table.items():
+                children.setdefault(ppid, []).append(pid)
+            stack = [proc.pid]
+            while stack:
+                pid = stack.pop()
+                if pid in table and table[pid][1] == comm_name:
+                    v = _vmhwm_kib(pid)
+                    if v is not None:
+                        hwm[pid] = max(hwm.get(pid, 0), v)
+                stack.extend(children.get(pid, []))
+        wall = time.perf_counter() - t0
+    ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+    res = {
+        "returncode": rc,
+        "wall_s": wall,
+        "max_rank_rss_kib": ru.ru_maxrss,  # Linux: KiB, largest single descendant
+        "sum_rank_hwm_kib": sum(hwm.values()) if hwm else None,
+        "nprocs_seen": len(hwm),
+        "user_s": ru.ru_utime,
+        "sys_s": ru.ru_stime,
+    }
+    with open(result_path, "w") as f:
+        json.dump(res, f)
+    return 0
+
+
+# ---------------------------------------------------------------------------
+# driver
+# ---------------------------------------------------------------------------
+
+def parse_output(text):
+    """Loop time lines, particle count and version line of a LIGGGHTS/Granary run."""
+    loops = []
+    last_atoms = None
+    header = None
+    for line in text.splitlines():
+        m = LOOP_RE.match(line.strip())
+        if m:
+            loops.append((float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))))
+            header = None
+            continue
+        words = line.split()
+        if words and words[0] == "Step":
+            header = words
+            continue
+        if header and len(words) == len(header) and "Atoms" in header:
+            try:
+                last_atoms = int(float(words[header.index("Atoms")]))
+            except ValueError:
+                pass
+    version = ""
+    for line in text.splitlines():
+        if line.strip():
+            version = line.strip()
+            break
+    info = {"version": version}
+    if loops:
+        info["loop_s"] = sum(l[0] for l in loops)
+        info["procs"] = loops[-1][1]
+        info["steps"] = sum(l[2] for l in loops)
+        info["particles"] = loops[-1][3]
+    else:
+        info["particles"] = last_atoms
+    return info
+
+
+def resolve_exe(path, name, hint):
+    """Absolute path of an executable, or exit with a clear message."""
+    cand = None
+    if path:
+        for base in (os.getcwd(), ROOT):
+            p = os.path.join(base, path)
+            if os.path.isfile(p):
+                cand = os.path.abspath(p)
+                break
+        if cand is None and os.sep not in path:
+            cand = shutil.which(path)
+    if cand is None or not os.access(cand, os.X_OK):
+        sys.stderr.write("error: %s executable not found%s\n  %s\n"
+                         % (name, (" ('%s')" % path) if path else "", hint))
+        sys.exit(2)
+    return cand
+
+
+def mpirun_prefix(mpirun, ranks, extra):
+    cmd = [mpirun]
+    try:
+        ver = subprocess.run([mpirun, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             universal_newlines=True, timeout=30).stdout
+    except (OSError, subprocess.SubprocessError):
+        ver = ""
+    if "Open MPI" in ver or "OpenRTE" in ver:
+        if hasattr(os, "geteuid") and os.geteuid() == 0:
+            cmd.append("--allow-run-as-root")
+        if ranks > (os.cpu_count() or 1):
+            cmd.append("--oversubscribe")
+    cmd += ["-np", str(ranks)]
+    cmd += extra
+    return cmd
+
+
+def cpu_model():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def loadavg():
+    try:
+        return "%.2f %.2f %.2f" % os.getloadavg()
+    except OSError:
+        return "unknown"
+
+
+def run_one(prog, exe, ranks, script, nsteps, args, outdir):
+    cmd = [exe, "-in", script, "-log", "none"]
+    if nsteps is not None:
+        cmd += ["-var", "nsteps", str(nsteps)]
+    if ranks > 1:
+        cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
+    best = None
+    for rep in range(args.repeat):
+        load_before = loadavg()
+        with tempfile.TemporaryDirectory(prefix="bench_") as tmp:
+            res_path = os.path.join(tmp, "result.json")
+            out_path = os.path.join(tmp, "stdout.txt")
+            workdir = os.path.join(tmp, "run")
+            os.mkdir(workdir)
+            helper = [sys.executable, os.path.abspath(__file__), "--_measure",
+                      res_path, exe, out_path, workdir, "--"] + cmd
+            try:
+                subprocess.run(helper, timeout=args.timeout)
+                with open(res_path) as f:
+                    res = json.load(f)
+            except subprocess.TimeoutExpired:
+                res = {"error": "timed out after %s s" % args.timeout}
+            except (OSError, ValueError) as e:
+                res = {"error": "measurement failed: %s" % e}
+            text = ""
+            if os.path.exists(out_path):
+                with open(out_path, errors="replace") as f:
+                    text = f.read()
+            if outdir:
+                name = "%s_np%d%s.out" % (prog, ranks, "" if args.repeat == 1 else "_rep%d" % rep)
+                with open(os.path.join(outdir, name), "w") as f:
+                    f.write(text)
+        row = {"program": prog, "ranks": ranks, "command": " ".join(shlex.quote(c) for c in cmd),
+               "load_average_before": load_before}
+        if "error" in res:
+            row["error"] = res["error"]
+        elif res["returncode"] != 0:
+            row["error"] = "exit status %d" % res["returncode"]
+        if "error" in row:
+            row["output_tail"] = text[-2000:]
+            return row
+        info = parse_output(text)
+        row.update(info)
+        row["wall_s"] = res["wall_s"]
+        row["cpu_user_s"] = res["user_s"]
+        row["cpu_sys_s"] = res["sys_s"]
+        row["max_rank_rss_mib"] = res["max_rank_rss_kib"] / 1024.0
+        if res["sum_rank_hwm_kib"]:
+            row["peak_rss_mib"] = res["sum_rank_hwm_kib"] / 1024.0
+            row["rss_ranks_seen"] = res["nprocs_seen"]
+        else:  # no /proc sampling: fall back to the largest process times ranks
+            row["peak_rss_mib"] = row["max_rank_rss_mib"] * ranks
+            row["rss_ranks_seen"] = 0
+        if "steps" not in row:
+            row["error"] = "no 'Loop time' line in the output"
+            row["output_tail"] = text[-2000:]
+            return row
+        t = row.get("loop_s") or row["wall_s"]
+        row["particle_steps_per_s"] = row["particles"] * row["steps"] / t if t > 0 else None
+        if row["particles"]:
+            row["bytes_per_particle"] = row["peak_rss_mib"] * 1048576.0 / row["particles"]
+        if best is None or row["particle_steps_per_s"] > best["particle_steps_per_s"]:
+            best = row
+    return best
+
+
+def fmt(v, spec):
+    if v is None:
+        return "-"
+    return format(v, spec)
+
+
+def print_table(rows, out=sys.stdout):
+    heads = ["program", "ranks", "particles", "steps", "wall s", "loop s", "particle-steps/s",
+             "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle"]
+    lines = []
+    for r in rows:
+        if "error" in r:
+            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 8)
+            continue
+        lines.append([r["program"], str(r["ranks"]), fmt(r.get("particles"), "d"),
+                      fmt(r.get("steps"), "d"), fmt(r.get("wall_s"), ".2f"),
+                      fmt(r.get("loop_s"), ".2f"), fmt(r.get("particle_steps_per_s"), ".4g"),
+                      fmt(r.get("speed_ratio"), ".2f"), fmt(r.get("speedup"), ".2f"),
+                      fmt(r.get("peak_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle"), ".0f")])
+    # markdown table, columns padded for reading in a terminal as well
+    widths = [max(len(h), *(len(l[i]) for l in lines)) if lines else len(h)
+              for i, h in enumerate(heads)]
+    def row(cells):
+        return "| " + " | ".join(c.ljust(w) if i == 0 else c.rjust(w)
+                                 for i, (c, w) in enumerate(zip(cells, widths))) + " |"
+    out.write(row(heads) + "\n")
+    out.write("|" + "|".join("-" * (w + 1) + ":" if i else "-" * (w + 2)
+                             for i, w in enumerate(widths)) + "|\n")
+    for l in lines:
+        out.write(row(l) + "\n")
+
+
+def main(argv):
+    if argv and argv[0] == "--_measure":
+        return helper_main(argv[1:])
+
+    ap = argparse.ArgumentParser(
+        description="Run LIGGGHTS and Granary on the same input script on 1 and 2 MPI ranks "
+                    "and compare speed and memory.",
+        epilog="See the module docstring (head of tools/bench.py) for what each column means.")
+    ap.add_argument("script", nargs="?", default=None,
+                    help="input script (default: %s)" % DEFAULT_SCRIPT)
+    ap.add_argument("--nsteps", type=int, default=None,
+                    help="pass '-var nsteps N' to both programs (default: the script's own value)")
+    ap.add_argument("--ranks", default="1,2", help="comma-separated MPI rank counts (default: 1,2)")
+    ap.add_argument("--granary", default=DEFAULT_GRANARY,
+                    help="Granary executable (default: %s, relative to the current directory or "
+                         "the repository root)" % DEFAULT_GRANARY)
+    ap.add_argument("--liggghts", default=None,
+                    help="LIGGGHTS executable (default: 'liggghts' found on PATH)")
+    ap.add_argument("--only", choices=["liggghts", "granary"],
+                    help="run only this program")
+    ap.add_argument("--json", metavar="FILE", help="also write all results to FILE as JSON")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="run each case this many times and keep the fastest (default: 1)")
+    ap.add_argument("--timeout", type=float, default=None, help="time limit per run in seconds")
+    ap.add_argument("--mpirun", default="mpirun", help="MPI launcher (default: mpirun on PATH)")
+    ap.add_argument("--mpirun-args", default="", help="extra launcher arguments, e.g. '--bind-to none'")
+    ap.add_argument("--keep-output", metavar="DIR",
+                    help="save each run's screen output in DIR as PROGRAM_npRANKS.out")
+    args = ap.parse_args(argv)
+
+    try:
+        ranks_list = [int(x) for x in args.ranks.split(",") if x.strip()]
+        if not ranks_list or min(ranks_list) < 1:
+            raise ValueError
+    except ValueError:
+        ap.error("--ranks must be a comma-separated list of positive integers")
+    if args.repeat < 1:
+        ap.error("--repeat must be at least 1")
+
+    script = args.script or DEFAULT_SCRIPT
+    for base in (os.getcwd(), ROOT):
+        if os.path.isfile(os.path.join(base, script)):
+            script = os.path.abspath(os.path.join(base, script))
+            break
+    else:
+        sys.stderr.write("error: input script not found: %s\n" % script)
+        return 2
+
+    programs = []
+    if args.only != "granary":
+        programs.append(("liggghts", resolve_exe(
+            args.liggghts or "liggghts", "LIGGGHTS",
+            "put 'liggghts' on PATH or pass --liggghts PATH")))
+    if args.only != "liggghts":
+        programs.append(("granary", resolve_exe(
+            args.granary, "Granary",
+            "build it first (cmake -B build && cmake --build build), pass --granary PATH, "
+            "or run only LIGGGHTS with --only liggghts")))
+    args.mpirun_exe = None
+    if max(ranks_list) > 1:
+        args.mpirun_exe = shutil.which(args.mpirun) or (
+            args.mpirun if os.access(args.mpirun, os.X_OK) else None)
+        if not args.mpirun_exe:
+            sys.stderr.write("error: MPI launcher '%s' not found (needed for more than 1 rank); "
+                             "pass --mpirun or use --ranks 1\n" % args.mpirun)
+            return 2
+    if args.keep_output:
+        os.makedirs(args.keep_output, exist_ok=True)
+
+    rel_script = os.path.relpath(script, ROOT) if script.startswith(ROOT + os.sep) else script
+    print("script: %s%s" % (rel_script, "" if args.nsteps is None else "  (-var nsteps %d)" % args.nsteps))
+    print("machine: %s, %d cores; %s; load average before: %s"
+          % (cpu_model(), os.cpu_count() or 0, datetime.datetime.now().strftime("%Y-%m-%d %H:%M"),
+             loadavg()))
+    sys.stdout.flush()
+
+    rows = []
+    for prog, exe in programs:
+        for ranks in ranks_list:
+            sys.stdout.write("running %s on %d rank%s ... " % (prog, ranks, "" if ranks == 1 else "s"))
+            sys.stdout.flush()
+            r = run_one(prog, exe, ranks, script, args.nsteps, args, args.keep_output)
+            print("FAILED (%s)" % r["error"] if "error" in r else "%.2f s" % r["wall_s"])
+            if "error" in r and r.get("output_tail"):
+                sys.stderr.write("---- last output of %s on %d rank(s):\n%s\n----\n"
+                                 % (prog, ranks, r["output_tail"].rstrip()))
+            rows.append(r)
+
+    ok = [r for r in rows if "error" not in r]
+    for r in ok:
+        base = [b for b in ok if b["program"] == r["program"] and b["ranks"] == 1]
+        if r["ranks"] > 1 and base:
+            r["speedup"] = r["particle_steps_per_s"] / base[0]["particle_steps_per_s"]
+        if r["program"] == "granary":
+            ref = [b for b in ok if b["program"] == "liggghts" and b["ranks"] == r["ranks"]]
+            if ref:
+                r["speed_ratio"] = r["particle_steps_per_s"] / ref[0]["particle_steps_per_s"]
+
+    print()
+    for prog, _ in programs:
+        vers = [r["version"] for r in ok if r["program"] == prog and r.get("version")]
+        if vers:
+            print("%s: %s" % (prog, vers[0]))
+    print()
+    print_table(rows)
+    for r in rows:
+        if "error" in r:
+            print("%s on %d rank(s) FAILED: %s" % (r["program"], r["ranks"], r["error"]))
+    print()
+    print("particle-steps/s = particles x steps / loop time; speed G/L = Granary / LIGGGHTS "
+          "particle-steps/s at equal ranks;")
+    print("speed-up = vs. 1 rank of the same program; peak RSS = sum of the ranks' peak "
+          "resident set sizes.")
+
+    if args.json:
+        doc = {
+            "script": rel_script,
+            "nsteps": args.nsteps,
+            "ranks": ranks_list,
+            "repeat": args.repeat,
+            "machine": {"cpu": cpu_model(), "cores": os.cpu_count(), "system": platform.platform(),
+                        "load_average_after": loadavg()},
+            "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+            "results": rows,
+        }
+        with open(args.json, "w") as f:
+            json.dump(doc, f, indent=2)
+            f.write("\n")
+        print("results written to %s" % args.json)
+    return 0 if len(ok) == len(rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

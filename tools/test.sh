@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Set up (packages, build) and run the whole test suite. This is the README's
+# test command, and what CI runs (.ci/run).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/setup.sh
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+cd build
+ctest --output-on-failure --timeout 900 -j "$(nproc 2>/dev/null || echo 2)"

@@ -1,0 +1,120 @@
+// The granary program: command-line options, exit status and error reports.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string out, err;
+};
+
+/// A scratch directory in which the program runs.
+struct Scratch {
+  std::string dir;
+  Scratch() {
+    char tmpl[] = "/tmp/granary_cli_XXXXXX";
+    REQUIRE(::mkdtemp(tmpl) != nullptr);
+    dir = tmpl;
+  }
+  ~Scratch() { std::system(("rm -rf '" + dir + "'").c_str()); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream f(dir + "/" + name);
+    f << text;
+    return name;
+  }
+  std::string read(const std::string& name) const {
+    std::ifstream f(dir + "/" + name);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  }
+  bool exists(const std::string& name) const { return std::ifstream(dir + "/" + name).good(); }
+
+  /// Run the program in the directory with a clean environment (it must not
+  /// take this MPI process's settings for its own).
+  Result run(const std::string& args, const std::string& stdin_text = "") const {
+    const std::string in = write(".stdin", stdin_text);
+    const std::string cmd = "cd '" + dir + "' && env -i PATH=\"$PATH\" HOME=\"$HOME\" " GRANARY_BINARY " " +
+                            args + " < " + in + " > .stdout 2> .stderr";
+    const int rc = std::system(cmd.c_str());
+    Result r;
+    r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    r.out = read(".stdout");
+    r.err = read(".stderr");
+    return r;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("-in, -var, -log, banner and exit status", "[input][cli]") {
+  Scratch s;
+  s.write("in.test",
+          "variable n index 1\n"  // the command line wins
+          "print \"n=${n} m=${m}\"\n");
+  Result r = s.run("-in in.test -var n 5 -var m a b");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::StartsWith("Granary "));
+  CHECK_THAT(r.out, Catch::Contains("n=5 m=a\n"));
+  CHECK(r.err.empty());
+  CHECK_THAT(s.read("log.granary"), Catch::Contains("n=5 m=a"));
+  CHECK_THAT(s.read("log.granary"), Catch::Contains("print \"n=${n} m=${m}\""));  // echo log by default
+
+  r = s.run("-in in.test -var n -1.5 -var m x -log other.log -echo screen");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("variable n index 1\n"));  // echoed to the screen
+  CHECK_THAT(r.out, Catch::Contains("n=-1.5 m=x\n"));
+  CHECK(s.exists("other.log"));
+
+  r = s.run("-in in.test -var n 1 -var m 2 -log none -screen none");
+  CHECK(r.status == 0);
+  CHECK(r.out.empty());
+}
+
+TEST_CASE("the script is read from standard input without -in", "[input][cli]") {
+  Scratch s;
+  Result r = s.run("-log none", "variable a equal 6*7\nprint \"answer $a\"\nquit 4\nprint never\n");
+  CHECK(r.status == 4);
+  CHECK_THAT(r.out, Catch::Contains("answer 42\n"));
+  CHECK_THAT(r.out, !Catch::Contains("never"));
+}
+
+TEST_CASE("errors: location, include chain, non-zero exit", "[input][cli]") {
+  Scratch s;
+  s.write("in.inner", "print ok\nfix 1 all bogus_style_name\n");
+  s.write("in.main", "variable a equal 1\ninclude in.inner\nprint never\n");
+  Result r = s.run("-in in.main -log none");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::StartsWith("ERROR: in.inner:2: fix: "));
+  CHECK_THAT(r.err, Catch::Contains("\n  included from in.main:2\n"));
+  CHECK_THAT(r.out, !Catch::Contains("never"));
+
+  r = s.run("-in no_such_file.in -log none");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("ERROR: cannot open input script 'no_such_file.in'"));
+}
+
+TEST_CASE("-help and unknown options", "[input][cli]") {
+  Scratch s;
+  Result r = s.run("-help");
+  CHECK(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("Usage: granary"));
+  CHECK_THAT(r.out, Catch::Contains("-var NAME"));
+  r = s.run("-inn x");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("unknown command-line option '-inn'") && Catch::Contains("did you mean '-in'"));
+  CHECK_THAT(r.err, Catch::Contains("Usage: granary"));
+  r = s.run("-echo loud");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("-echo needs screen, log, both or none"));
+  r = s.run("-var n");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("needs at least one value"));
+}

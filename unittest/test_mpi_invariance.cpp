@@ -1,0 +1,151 @@
+// Same physics on 1, 2 and 4 MPI ranks.
+//
+// Run by ctest at 1, 2 and 4 ranks. Every rank first runs the whole system
+// alone (MPI_COMM_SELF) as the reference, then all ranks run it together on
+// MPI_COMM_WORLD; particle count, kinetic energy and every position must agree.
+// The bed is poured from random, non-overlapping positions so that contacts
+// with tangential history are everywhere, and particles cross subdomain
+// boundaries while in contact (the test checks both happen).
+#include <mpi.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "comm/comm.h"
+#include "core/engine.h"
+#include "core/input.h"
+#include "core/logger.h"
+#include "core/update.h"
+#include "neighbor/contact_history.h"
+#include "pair/force.h"
+#include "pair/pair.h"
+#include "particles/particles.h"
+
+namespace {
+
+struct Snapshot {
+  long long natoms = 0;
+  double ke = 0.0, rke = 0.0;
+  std::map<long long, granary::Vec3> x;
+  long long contacts = 0;
+  long long migrated_particles = 0, migrated_contacts = 0;
+};
+
+std::vector<std::string> bed_script(const std::string& newton, int steps) {
+  return {
+      "units si",
+      "atom_style granular",
+      "boundary f f f",
+      "newton " + newton,
+      "processors * * 1",
+      "region box block 0 0.04 0 0.04 0 0.06 units box",
+      "create_box 2 box",
+      "neighbor 0.0006 bin",
+      "neigh_modify delay 0",
+      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
+      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.7 0.7 0.7 0.7",
+      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
+      "pair_style gran model hertz tangential history rolling_friction cdt",
+      "pair_coeff * *",
+      "timestep 2e-5",
+      "region fill block 0.001 0.039 0.001 0.039 0.001 0.02 units box",
+      "create_atoms 1 random 1000 4711 fill overlap 0.0021 maxtry 200",
+      "create_atoms 2 random 500 815 fill overlap 0.0021 maxtry 200",
+      "set type 1 diameter 0.002 density 2500",
+      "set type 2 diameter 0.0015 density 2500",
+      "velocity all set 0.0 0.0 -0.5",
+      "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+      "fix zwall all wall/gran model hertz tangential history rolling_friction cdt primitive type 1 zplane 0.0",
+      "fix xwall1 all wall/gran model hertz tangential history primitive type 1 xplane 0.0",
+      "fix xwall2 all wall/gran model hertz tangential history primitive type 1 xplane 0.04",
+      "fix ywall1 all wall/gran model hertz tangential history primitive type 1 yplane 0.0",
+      "fix ywall2 all wall/gran model hertz tangential history primitive type 1 yplane 0.04",
+      "fix integr all nve/sphere",
+      "compute rke all erotate/sphere",
+      "thermo_style custom step atoms ke c_rke",
+      "thermo 100",
+      "run " + std::to_string(steps),
+  };
+}
+
+Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps) {
+  granary::Engine e(comm);
+  e.logger->set_screen(false);
+  for (const auto& line : bed_script(newton, steps)) e.input->one(line);
+  Snapshot s;
+  const auto& p = *e.particles;
+  // gather positions by id
+  std::vector<double> mine;
+  for (int i = 0; i < p.nlocal; ++i) {
+    mine.push_back(static_cast<double>(p.id[i]));
+    for (int d = 0; d < 3; ++d) mine.push_back(p.x[i][d]);
+  }
+  int nprocs = 1;
+  MPI_Comm_size(comm, &nprocs);
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<double> all(displs.back() + counts.back());
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+  for (std::size_t k = 0; k + 3 < all.size() + 1; k += 4) {
+    s.x[static_cast<long long>(all[k])] = granary::Vec3(all[k + 1], all[k + 2], all[k + 3]);
+  }
+  s.natoms = static_cast<long long>(s.x.size());
+  bool found = false;
+  s.ke = e.thermo_keyword("ke", found);
+  s.rke = e.compute_value("rke", 0);
+  long long local_contacts = 0;
+  if (auto* h = e.force->pair->history()) {
+    for (auto t : h->touch_) local_contacts += t;
+  }
+  MPI_Allreduce(&local_contacts, &s.contacts, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  MPI_Allreduce(&e.comm->migrated_particles, &s.migrated_particles, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  MPI_Allreduce(&e.comm->migrated_contacts, &s.migrated_contacts, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  return s;
+}
+
+void compare(const Snapshot& ref, const Snapshot& par) {
+  REQUIRE(par.natoms == ref.natoms);
+  REQUIRE(ref.natoms == 1500);
+  CHECK(par.ke == Approx(ref.ke).epsilon(1e-6));
+  CHECK(par.rke == Approx(ref.rke).epsilon(1e-6));
+  double worst = 0.0;
+  for (const auto& kv : ref.x) {
+    auto it = par.x.find(kv.first);
+    REQUIRE(it != par.x.end());
+    worst = std::max(worst, (it->second - kv.second).norm());
+  }
+  INFO("largest position difference " << worst << " m");
+  CHECK(worst < 1e-9);
+  CHECK(ref.contacts > 500);  // the bed is in contact, tangential history everywhere
+  int nprocs = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  if (nprocs > 1) {
+    // particles crossed subdomain boundaries while in contact, carrying their history
+    INFO("migrated particles " << par.migrated_particles << ", contacts " << par.migrated_contacts);
+    CHECK(par.migrated_particles > 10);
+    CHECK(par.migrated_contacts > 10);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("poured bed gives the same physics on every rank count (newton off)") {
+  const int steps = 1500;
+  const Snapshot ref = run_bed(MPI_COMM_SELF, "off", steps);
+  const Snapshot par = run_bed(MPI_COMM_WORLD, "off", steps);
+  compare(ref, par);
+}
+
+TEST_CASE("poured bed gives the same physics on every rank count (newton on)") {
+  const int steps = 1500;
+  const Snapshot ref = run_bed(MPI_COMM_SELF, "on", steps);
+  const Snapshot par = run_bed(MPI_COMM_WORLD, "on", steps);
+  compare(ref, par);
+}

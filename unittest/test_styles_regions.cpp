@@ -1,0 +1,485 @@
+// Region styles (inside, bounds, volume, side out, INF/EDGE, lattice units),
+// groups on a created lattice, and the particle commands lattice,
+// create_atoms, set, velocity and delete_atoms.
+#include <mpi.h>
+
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/input.h"
+#include "core/logger.h"
+#include "domain/domain.h"
+#include "domain/groups.h"
+#include "domain/region.h"
+#include "particles/particles.h"
+
+using granary::Engine;
+using granary::InputError;
+using granary::Vec3;
+using Catch::Matchers::Contains;
+
+namespace {
+
+struct Sim {
+  Engine e{MPI_COMM_WORLD};
+  Sim() { e.logger->set_screen(false); }
+  void cmd(const std::string& line) { e.input->one(line); }
+  void cmds(const std::vector<std::string>& lines) {
+    for (const auto& l : lines) cmd(l);
+  }
+  granary::Region* region(const std::string& id) { return e.domain->find_region(id); }
+  double count(const std::string& group) { return e.groups->count(e.groups->find_or_error(group, "test")); }
+};
+
+/// Positions of all particles by id, from every rank.
+std::map<long long, Vec3> gather_positions(Engine& e) {
+  const auto& p = *e.particles;
+  std::vector<double> mine;
+  for (int i = 0; i < p.nlocal; ++i) {
+    mine.push_back(static_cast<double>(p.id[i]));
+    for (int d = 0; d < 3; ++d) mine.push_back(p.x[i][d]);
+  }
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
+  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
+  std::map<long long, Vec3> out;
+  for (std::size_t k = 0; k + 3 < all.size(); k += 4) {
+    out[static_cast<long long>(all[k])] = Vec3(all[k + 1], all[k + 2], all[k + 3]);
+  }
+  return out;
+}
+
+const std::vector<std::string> kBox = {"units si", "atom_style granular", "boundary p p p",
+                                       "region box block 0 1 0 1 0 1 units box", "create_box 3 box"};
+
+}  // namespace
+
+TEST_CASE("region block: inside, bounds, volume and side out", "[region]") {
+  Sim s;
+  s.cmd("region b block 0 1 0 2 0 3");
+  auto* b = s.region("b");
+  REQUIRE(b != nullptr);
+  CHECK(b->match(Vec3(0.5, 1, 1.5)));
+  CHECK(b->match(Vec3(1, 2, 3)));  // faces belong to the block
+  CHECK(b->match(Vec3(0, 0, 0)));
+  CHECK_FALSE(b->match(Vec3(1.1, 1, 1)));
+  CHECK_FALSE(b->match(Vec3(0.5, -0.01, 1)));
+  Vec3 lo, hi;
+  REQUIRE(b->bounds(lo, hi));
+  CHECK(lo == Vec3(0, 0, 0));
+  CHECK(hi == Vec3(1, 2, 3));
+  CHECK(b->volume() == Approx(6.0));
+
+  s.cmd("region bo block 0 1 0 2 0 3 side out");
+  auto* bo = s.region("bo");
+  CHECK(bo->inside(Vec3(0.5, 1, 1.5)));  // the shape ignores side
+  CHECK_FALSE(bo->match(Vec3(0.5, 1, 1.5)));
+  CHECK(bo->match(Vec3(2, 0, 0)));
+  CHECK_FALSE(bo->bounds(lo, hi));
+  CHECK(bo->volume() < 0.0);
+
+  s.cmd("region bi block INF 1 -INF INF 0 1");
+  auto* bi = s.region("bi");
+  CHECK(bi->match(Vec3(-1.0e6, 5.0e5, 0.5)));
+  CHECK_FALSE(bi->match(Vec3(1.5, 0, 0.5)));
+  CHECK_FALSE(bi->bounds(lo, hi));
+  CHECK(bi->volume() < 0.0);
+}
+
+TEST_CASE("region EDGE needs the box and maps to its faces", "[region]") {
+  Sim s;
+  CHECK_THROWS_AS(s.cmd("region e block EDGE EDGE 0 1 0 1"), InputError);
+  s.cmds(kBox);
+  s.cmd("region e block EDGE 0.5 0.2 EDGE EDGE EDGE");
+  Vec3 lo, hi;
+  REQUIRE(s.region("e")->bounds(lo, hi));
+  CHECK(lo == Vec3(0, 0.2, 0));
+  CHECK(hi == Vec3(0.5, 1, 1));
+}
+
+TEST_CASE("region cylinder along z and x", "[region]") {
+  Sim s;
+  s.cmd("region c cylinder z 0.5 0.5 0.2 0 1");
+  auto* c = s.region("c");
+  CHECK(c->match(Vec3(0.6, 0.5, 0.5)));
+  CHECK(c->match(Vec3(0.7, 0.5, 1.0)));  // on the mantle and the top face
+  CHECK_FALSE(c->match(Vec3(0.71, 0.5, 0.5)));
+  CHECK_FALSE(c->match(Vec3(0.5, 0.5, 1.2)));
+  CHECK_FALSE(c->match(Vec3(0.5, 0.5, -0.1)));
+  Vec3 lo, hi;
+  REQUIRE(c->bounds(lo, hi));
+  CHECK(lo.isApprox(Vec3(0.3, 0.3, 0)));
+  CHECK(hi.isApprox(Vec3(0.7, 0.7, 1)));
+  CHECK(c->volume() == Approx(M_PI * 0.04));
+
+  // axis x: centre (y, z) = (1, 2)
+  s.cmd("region cx cylinder x 1 2 0.5 -1 1");
+  auto* cx = s.region("cx");
+  CHECK(cx->match(Vec3(0, 1.4, 2)));
+  CHECK(cx->match(Vec3(0.9, 1, 2.3)));
+  CHECK_FALSE(cx->match(Vec3(0, 1, 2.6)));
+  CHECK_FALSE(cx->match(Vec3(1.5, 1, 2)));
+  REQUIRE(cx->bounds(lo, hi));
+  CHECK(lo.isApprox(Vec3(-1, 0.5, 1.5)));
+  CHECK(hi.isApprox(Vec3(1, 1.5, 2.5)));
+  CHECK(cx->volume() == Approx(M_PI * 0.25 * 2));
+
+  // axis y: centre (x, z) = (3, 4); unbounded along the axis
+  s.cmd("region cy cylinder y 3 4 1 INF INF side out");
+  auto* cy = s.region("cy");
+  CHECK(cy->inside(Vec3(3.5, 1.0e9, 4.5)));
+  CHECK_FALSE(cy->match(Vec3(3.5, 1.0e9, 4.5)));
+  CHECK(cy->match(Vec3(5, 0, 4)));
+  CHECK_FALSE(cy->bounds(lo, hi));
+  CHECK(cy->volume() < 0.0);
+}
+
+TEST_CASE("region sphere", "[region]") {
+  Sim s;
+  s.cmd("region s sphere 1 2 3 0.5");
+  auto* r = s.region("s");
+  CHECK(r->match(Vec3(1, 2, 3)));
+  CHECK(r->match(Vec3(1.5, 2, 3)));
+  CHECK_FALSE(r->match(Vec3(1.4, 2.4, 3)));
+  Vec3 lo, hi;
+  REQUIRE(r->bounds(lo, hi));
+  CHECK(lo.isApprox(Vec3(0.5, 1.5, 2.5)));
+  CHECK(hi.isApprox(Vec3(1.5, 2.5, 3.5)));
+  CHECK(r->volume() == Approx(4.0 / 3.0 * M_PI * 0.125));
+
+  s.cmd("region so sphere 1 2 3 0.5 side out");
+  CHECK_FALSE(s.region("so")->match(Vec3(1, 2, 3)));
+  CHECK(s.region("so")->match(Vec3(3, 2, 3)));
+  CHECK_FALSE(s.region("so")->bounds(lo, hi));
+  CHECK(s.region("so")->volume() < 0.0);
+}
+
+TEST_CASE("region plane: the half-space the normal points to", "[region]") {
+  Sim s;
+  s.cmd("region p plane 0 0 1 0 0 2");  // normal is normalised
+  auto* p = s.region("p");
+  CHECK(p->match(Vec3(5, 5, 1)));  // on the plane
+  CHECK(p->match(Vec3(0, 0, 1.1)));
+  CHECK_FALSE(p->match(Vec3(0, 0, 0.9)));
+  Vec3 lo, hi;
+  CHECK_FALSE(p->bounds(lo, hi));
+  CHECK(p->volume() < 0.0);
+
+  s.cmd("region q plane 1 1 1 1 1 0 side out");
+  CHECK(s.region("q")->match(Vec3(0, 0, 7)));
+  CHECK_FALSE(s.region("q")->match(Vec3(2, 1, 0)));
+}
+
+TEST_CASE("region units lattice scales by the lattice spacing", "[region]") {
+  Sim s;
+  CHECK_THROWS_WITH(s.cmd("region l block 0 2 0 2 0 2 units lattice"), Contains("lattice"));
+  s.cmd("lattice sc 0.5");
+  s.cmd("region l block 0 2 0 2 0 2 units lattice");
+  Vec3 lo, hi;
+  REQUIRE(s.region("l")->bounds(lo, hi));
+  CHECK(hi.isApprox(Vec3(1, 1, 1)));
+  s.cmd("region lb block 0 2 0 2 0 2");  // box units by default
+  REQUIRE(s.region("lb")->bounds(lo, hi));
+  CHECK(hi.isApprox(Vec3(2, 2, 2)));
+  s.cmd("region ls sphere 1 1 1 1 units lattice");
+  CHECK(s.region("ls")->volume() == Approx(4.0 / 3.0 * M_PI * 0.125));
+}
+
+TEST_CASE("region input errors", "[region]") {
+  Sim s;
+  CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0"), Contains("6 arguments"));
+  CHECK_THROWS_WITH(s.cmd("region b block 1 0 0 1 0 1"), Contains("lower x bound exceeds"));
+  CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 1 side up"), Contains("in or out"));
+  CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 1 sid in"), Contains("unknown keyword"));
+  CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 1 side"), Contains("needs a value"));
+  CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 one 0 1"), Contains("one"));
+  CHECK_THROWS_WITH(s.cmd("region c cylinder w 0 0 1 0 1"), Contains("x, y or z"));
+  CHECK_THROWS_WITH(s.cmd("region c cylinder z 0 0 -1 0 1"), Contains("positive"));
+  CHECK_THROWS_WITH(s.cmd("region s sphere 0 0 0 0"), Contains("positive"));
+  CHECK_THROWS_WITH(s.cmd("region p plane 0 0 0 0 0 0"), Contains("zero"));
+  CHECK_THROWS_WITH(s.cmd("region x spheer 0 0 0 1"), Contains("sphere"));
+  CHECK_THROWS_WITH(s.cmd("region bad-id sphere 0 0 0 1"), Contains("letters"));
+  s.cmd("region b block 0 1 0 1 0 1");
+  CHECK_THROWS_WITH(s.cmd("region b sphere 0 0 0 1"), Contains("already"));
+  s.cmd("region b delete");
+  CHECK(s.region("b") == nullptr);
+}
+
+TEST_CASE("lattice and create_atoms box fill the box exactly once", "[particles]") {
+  SECTION("sc, periodic") {
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"lattice sc 0.1", "create_atoms 1 box"});
+    CHECK(s.e.particles->natoms == 1000);
+    CHECK(s.count("all") == 1000);
+  }
+  SECTION("fcc, periodic") {
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"lattice fcc 0.25", "create_atoms 1 box"});
+    CHECK(s.e.particles->natoms == 256);
+  }
+  SECTION("fcc, fixed in z: the top face gets its own layer") {
+    Sim s;
+    s.cmds({"units si", "atom_style granular", "boundary p p f", "region box block 0 1 0 1 0 1",
+            "create_box 1 box", "lattice fcc 0.25", "create_atoms 1 box"});
+    CHECK(s.e.particles->natoms == 256 + 32);
+  }
+  SECTION("bcc with a basis type") {
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"lattice bcc 0.5", "create_atoms 1 box basis 2 3", "group t3 type 3"});
+    CHECK(s.e.particles->natoms == 16);
+    CHECK(s.count("t3") == 8);
+  }
+  SECTION("ids are 1..N and defaults are diameter 1, density 1") {
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"lattice sc 0.5", "create_atoms 2 box"});
+    const auto x = gather_positions(s.e);
+    REQUIRE(x.size() == 8);
+    CHECK(x.begin()->first == 1);
+    CHECK(x.rbegin()->first == 8);
+    const auto& p = *s.e.particles;
+    for (int i = 0; i < p.nlocal; ++i) {
+      CHECK(p.radius[i] == 0.5);
+      CHECK(p.density[i] == 1.0);
+      CHECK(p.rmass[i] == Approx(M_PI / 6.0));
+      CHECK(p.type[i] == 2);
+    }
+  }
+}
+
+TEST_CASE("create_atoms region, single and errors", "[particles]") {
+  Sim s;
+  s.cmds(kBox);
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 box"), Contains("lattice"));
+  s.cmds({"lattice sc 0.1", "region ball sphere 0.5 0.5 0.5 0.25", "create_atoms 1 region ball"});
+  int expected = 0;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k)
+        if ((Vec3(i, j, k) * 0.1 - Vec3(0.5, 0.5, 0.5)).norm() <= 0.25) ++expected;
+  CHECK(s.e.particles->natoms == expected);
+
+  s.cmd("create_atoms 2 single 0.05 0.05 0.05");
+  CHECK(s.e.particles->natoms == expected + 1);
+  s.cmd("create_atoms 2 single 1.3 0.5 0.5 remap yes");  // periodic: maps to 0.3
+  const auto x = gather_positions(s.e);
+  CHECK(x.at(expected + 2).isApprox(Vec3(0.3, 0.5, 0.5)));
+  s.cmd("create_atoms 2 single 1 1 1 units lattice");  // 0.1 0.1 0.1
+  CHECK(gather_positions(s.e).at(expected + 3).isApprox(Vec3(0.1, 0.1, 0.1)));
+
+  CHECK_THROWS_WITH(s.cmd("create_atoms 2 single 1.3 0.5 0.5"), Contains("outside the box"));
+  CHECK_THROWS_WITH(s.cmd("create_atoms 4 single 0.5 0.5 0.5"), Contains("1..3"));
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 singel 0.5 0.5 0.5"), Contains("single"));
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 10 0 NULL"), Contains("seed"));
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 10 5 nowhere"), Contains("nowhere"));
+}
+
+TEST_CASE("create_atoms random respects the region and the overlap distance", "[particles]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"region ball sphere 0.5 0.5 0.5 0.3", "create_atoms 1 random 100 4711 ball overlap 0.08 maxtry 1000"});
+  CHECK(s.e.particles->natoms == 100);
+  const auto x = gather_positions(s.e);
+  REQUIRE(x.size() == 100);
+  double dmin = 1e9;
+  for (auto a = x.begin(); a != x.end(); ++a) {
+    CHECK((a->second - Vec3(0.5, 0.5, 0.5)).norm() <= 0.3);
+    for (auto b = std::next(a); b != x.end(); ++b) dmin = std::min(dmin, (a->second - b->second).norm());
+  }
+  CHECK(dmin >= 0.08);
+  CHECK(x.begin()->first == 1);
+  CHECK(x.rbegin()->first == 100);
+
+  // same seed, same points; new ids follow the old ones
+  Sim t;
+  t.cmds(kBox);
+  t.cmds({"region ball sphere 0.5 0.5 0.5 0.3", "create_atoms 1 random 100 4711 ball overlap 0.08 maxtry 1000"});
+  CHECK(gather_positions(t.e) == x);
+  t.cmd("create_atoms 2 random 10 99 NULL");
+  const auto y = gather_positions(t.e);
+  CHECK(y.size() == 110);
+  CHECK(y.rbegin()->first == 110);
+}
+
+TEST_CASE("group styles on a lattice", "[group]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"lattice sc 0.1", "create_atoms 1 box"});
+  s.cmd("region half block 0 0.45 EDGE EDGE EDGE EDGE");
+  s.cmd("group low region half");
+  CHECK(s.count("low") == 500);
+  s.cmd("set group low type 2");
+  s.cmds({"group t2 type 2", "group t12 type 1*2", "group tlt type < 2", "group tne type != 1",
+          "group trange type <> 2 3", "group tlist type 1 3"});
+  CHECK(s.count("t2") == 500);
+  CHECK(s.count("t12") == 1000);
+  CHECK(s.count("tlt") == 500);
+  CHECK(s.count("tne") == 500);
+  CHECK(s.count("trange") == 500);
+  CHECK(s.count("tlist") == 500);
+
+  s.cmds({"group ids id 1*100", "group ids2 id <> 50 149", "group both intersect ids ids2",
+          "group either union ids ids2", "group only subtract ids ids2", "group idl id 3 7 9*10"});
+  CHECK(s.count("ids") == 100);
+  CHECK(s.count("ids2") == 100);
+  CHECK(s.count("both") == 51);
+  CHECK(s.count("either") == 149);
+  CHECK(s.count("only") == 49);
+  CHECK(s.count("idl") == 4);
+  CHECK_THROWS_AS(s.cmd("group idl2 id 3 >= 995"), InputError);  // a comparison stands alone
+
+  // group assignments add to a group
+  s.cmd("group ids id 901*910");
+  CHECK(s.count("ids") == 110);
+
+  // group functions
+  auto& g = *s.e.groups;
+  CHECK(g.mass(0) == Approx(1000 * M_PI / 6.0));
+  CHECK(g.xcm(0).isApprox(Vec3(0.45, 0.45, 0.45)));
+  CHECK(g.vcm(0).norm() == 0.0);
+  Vec3 lo, hi;
+  g.bounds(g.find("low"), lo, hi);
+  CHECK(lo.isApprox(Vec3(0, 0, 0)));
+  CHECK(hi.isApprox(Vec3(0.4, 0.9, 0.9)));
+  s.cmd("region corner block 0 0.15 0 0.15 0 0.15");
+  CHECK(g.count(0, s.region("corner")) == 8);
+  CHECK(g.count(g.find("t2"), s.region("corner")) == 8);
+
+  // clear, empty, delete
+  s.cmd("group ids2 clear");
+  CHECK(s.count("ids2") == 0);
+  s.cmd("group none empty");
+  CHECK(s.count("none") == 0);
+  s.cmd("group none delete");
+  CHECK(g.find("none") == -1);
+  CHECK_THROWS_AS(s.cmd("group all delete"), InputError);
+  CHECK_THROWS_AS(s.cmd("group all clear"), InputError);
+  CHECK_THROWS_WITH(s.cmd("group x regoin half"), Contains("region"));
+  CHECK_THROWS_WITH(s.cmd("group x region nowhere"), Contains("nowhere"));
+  CHECK_THROWS_WITH(s.cmd("group x union nogroup"), Contains("nogroup"));
+  CHECK(g.find("x") == -1);  // a failed command leaves no group behind
+  CHECK_THROWS_WITH(s.cmd("group x intersect low"), Contains("two groups"));
+
+  s.cmd("fix f low viscous 1.0");
+  CHECK_THROWS_WITH(s.cmd("group low delete"), Contains("fix f"));
+}
+
+TEST_CASE("at most 32 groups", "[group]") {
+  Sim s;
+  s.cmds(kBox);
+  for (int k = 1; k < granary::Groups::kMaxGroups; ++k) s.cmd("group g" + std::to_string(k) + " empty");
+  CHECK_THROWS_WITH(s.cmd("group one_more empty"), Contains("32"));
+  s.cmd("group g5 delete");
+  s.cmd("group one_more empty");
+  CHECK(s.e.groups->find("one_more") == 5);
+}
+
+TEST_CASE("set keywords follow LIGGGHTS for diameter, density and mass", "[particles]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"create_atoms 1 single 0.5 0.5 0.5", "create_atoms 1 single 0.2 0.5 0.5"});
+  auto mass_of = [&](long long id) {
+    const auto& p = *s.e.particles;
+    double m = 0.0;
+    for (int i = 0; i < p.nlocal; ++i)
+      if (p.id[i] == id) m = p.rmass[i];
+    double all = 0.0;
+    MPI_Allreduce(&m, &all, 1, MPI_DOUBLE, MPI_SUM, s.e.world);
+    return all;
+  };
+  const double v01 = 4.0 / 3.0 * M_PI * 1.0e-3;  // volume of a sphere of radius 0.1
+  s.cmd("set atom 2 diameter 0.2");
+  CHECK(mass_of(2) == Approx(v01 * 1.0));
+  CHECK(mass_of(1) == Approx(M_PI / 6.0));
+  s.cmd("set atom 2 density 2500");
+  CHECK(mass_of(2) == Approx(v01 * 2500));
+  s.cmd("set atom 2 mass 1");
+  CHECK(mass_of(2) == Approx(1.0));
+  s.cmd("set atom 2 diameter 0.2");  // mass follows the density again
+  CHECK(mass_of(2) == Approx(v01 * 2500));
+  s.cmd("set atom * vx 1 vy 2 vz 3 omega 4 5 6 x 0.7");
+  s.cmd("set type 1 type 3");
+  const auto& p = *s.e.particles;
+  for (int i = 0; i < p.nlocal; ++i) {
+    CHECK(p.v[i] == Vec3(1, 2, 3));
+    CHECK(p.omega[i] == Vec3(4, 5, 6));
+    CHECK(p.x[i][0] == 0.7);
+    CHECK(p.type[i] == 3);
+  }
+  CHECK_THROWS_WITH(s.cmd("set atom 1 diameter -1"), Contains("positive"));
+  CHECK_THROWS_WITH(s.cmd("set atom 1 diametre 1"), Contains("diameter"));
+  CHECK_THROWS_WITH(s.cmd("set atom 1 type 7"), Contains("1..3"));
+  CHECK_THROWS_WITH(s.cmd("set group nogroup vx 1"), Contains("nogroup"));
+  CHECK_THROWS_WITH(s.cmd("set atom 1 omega 1 2"), Contains("3 value"));
+}
+
+TEST_CASE("velocity set, ramp and zero", "[particles]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"lattice sc 0.25", "create_atoms 1 box"});  // 64 particles
+  auto& g = *s.e.groups;
+  s.cmd("velocity all set 1 NULL 2");
+  CHECK(g.vcm(0).isApprox(Vec3(1, 0, 2)));
+  s.cmd("velocity all set 1 1 NULL sum yes");
+  CHECK(g.vcm(0).isApprox(Vec3(2, 1, 2)));
+  s.cmd("velocity all zero linear");
+  CHECK(g.vcm(0).norm() < 1e-12);
+
+  // ramp vx from 0 to 1 over x in [0, 0.75]: mean over the 4 layers = 0.5
+  s.cmd("velocity all ramp vx 0 1 x 0 0.75");
+  CHECK(g.vcm(0).isApprox(Vec3(0.5, 0, 0)));
+
+  // a rigid rotation about z is removed by zero angular, a translation is kept
+  s.cmd("velocity all set 0.3 0 0");
+  auto& p = *s.e.particles;
+  const Vec3 c = g.xcm(0);
+  for (int i = 0; i < p.nlocal; ++i) p.v[i] += Vec3(0, 0, 2).cross(p.x[i] - c);
+  s.cmd("velocity all zero angular");
+  for (int i = 0; i < p.nlocal; ++i) CHECK((p.v[i] - Vec3(0.3, 0, 0)).norm() < 1e-12);
+
+  s.cmd("velocity all setAngular 0 0 5");
+  for (int i = 0; i < p.nlocal; ++i) CHECK(p.omega[i] == Vec3(0, 0, 5));
+  CHECK_THROWS_WITH(s.cmd("velocity all create 300 4711"), Contains("not supported"));
+  CHECK_THROWS_WITH(s.cmd("velocity all set 1 2"), Contains("3 values"));
+  CHECK_THROWS_WITH(s.cmd("velocity all zero spin"), Contains("linear or angular"));
+}
+
+TEST_CASE("delete_atoms group and region, with and without compress", "[particles]") {
+  SECTION("compress yes (default) renumbers 1..N in the old order") {
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"lattice sc 0.1", "create_atoms 1 box", "region half block 0 0.45 EDGE EDGE EDGE EDGE",
+            "group low region half", "delete_atoms group low"});
+    CHECK(s.e.particles->natoms == 500);
+    const auto x = gather_positions(s.e);
+    REQUIRE(x.size() == 500);
+    CHECK(x.begin()->first == 1);
+    CHECK(x.rbegin()->first == 500);
+    for (const auto& kv : x) CHECK(kv.second[0] > 0.45);
+  }
+  SECTION("compress no keeps the ids") {
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"lattice sc 0.1", "create_atoms 1 box", "region ball sphere 0.5 0.5 0.5 0.25",
+            "delete_atoms region ball compress no"});
+    const auto x = gather_positions(s.e);
+    CHECK(x.rbegin()->first == 1000);
+    for (const auto& kv : x) CHECK((kv.second - Vec3(0.5, 0.5, 0.5)).norm() > 0.25);
+    s.cmd("create_atoms 2 single 0.5 0.5 0.5");  // next id after the largest
+    CHECK(gather_positions(s.e).rbegin()->first == 1001);
+    CHECK_THROWS_WITH(s.cmd("delete_atoms region nowhere"), Contains("nowhere"));
+    CHECK_THROWS_WITH(s.cmd("delete_atoms group all compress maybe"), Contains("yes or no"));
+  }
+}
