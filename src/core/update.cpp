@@ -59,6 +59,7 @@ void Update::reneighbor(bool save_history) {
   e.comm->setup(e.neighbor->cutneighmax);
   e.comm->exchange(history);
   check_lost();
+  e.neighbor->sort_particles(ntimestep);
   e.particles->map_clear();
   e.comm->borders();
   e.modify->pre_neighbor();

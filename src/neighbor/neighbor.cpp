@@ -113,6 +113,32 @@ bool Neighbor::decide() {
   return any != 0;
 }
 
+void Neighbor::sort_particles(std::int64_t step) {
+  if (sort_every <= 0 || step < next_sort_) return;
+  next_sort_ = step + sort_every;
+  Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  const int n = p.nlocal;
+  if (n < 2) return;
+  const double bin = sort_binsize > 0 ? sort_binsize : std::max(0.5 * cutneighmax, 1e-12);
+  int nb[3];
+  for (int d = 0; d < 3; ++d)
+    nb[d] = std::clamp(static_cast<int>((dom.subhi[d] - dom.sublo[d]) / bin), 1, 1 << 10);
+  std::vector<std::int64_t> key(n);
+  for (int i = 0; i < n; ++i) {
+    std::int64_t c[3];
+    for (int d = 0; d < 3; ++d) {
+      const double f = (p.x[i][d] - dom.sublo[d]) / (dom.subhi[d] - dom.sublo[d]);
+      c[d] = std::clamp(static_cast<int>(f * nb[d]), 0, nb[d] - 1);
+    }
+    key[i] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
+  }
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  p.permute(order);
+}
+
 void Neighbor::build() {
   const Particles& p = *engine_.particles;
   const Domain& dom = *engine_.domain;

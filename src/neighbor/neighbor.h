@@ -54,6 +54,9 @@ class Neighbor {
   std::int64_t last_build_step = -1;
 
   bool excluded(int i, int j) const;
+  /// Reorder owned particles along bins for memory locality (atom_modify sort),
+  /// when due; called after migration, before ghosts are built.
+  void sort_particles(std::int64_t step);
 
  private:
   Engine& engine_;
@@ -63,6 +66,7 @@ class Neighbor {
   bool exclude_body_ = true;  // sub-spheres of one clump never interact
   // bins
   std::vector<int> binhead_, binnext_;
+  std::int64_t next_sort_ = 0;
 };
 
 }  // namespace granary

@@ -96,6 +96,38 @@ void Particles::clear_ghosts() {
   resize(nlocal);
 }
 
+namespace {
+template <class T>
+void reorder(std::vector<T>& a, const std::vector<int>& order, std::vector<T>& tmp) {
+  tmp.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = a[order[k]];
+  std::copy(tmp.begin(), tmp.end(), a.begin());
+}
+}  // namespace
+
+void Particles::permute(const std::vector<int>& order) {
+  std::vector<tagint> t64;
+  std::vector<int> ti;
+  std::vector<double> td;
+  std::vector<Vec3> tv;
+  reorder(id, order, t64);
+  reorder(body, order, t64);
+  reorder(type, order, ti);
+  reorder(mask, order, ti);
+  reorder(image, order, ti);
+  reorder(radius, order, td);
+  reorder(density, order, td);
+  reorder(rmass, order, td);
+  for (auto* a : {&x, &v, &f, &omega, &torque}) reorder(*a, order, tv);
+  for (auto& e : extras) {
+    td.resize(order.size() * e.ncomp);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      std::copy_n(e.data.begin() + static_cast<std::size_t>(order[k]) * e.ncomp, e.ncomp,
+                  td.begin() + k * e.ncomp);
+    std::copy(td.begin(), td.end(), e.data.begin());
+  }
+}
+
 int Particles::exchange_size() const {
   int n = 19;
   for (const auto& e : extras)

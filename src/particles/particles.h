@@ -57,6 +57,8 @@ class Particles {
   void remove_local(int i);
   /// Remove all ghosts.
   void clear_ghosts();
+  /// Reorder the owned particles (no ghosts present): new slot k takes old slot order[k].
+  void permute(const std::vector<int>& order);
 
   /// Number of doubles pack_exchange writes for one particle.
   int exchange_size() const;

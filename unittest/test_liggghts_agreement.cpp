@@ -1,0 +1,169 @@
+// Agreement with LIGGGHTS 3.8 on scripts that both programs run unchanged.
+//
+// The LIGGGHTS thermo output of each script is stored in unittest/reference
+// (made by unittest/reference/make_reference.py). When LIGGGHTS is installed,
+// one test also re-runs it and checks the stored output is still what it
+// prints, so the reference cannot drift silently.
+//
+// Tolerances:
+// - particle counts are equal at every output step;
+// - before the first contact (free fall from a lattice) kinetic energies agree
+//   to 1e-6 relative: both integrate gravity with velocity Verlet;
+// - a single sphere bouncing and rolling on a wall (in.wall_bounce) is
+//   deterministic: kinetic energy within 2% at every output step;
+// - pours are chaotic after the first impacts (round-off grows), so they are
+//   compared statistically: kinetic energy just after the first impact within
+//   5%, the mean kinetic energy over the flowing phase within 25%, and the
+//   step at which the bed comes to rest (KE < 1e-7 J) within 30%.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/engine.h"
+#include "core/input.h"
+#include "core/logger.h"
+
+namespace {
+
+struct Row {
+  double step, atoms, ke, rke;
+};
+
+std::vector<Row> read_reference(const std::string& name) {
+  std::ifstream in(std::string(GRANARY_SOURCE_DIR) + "/unittest/reference/" + name + ".liggghts.csv");
+  REQUIRE(in.good());
+  std::vector<Row> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 's') continue;
+    for (char& c : line)
+      if (c == ',') c = ' ';
+    std::istringstream ss(line);
+    Row r;
+    ss >> r.step >> r.atoms >> r.ke >> r.rke;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// Thermo rows "step atoms ke rke" of a LAMMPS-style log (Granary's or LIGGGHTS').
+std::vector<Row> read_log(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<Row> rows;
+  std::string line;
+  bool table = false;
+  while (std::getline(in, line)) {
+    std::istringstream ss(line);
+    std::string first;
+    ss >> first;
+    if (first == "Step") {
+      table = true;
+      continue;
+    }
+    if (!table) continue;
+    if (line.rfind("Loop time", 0) == 0) {
+      table = false;
+      continue;
+    }
+    std::istringstream row(line);
+    Row r;
+    if (row >> r.step >> r.atoms >> r.ke >> r.rke) rows.push_back(r);
+  }
+  return rows;
+}
+
+std::vector<Row> run_granary(const std::string& name) {
+  const std::string log = "agreement_" + name + ".log";
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    e.logger->open_log(log, false);
+    e.input->file(std::string(GRANARY_SOURCE_DIR) + "/unittest/scripts/in." + name);
+  }
+  return read_log(log);
+}
+
+double first_rest_step(const std::vector<Row>& rows, double after) {
+  for (const auto& r : rows)
+    if (r.step > after && r.ke < 1e-7) return r.step;
+  return rows.back().step;
+}
+
+void compare_pour(const std::string& name) {
+  const auto ref = read_reference(name);
+  const auto run = run_granary(name);
+  REQUIRE(run.size() == ref.size());
+  double mean_ref = 0, mean_run = 0;
+  int n = 0, first_impact = -1;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    INFO("step " << ref[k].step);
+    REQUIRE(run[k].step == ref[k].step);
+    CHECK(run[k].atoms == ref[k].atoms);
+    if (first_impact < 0 && ref[k].rke == 0.0) {
+      CHECK(run[k].ke == Approx(ref[k].ke).epsilon(1e-6));  // free fall
+      CHECK(run[k].rke == 0.0);
+      continue;
+    }
+    if (first_impact < 0) {
+      first_impact = static_cast<int>(k);
+      CHECK(run[k].ke == Approx(ref[k].ke).epsilon(0.05));
+    }
+    if (ref[k].ke > 1e-6) {  // flowing phase
+      mean_ref += ref[k].ke;
+      mean_run += run[k].ke;
+      ++n;
+    }
+  }
+  REQUIRE(first_impact > 0);
+  REQUIRE(n > 3);
+  CHECK(mean_run / n == Approx(mean_ref / n).epsilon(0.25));
+  const double rest_ref = first_rest_step(ref, ref[first_impact].step);
+  const double rest_run = first_rest_step(run, ref[first_impact].step);
+  CHECK(rest_run == Approx(rest_ref).epsilon(0.30));
+  std::printf("%s: mean KE of the flowing phase %.4g J (LIGGGHTS %.4g J); at rest from step %.0f (LIGGGHTS %.0f)\n",
+              name.c_str(), mean_run / n, mean_ref / n, rest_run, rest_ref);
+}
+
+}  // namespace
+
+TEST_CASE("a sphere bouncing and rolling on a wall matches LIGGGHTS") {
+  const auto ref = read_reference("wall_bounce");
+  const auto run = run_granary("wall_bounce");
+  REQUIRE(run.size() == ref.size());
+  double worst = 0;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    REQUIRE(run[k].step == ref[k].step);
+    REQUIRE(run[k].atoms == 1);
+    const double total_ref = ref[k].ke + ref[k].rke, total_run = run[k].ke + run[k].rke;
+    worst = std::max(worst, std::fabs(total_run - total_ref) / total_ref);
+    INFO("step " << ref[k].step);
+    CHECK(total_run == Approx(total_ref).epsilon(0.02));
+  }
+  std::printf("wall_bounce: largest relative difference of kinetic energy %.3g\n", worst);
+}
+
+TEST_CASE("a pour into a box matches LIGGGHTS") { compare_pour("pour_small"); }
+
+TEST_CASE("a pour into a cylinder matches LIGGGHTS") { compare_pour("cylinder_small"); }
+
+TEST_CASE("the stored LIGGGHTS output is what LIGGGHTS prints") {
+  if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
+    WARN("LIGGGHTS is not installed; the stored reference output is used as it is");
+    return;
+  }
+  const std::string cmd = "liggghts -in " + std::string(GRANARY_SOURCE_DIR) +
+                          "/unittest/scripts/in.wall_bounce -log live_wall_bounce.log -screen none";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const auto live = read_log("live_wall_bounce.log");
+  const auto ref = read_reference("wall_bounce");
+  REQUIRE(live.size() == ref.size());
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    CHECK(live[k].ke == Approx(ref[k].ke).epsilon(1e-6));
+    CHECK(live[k].rke == Approx(ref[k].rke).margin(1e-15).epsilon(1e-6));
+  }
+}
