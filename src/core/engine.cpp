@@ -10,6 +10,7 @@
 #include "domain/groups.h"
 #include "fix/modify.h"
 #include "neighbor/neighbor.h"
+#include "output/output.h"
 #include "output/thermo.h"
 #include "pair/force.h"
 #include "particles/particles.h"
@@ -42,10 +43,12 @@ void Engine::create_subsystems() {
   modify = std::make_unique<Modify>(*this);
   update = std::make_unique<Update>(*this);
   thermo = std::make_unique<Thermo>(*this);
+  output = std::make_unique<Output>(*this);
 }
 
 // Reverse order of creation: fixes and computes may refer to everything else.
 void Engine::destroy_subsystems() {
+  output.reset();
   thermo.reset();
   update.reset();
   modify.reset();

@@ -12,6 +12,7 @@
 //   modify    fixes (one list per timestep hook) and computes
 //   update    timestep, step counter, simulated time, the run loop
 //   thermo    thermodynamic output
+//   output    dumps and periodic restart files
 // `clear` destroys and recreates everything after `input` (variables survive).
 #pragma once
 
@@ -36,6 +37,7 @@ class Force;
 class Modify;
 class Update;
 class Thermo;
+class Output;
 
 class Engine {
  public:
@@ -87,6 +89,7 @@ class Engine {
   std::unique_ptr<Modify> modify;
   std::unique_ptr<Update> update;
   std::unique_ptr<Thermo> thermo;
+  std::unique_ptr<Output> output;
 
  private:
   void create_subsystems();

@@ -22,6 +22,7 @@ class Fix;
 class Compute;
 class Pair;
 class Region;
+class Dump;
 
 template <class Factory>
 class Registry {
@@ -58,12 +59,15 @@ using ComputeFactory = std::function<std::unique_ptr<Compute>(Engine&, const Arg
 using PairFactory = std::function<std::unique_ptr<Pair>(Engine&, const Args&)>;
 /// Regions receive "ID style args...".
 using RegionFactory = std::function<std::unique_ptr<Region>(Engine&, const Args&)>;
+/// Dumps receive "ID group style N file args...".
+using DumpFactory = std::function<std::unique_ptr<Dump>(Engine&, const Args&)>;
 
 using CommandRegistry = Registry<CommandFn>;
 using FixRegistry = Registry<FixFactory>;
 using ComputeRegistry = Registry<ComputeFactory>;
 using PairRegistry = Registry<PairFactory>;
 using RegionRegistry = Registry<RegionFactory>;
+using DumpRegistry = Registry<DumpFactory>;
 
 }  // namespace granary
 
@@ -98,3 +102,9 @@ using RegionRegistry = Registry<RegionFactory>;
       ::granary::RegionRegistry::instance().add(                                         \
           name, [](::granary::Engine& e, const ::granary::Args& a)                       \
                     -> std::unique_ptr<::granary::Region> { return std::make_unique<Class>(e, a); })
+
+#define GRANARY_DUMP_STYLE(name, Class)                                                  \
+  static const bool GRANARY_UNIQUE(granary_dump_registered_) =                           \
+      ::granary::DumpRegistry::instance().add(                                           \
+          name, [](::granary::Engine& e, const ::granary::Args& a)                       \
+                    -> std::unique_ptr<::granary::Dump> { return std::make_unique<Class>(e, a); })

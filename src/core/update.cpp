@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "comm/comm.h"
 #include "core/engine.h"
@@ -15,6 +16,7 @@
 #include "fix/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
+#include "output/output.h"
 #include "output/thermo.h"
 #include "pair/force.h"
 #include "pair/pair.h"
@@ -126,10 +128,62 @@ void Update::setup() {
   e.neighbor->init();
   e.modify->init();
   reneighbor(false);
-  compute_forces();
+  // Forces at the start of a run are those of the current state: contact
+  // history (pair and per-particle fields marked as history) is not advanced.
+  {
+    ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+    std::vector<double> saved_pair;
+    std::vector<std::uint8_t> saved_touch;
+    if (history) {
+      saved_pair = history->values_;
+      saved_touch = history->touch_;
+    }
+    std::vector<std::vector<double>> saved_fields;
+    for (const auto& field : e.particles->extras)
+      if (field.history) saved_fields.push_back(field.data);
+    in_setup_forces = true;
+    compute_forces();
+    in_setup_forces = false;
+    if (history) {
+      history->values_.swap(saved_pair);
+      history->touch_.swap(saved_touch);
+    }
+    std::size_t k = 0;
+    for (auto& field : e.particles->extras)
+      if (field.history) field.data.swap(saved_fields[k++]);
+  }
+  if (!restart_forces.empty()) use_restart_forces();
   e.modify->setup();
   e.thermo->header();
   e.thermo->line();
+  e.output->setup();
+}
+
+// Velocity Verlet's state is (x, v, f): the forces of step n were computed
+// with the half-step velocities, so with velocity-dependent (damping) forces
+// they cannot be recomputed from x and v alone. The first run after
+// read_restart therefore starts from the forces stored in the file, as an
+// uninterrupted run would, unless the set of particles changed since (then the
+// recomputed forces are used). A restarted run thus continues bit for bit.
+void Update::use_restart_forces() {
+  Engine& e = engine_;
+  Particles& p = *e.particles;
+  long long local[2] = {0, p.nlocal}, all[2];
+  for (int i = 0; i < p.nlocal; ++i) local[0] += restart_forces.count(p.id[i]) ? 1 : 0;
+  local[1] = static_cast<long long>(restart_forces.size());
+  MPI_Allreduce(local, all, 2, MPI_LONG_LONG, MPI_SUM, e.world);
+  const long long natoms = count_global();
+  const bool same = all[0] == natoms && all[1] == natoms;
+  if (same) {
+    for (int i = 0; i < p.nlocal; ++i) {
+      const auto& s = restart_forces[p.id[i]];
+      p.f[i] = Vec3(s[0], s[1], s[2]);
+      p.torque[i] = Vec3(s[3], s[4], s[5]);
+    }
+  }
+  e.logger->print(same ? "Starting from the forces stored in the restart file\n"
+                       : "Particles changed since read_restart: forces recomputed\n");
+  restart_forces.clear();
 }
 
 std::int64_t Update::count_global() const {
@@ -164,6 +218,7 @@ void Update::step_loop(std::int64_t n) {
     Timer t(timers[kOutput]);
     const bool last = ntimestep == laststep;
     if (last || (e.thermo->every > 0 && ntimestep % e.thermo->every == 0)) e.thermo->line();
+    if (ntimestep == e.output->next) e.output->write(ntimestep);
     // Fixes that halt a run decide collectively, so every rank leaves together.
     if (halt_requested) {
       if (!last) e.thermo->line();

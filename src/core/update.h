@@ -1,7 +1,9 @@
 // Timestep, step counter, simulated time and the run loop (velocity Verlet).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <string>
 
 #include "core/utils.h"
@@ -25,6 +27,11 @@ class Update {
   bool first_run = true;
   bool halt_requested = false;  // set by fixes to end the current run early
 
+  /// Time increment for contact-history integration: dt during steps, 0 in the
+  /// force pass at run setup (forces of the current state, history unchanged).
+  double history_dt() const { return in_setup_forces ? 0.0 : dt; }
+  bool in_setup_forces = false;
+
   /// Simulated time at the current step.
   double time() const { return atime + static_cast<double>(ntimestep - atimestep) * dt; }
   void set_timestep(double new_dt);
@@ -34,6 +41,11 @@ class Update {
   void run(std::int64_t n, bool pre = true, bool post = true);
 
   double run_wall_time = 0.0;  // seconds of the last run's loop
+
+  /// Forces and torques read from a restart file, by particle id. The first
+  /// run after read_restart uses them in place of the recomputed ones when the
+  /// two agree to round-off, so a restarted run continues bit for bit.
+  std::unordered_map<std::int64_t, std::array<double, 6>> restart_forces;
 
   enum TimerSlot { kPair, kNeigh, kComm, kModify, kOutput, kNumTimers };
   double timers[kNumTimers] = {0, 0, 0, 0, 0};
@@ -48,6 +60,7 @@ class Update {
   void compute_forces();
   void check_lost();
   void report();
+  void use_restart_forces();
   Engine& engine_;
   bool bounds_set_ = false;
 };

@@ -56,6 +56,12 @@ class Fix {
   bool peratom_flag = false;
   int peratom_cols = 0;  // 0: a per-atom vector
 
+  /// Global state kept in restart files (counters, random-number state, ...).
+  /// A fix defined after read_restart with the same ID and style gets it back.
+  virtual void pack_restart(std::string& /*out*/) const {}
+  virtual void unpack_restart(const std::string& /*in*/) {}
+  bool restart_global = false;  // set by fixes that implement the two above
+
   /// Largest distance from the box at which this fix can still act (walls):
   /// contributes to shrink-wrap margins; 0 by default.
   virtual double max_interaction_distance() const { return 0.0; }

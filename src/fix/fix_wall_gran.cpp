@@ -60,7 +60,10 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   }
   if (pos != words.size()) throw InputError("fix wall/gran: unexpected word '" + words[pos] + "'; usage: " + usage);
   nhist_ = contact::history_size(spec_);
-  if (nhist_ > 0) field_ = engine.particles->add_field("wall_history/" + id, nhist_, false, true);
+  if (nhist_ > 0) {
+    field_ = engine.particles->add_field("wall_history/" + id, nhist_, false, true);
+    engine.particles->extras[field_].history = true;
+  }
 }
 
 void FixWallGran::init() {
@@ -90,7 +93,7 @@ bool FixWallGran::contact(const Vec3& x, double r, double& overlap, Vec3& n) con
 
 void FixWallGran::post_force() {
   Particles& p = *engine_.particles;
-  const double dt = engine_.update->dt;
+  const double dt = engine_.update->history_dt();
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
   contact::dispatch_model(spec_, [&](auto kernel) {
     using K = decltype(kernel);

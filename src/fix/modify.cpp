@@ -3,6 +3,7 @@
 #include "compute/compute.h"
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/logger.h"
 #include "core/registry.h"
 #include "fix/fix.h"
 
@@ -44,6 +45,12 @@ Fix* Modify::add_fix(const Args& args) {
   }
   fixes.push_back(std::move(fix));
   rebuild_hook_lists();
+  auto state = restart_states.find(raw->id);
+  if (state != restart_states.end() && state->second.style == raw->style && raw->restart_global) {
+    raw->unpack_restart(state->second.data);
+    engine_.logger->print("Restored the state of fix " + raw->id + " from the restart file\n");
+    restart_states.erase(state);
+  }
   return raw;
 }
 

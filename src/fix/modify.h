@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,6 +50,15 @@ class Modify {
 
   std::vector<std::unique_ptr<Fix>> fixes;
   std::vector<std::unique_ptr<Compute>> computes;
+
+  // State read from a restart file, handed to fixes defined afterwards.
+  struct RestartState {
+    std::string style, data;
+  };
+  std::map<std::string, RestartState> restart_states;  // by fix ID
+  /// Material properties stored in the restart file (name -> values), checked
+  /// against the script's fix property/global when the pair style initialises.
+  std::map<std::string, std::vector<double>> restart_materials;
 
  private:
   void rebuild_hook_lists();

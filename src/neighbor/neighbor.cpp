@@ -9,6 +9,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "core/update.h"
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "pair/force.h"
@@ -97,6 +98,8 @@ bool Neighbor::excluded(int i, int j) const {
 }
 
 bool Neighbor::decide() {
+  // Spatial sorting happens at fixed step multiples, on a rebuild forced there.
+  if (sort_every > 0 && engine_.update->ntimestep % sort_every == 0) return true;
   if (ago < delay || ago % every != 0) return false;
   if (once) return false;
   if (!check) return true;
@@ -114,8 +117,7 @@ bool Neighbor::decide() {
 }
 
 void Neighbor::sort_particles(std::int64_t step) {
-  if (sort_every <= 0 || step < next_sort_) return;
-  next_sort_ = step + sort_every;
+  if (sort_every <= 0 || step % sort_every != 0) return;
   Particles& p = *engine_.particles;
   const Domain& dom = *engine_.domain;
   const int n = p.nlocal;
@@ -209,6 +211,12 @@ void Neighbor::build() {
         }
       }
     }
+    // Neighbours in id order: each particle's forces are then summed in an
+    // order that does not depend on when the list was built (restarts
+    // continue bit for bit).
+    std::sort(neigh.begin() + offset[i], neigh.end(), [&p](int a, int b) {
+      return p.id[a] != p.id[b] ? p.id[a] < p.id[b] : a < b;
+    });
   }
   offset[nlocal] = static_cast<int>(neigh.size());
 }

@@ -54,8 +54,9 @@ class Neighbor {
   std::int64_t last_build_step = -1;
 
   bool excluded(int i, int j) const;
-  /// Reorder owned particles along bins for memory locality (atom_modify sort),
-  /// when due; called after migration, before ghosts are built.
+  /// Reorder owned particles along bins for memory locality (atom_modify sort)
+  /// at steps that are multiples of sort_every (decide() forces a rebuild
+  /// there); called after migration, before ghosts are built.
   void sort_particles(std::int64_t step);
 
  private:
@@ -66,7 +67,6 @@ class Neighbor {
   bool exclude_body_ = true;  // sub-spheres of one clump never interact
   // bins
   std::vector<int> binhead_, binnext_;
-  std::int64_t next_sort_ = 0;
 };
 
 }  // namespace granary

@@ -26,6 +26,7 @@ void Force::create_pair(const Args& args) {
   }
   pair = (*factory)(engine_, Args(args.begin() + 1, args.end()));
   pair_style = args[0];
+  pair_words.assign(args.begin() + 1, args.end());
 }
 
 }  // namespace granary

@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/utils.h"
 
@@ -18,7 +19,12 @@ class Force {
   void create_pair(const Args& args);
   std::unique_ptr<Pair> pair;
   std::string pair_style = "none";
+  Args pair_words;  // the words after the style name
   bool newton_pair = false;  // `newton on|off`; see doc/architecture.md
+  /// Contact history read from a restart file (ContactHistory::pack_all
+  /// layout), taken by the pair style when it first initialises.
+  std::vector<double> restart_history;
+  std::string restart_pair_style;  // the pair_style words of the run that wrote it
 
  private:
   Engine& engine_;

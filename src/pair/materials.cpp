@@ -8,6 +8,7 @@
 
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/logger.h"
 #include "fix/fix_property_global.h"
 #include "fix/modify.h"
 #include "particles/particles.h"
@@ -32,6 +33,17 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   double vchar = 0.0;
   if (spec.normal == contact::NormalModel::Hooke) {
     vchar = FixPropertyGlobal::require(modify, "characteristicVelocity", user)->compute_scalar();
+  }
+  // A restart file remembers the materials of the run that wrote it.
+  for (const FixPropertyGlobal* prop : {Y, nu, e, mu, mur}) {
+    if (!prop) continue;
+    auto it = modify.restart_materials.find(prop->name);
+    if (it == modify.restart_materials.end()) continue;
+    if (it->second != prop->values) {
+      engine.logger->warning("material property " + prop->name + " (fix " + prop->id +
+                             ") differs from the one stored in the restart file");
+    }
+    engine.modify->restart_materials.erase(prop->name);
   }
   for (int a = 1; a <= n; ++a) {
     youngs_[a] = Y->per_type(a);

@@ -76,6 +76,7 @@ void PairGranular::init() {
   std::vector<double> signs(history_size());
   if (!signs.empty()) history_swap_signs(signs.data());
   if (history_.nvalues() != history_size()) history_.configure(history_size(), signs);
+  take_restart_history();
 
   // A timestep longer than the Rayleigh time cannot resolve a contact.
   const double tr = min_rayleigh_time(engine_, materials_);
@@ -91,13 +92,32 @@ void PairGranular::init() {
   }
 }
 
+// Contact history read by read_restart waits in Force until the pair style
+// that uses it initialises; its layout must match this model's.
+void PairGranular::take_restart_history() {
+  Force& force = *engine_.force;
+  if (force.restart_history.size() < 2) return;
+  const int nvalues = static_cast<int>(force.restart_history[1]);
+  if (nvalues == history_size()) {
+    history_.unpack_all(force.restart_history);
+  } else if (force.restart_history[0] > 0) {
+    engine_.logger->warning("the restart file's contact history has " + std::to_string(nvalues) +
+                            " values per contact but pair_style " + style + " " + join(args_) + " uses " +
+                            std::to_string(history_size()) + "; contacts start without history");
+  }
+  if (!force.restart_pair_style.empty() && force.restart_pair_style != style + " " + join(args_)) {
+    engine_.logger->warning("pair style differs from the restart file's (" + force.restart_pair_style + ")");
+  }
+  force.restart_history.clear();
+}
+
 template <class Kernel>
 void PairGranular::loop() {
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
   const int nlocal = p.nlocal;
   const bool newton = engine_.force->newton_pair;
-  const double dt = engine_.update->dt;
+  const double dt = engine_.update->history_dt();
   constexpr int nh = Kernel::history_size;
   const bool with_history = nh > 0;
   if (with_history && history_.touch_.size() != list.neigh.size()) {

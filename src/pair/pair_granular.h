@@ -29,6 +29,7 @@ class PairGranular : public Pair {
  private:
   template <class Kernel>
   void loop();
+  void take_restart_history();
   contact::ModelSpec spec_;
   MaterialTable materials_;
   ContactHistory history_;

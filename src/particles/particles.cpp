@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace granary {
 
@@ -260,7 +261,17 @@ tagint Particles::max_local_id() const {
 
 int Particles::add_field(const std::string& name, int ncomp, bool ghost, bool exchange) {
   const int existing = find_field(name);
-  if (existing >= 0) return existing;
+  if (existing >= 0) {
+    // e.g. created by read_restart before the style that owns it was defined
+    ExtraField& e = extras[existing];
+    if (e.ncomp != ncomp) {
+      throw std::invalid_argument("per-particle field '" + name + "' has " + std::to_string(e.ncomp) +
+                                  " values per particle, not " + std::to_string(ncomp));
+    }
+    e.ghost = e.ghost || ghost;
+    e.exchange = e.exchange || exchange;
+    return existing;
+  }
   ExtraField e;
   e.name = name;
   e.ncomp = ncomp;

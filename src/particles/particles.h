@@ -24,6 +24,7 @@ struct ExtraField {
   int ncomp = 1;
   bool ghost = false;    // copied to ghosts when they are built (borders)
   bool exchange = true;  // migrates with the particle
+  bool history = false;  // contact history: not advanced by the force pass at run setup
   std::vector<double> data;  // ncomp values per particle
 };
 

@@ -1,0 +1,618 @@
+// Restart files: format and the write_restart / read_restart commands.
+//
+// Layout (little or big endian as written; the byte-order mark tells):
+//   char     magic[16]      "GRANARY-RESTART"
+//   uint32   version        kVersion
+//   uint32   byte_order     0x01020304
+//   uint32   nsections
+//   uint32   table_crc      CRC-32 of the section table
+//   table    nsections x { char name[32]; uint64 offset; uint64 size; uint32 crc; uint32 zero }
+//   data     the sections, each checksummed with CRC-32
+// Sections: "global" (text, one "key value..." per line), "particles",
+// "contact_history", "fixes", "materials". See doc/restart_format.md.
+#include "output/restart.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include "comm/comm.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "domain/domain.h"
+#include "domain/groups.h"
+#include "fix/fix.h"
+#include "fix/fix_property_global.h"
+#include "fix/modify.h"
+#include "neighbor/contact_history.h"
+#include "neighbor/neighbor.h"
+#include "pair/force.h"
+#include "pair/pair.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+
+constexpr char kMagic[16] = "GRANARY-RESTART";
+constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kByteOrder = 0x01020304;
+constexpr std::size_t kNameBytes = 32;
+constexpr int kCoreFields = 23;  // doubles per particle before the extra fields
+
+std::uint32_t crc32(const char* data, std::size_t n) {
+  static const std::array<std::uint32_t, 256> table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < n; ++i) c = table[(c ^ static_cast<unsigned char>(data[i])) & 0xFF] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+template <class T>
+void put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+void put_string(std::string& out, const std::string& s) {
+  put<std::uint64_t>(out, s.size());
+  out += s;
+}
+
+// Bounds-checked reading of one section.
+class Reader {
+ public:
+  Reader(const std::string& data, const std::string& file, const std::string& section)
+      : data_(data), file_(file), section_(section) {}
+  template <class T>
+  T get() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, data_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  std::string get_string() {
+    const auto n = get<std::uint64_t>();
+    need(n);
+    std::string s = data_.substr(pos_, n);
+    pos_ += n;
+    return s;
+  }
+  void get_doubles(double* out, std::size_t n) {
+    need(n * sizeof(double));
+    std::memcpy(out, data_.data() + pos_, n * sizeof(double));
+    pos_ += n * sizeof(double);
+  }
+  bool done() const { return pos_ == data_.size(); }
+
+ private:
+  void need(std::size_t n) const {
+    if (pos_ + n > data_.size()) {
+      throw InputError("restart file '" + file_ + "': section '" + section_ +
+                       "' ends early; the file is corrupted or was written by an incompatible program");
+    }
+  }
+  const std::string& data_;
+  std::string file_, section_;
+  std::size_t pos_ = 0;
+};
+
+// Gather variable-length double arrays to rank 0, in rank order.
+std::vector<double> gather_doubles(Engine& e, const std::vector<double>& mine) {
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, e.world);
+  std::vector<double> all;
+  if (e.rank == 0) {
+    for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    all.resize(static_cast<std::size_t>(displs.back()) + counts.back());
+  }
+  MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, e.world);
+  return all;
+}
+
+void bcast_string(Engine& e, std::string& s) {
+  std::uint64_t n = s.size();
+  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, e.world);
+  s.resize(n);
+  const std::uint64_t chunk = 1u << 30;
+  for (std::uint64_t off = 0; off < n; off += chunk) {
+    MPI_Bcast(&s[off], static_cast<int>(std::min(chunk, n - off)), MPI_CHAR, 0, e.world);
+  }
+}
+
+// Raise the same InputError on every rank when rank 0 found a problem.
+void agree(Engine& e, const std::string& problem_on_rank0) {
+  std::string msg = problem_on_rank0;
+  bcast_string(e, msg);
+  if (!msg.empty()) throw InputError(msg);
+}
+
+std::string fmt(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// --------------------------------------------------------------------- write
+
+// Rank 0 only: no collective calls in here.
+std::string global_section(Engine& e, long long natoms) {
+  const Domain& d = *e.domain;
+  const Update& u = *e.update;
+  std::ostringstream s;
+  s << "program Granary\n";
+  s << "format_version " << kVersion << "\n";
+  s << "written_on_ranks " << e.nprocs << "\n";
+  s << "units " << d.units << "\n";
+  s << "step " << u.ntimestep << "\n";
+  s << "atime " << fmt(u.atime) << "\n";
+  s << "atimestep " << u.atimestep << "\n";
+  s << "dt " << fmt(u.dt) << "\n";
+  s << "boundary";
+  for (int k = 0; k < 3; ++k) s << " " << d.boundary[k][0] << d.boundary[k][1];
+  s << "\n";
+  s << "boxlo " << fmt(d.boxlo[0]) << " " << fmt(d.boxlo[1]) << " " << fmt(d.boxlo[2]) << "\n";
+  s << "boxhi " << fmt(d.boxhi[0]) << " " << fmt(d.boxhi[1]) << " " << fmt(d.boxhi[2]) << "\n";
+  s << "minlo " << fmt(d.minlo[0]) << " " << fmt(d.minlo[1]) << " " << fmt(d.minlo[2]) << "\n";
+  s << "minhi " << fmt(d.minhi[0]) << " " << fmt(d.minhi[1]) << " " << fmt(d.minhi[2]) << "\n";
+  s << "ntypes " << e.particles->ntypes << "\n";
+  s << "natoms " << natoms << "\n";
+  s << "newton " << (e.force->newton_pair ? "on" : "off") << "\n";
+  const Neighbor& n = *e.neighbor;
+  s << "neighbor " << fmt(n.skin) << " " << n.every << " " << n.delay << " " << (n.check ? 1 : 0) << " "
+    << n.sort_every << " " << fmt(n.sort_binsize) << "\n";
+  for (int g = 0; g < Groups::kMaxGroups; ++g)
+    if (!e.groups->names[g].empty()) s << "group " << g << " " << e.groups->names[g] << "\n";
+  if (e.force->pair) s << "pair_style " << e.force->pair->style << " " << join(e.force->pair_words) << "\n";
+  return s.str();
+}
+
+std::string particles_section(Engine& e) {
+  const Particles& p = *e.particles;
+  std::vector<double> mine;
+  for (int i = 0; i < p.nlocal; ++i) {
+    mine.push_back(static_cast<double>(p.id[i]));
+    mine.push_back(p.type[i]);
+    mine.push_back(p.mask[i]);
+    for (const auto* a : {&p.x, &p.v, &p.omega, &p.f, &p.torque})
+      for (int d = 0; d < 3; ++d) mine.push_back((*a)[i][d]);
+    mine.push_back(p.radius[i]);
+    mine.push_back(p.density[i]);
+    mine.push_back(p.rmass[i]);
+    mine.push_back(static_cast<double>(p.body[i]));
+    mine.push_back(p.image[i]);
+    for (const auto& f : p.extras) {
+      if (!f.exchange) continue;
+      const double* src = &f.data[static_cast<std::size_t>(i) * f.ncomp];
+      mine.insert(mine.end(), src, src + f.ncomp);
+    }
+  }
+  std::vector<double> all = gather_doubles(e, mine);
+  std::string out;
+  if (e.rank != 0) return out;
+  int per = kCoreFields;
+  std::vector<std::string> names;
+  std::vector<int> ncomp;
+  for (const auto& f : p.extras) {
+    if (!f.exchange) continue;
+    names.push_back(f.name);
+    ncomp.push_back(f.ncomp);
+    per += f.ncomp;
+  }
+  put<std::uint64_t>(out, all.size() / per);
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    put_string(out, names[k]);
+    put<std::uint32_t>(out, static_cast<std::uint32_t>(ncomp[k]));
+  }
+  out.append(reinterpret_cast<const char*>(all.data()), all.size() * sizeof(double));
+  return out;
+}
+
+std::string history_section(Engine& e) {
+  std::vector<double> mine;
+  ContactHistory* h = e.force->pair ? e.force->pair->history() : nullptr;
+  if (h) {
+    if (e.update->running) h->save(*e.neighbor, *e.particles);
+    h->pack_all(mine);
+  } else if (e.rank == 0) {
+    mine = e.force->restart_history;  // read but not yet taken by a pair style
+  }
+  // each rank: count, nvalues, entries; merge on rank 0 (newton off keeps
+  // cross-rank contacts on both ranks: identical entries, kept once)
+  std::vector<double> all = gather_doubles(e, mine);
+  std::string out;
+  if (e.rank != 0) return out;
+  std::map<std::pair<long long, long long>, std::vector<double>> merged;
+  int nvalues = 0;
+  std::size_t m = 0;
+  while (m + 2 <= all.size()) {
+    const auto count = static_cast<std::size_t>(all[m]);
+    nvalues = static_cast<int>(all[m + 1]);
+    m += 2;
+    for (std::size_t c = 0; c < count; ++c) {
+      const auto a = static_cast<long long>(all[m]), b = static_cast<long long>(all[m + 1]);
+      merged[{a, b}] = std::vector<double>(all.begin() + m + 2, all.begin() + m + 2 + nvalues);
+      m += 2 + nvalues;
+    }
+  }
+  put<std::uint64_t>(out, merged.size());
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(nvalues));
+  for (const auto& kv : merged) {
+    put<std::int64_t>(out, kv.first.first);
+    put<std::int64_t>(out, kv.first.second);
+    out.append(reinterpret_cast<const char*>(kv.second.data()), kv.second.size() * sizeof(double));
+  }
+  return out;
+}
+
+std::string fixes_section(Engine& e) {
+  std::string out;
+  std::vector<std::pair<std::string, const Fix*>> with_state;
+  for (const auto& f : e.modify->fixes)
+    if (f->restart_global) with_state.emplace_back(f->id, f.get());
+  // states of fixes read from a restart but not defined again are kept
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(with_state.size() + e.modify->restart_states.size()));
+  for (const auto& kv : with_state) {
+    std::string data;
+    kv.second->pack_restart(data);
+    put_string(out, kv.first);
+    put_string(out, kv.second->style);
+    put_string(out, data);
+  }
+  for (const auto& kv : e.modify->restart_states) {
+    put_string(out, kv.first);
+    put_string(out, kv.second.style);
+    put_string(out, kv.second.data);
+  }
+  return out;
+}
+
+std::string materials_section(Engine& e) {
+  std::string out;
+  std::vector<const FixPropertyGlobal*> props;
+  for (const auto& f : e.modify->fixes)
+    if (auto* p = dynamic_cast<const FixPropertyGlobal*>(f.get())) props.push_back(p);
+  put<std::uint32_t>(out, static_cast<std::uint32_t>(props.size()));
+  for (const auto* p : props) {
+    put_string(out, p->name);
+    put<std::uint64_t>(out, p->values.size());
+    out.append(reinterpret_cast<const char*>(p->values.data()), p->values.size() * sizeof(double));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------- read
+
+struct FileSections {
+  std::map<std::string, std::string> sections;
+};
+
+// Rank 0: read and validate the whole file; returns an error message or "".
+std::string load(const std::string& file, FileSections& out) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return "cannot open restart file '" + file + "'; check the name and that it exists";
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t head = 16 + 4 * 4;
+  if (bytes.size() < head || std::memcmp(bytes.data(), kMagic, 16) != 0) {
+    return "'" + file + "' is not a Granary restart file (its header does not start with " +
+           std::string(kMagic) + ")";
+  }
+  std::uint32_t version, order, nsections, table_crc;
+  std::memcpy(&version, bytes.data() + 16, 4);
+  std::memcpy(&order, bytes.data() + 20, 4);
+  std::memcpy(&nsections, bytes.data() + 24, 4);
+  std::memcpy(&table_crc, bytes.data() + 28, 4);
+  if (order != kByteOrder) {
+    return "restart file '" + file + "' was written on a machine with the other byte order; "
+           "convert it there with write_dump or rewrite it on a machine like this one";
+  }
+  if (version != kVersion) {
+    return "restart file '" + file + "' has format version " + std::to_string(version) +
+           "; this Granary reads version " + std::to_string(kVersion);
+  }
+  const std::size_t entry = kNameBytes + 8 + 8 + 4 + 4;
+  if (nsections > 64 || bytes.size() < head + nsections * entry) {
+    return "restart file '" + file + "' is truncated (its section table is incomplete)";
+  }
+  if (crc32(bytes.data() + head, nsections * entry) != table_crc) {
+    return "restart file '" + file + "' is corrupted (checksum of its section table does not match)";
+  }
+  for (std::uint32_t k = 0; k < nsections; ++k) {
+    const char* t = bytes.data() + head + k * entry;
+    std::string name(t, strnlen(t, kNameBytes));
+    std::uint64_t offset, size;
+    std::uint32_t crc;
+    std::memcpy(&offset, t + kNameBytes, 8);
+    std::memcpy(&size, t + kNameBytes + 8, 8);
+    std::memcpy(&crc, t + kNameBytes + 16, 4);
+    if (offset + size > bytes.size() || offset + size < offset) {
+      return "restart file '" + file + "' is truncated: section '" + name + "' needs bytes up to " +
+             std::to_string(offset + size) + " but the file has " + std::to_string(bytes.size());
+    }
+    if (crc32(bytes.data() + offset, size) != crc) {
+      return "restart file '" + file + "' is corrupted: the checksum of section '" + name + "' does not match";
+    }
+    out.sections[name] = bytes.substr(offset, size);
+  }
+  for (const char* needed : {"global", "particles"}) {
+    if (!out.sections.count(needed)) return "restart file '" + file + "' has no '" + needed + "' section";
+  }
+  return "";
+}
+
+std::map<std::string, std::vector<std::string>> parse_global(const std::string& text) {
+  std::map<std::string, std::vector<std::string>> kv;
+  std::istringstream in(text);
+  std::string line;
+  int group_line = 0;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string key, w;
+    ls >> key;
+    std::vector<std::string> words;
+    while (ls >> w) words.push_back(w);
+    if (key == "group") key += "#" + std::to_string(group_line++);
+    kv[key] = words;
+  }
+  return kv;
+}
+
+}  // namespace
+
+std::string expand_step(const std::string& file, std::int64_t step) {
+  const auto star = file.find('*');
+  if (star == std::string::npos) return file;
+  return file.substr(0, star) + std::to_string(step) + file.substr(star + 1);
+}
+
+void write_restart(Engine& e, const std::string& file) {
+  if (!e.domain->box_exist) throw InputError("write_restart needs a box and particles: create_box or read_restart first");
+  std::vector<std::pair<std::string, std::string>> sections;
+  const long long natoms = e.update->count_global();
+  sections.emplace_back("global", e.rank == 0 ? global_section(e, natoms) : "");
+  sections.emplace_back("particles", particles_section(e));
+  sections.emplace_back("contact_history", history_section(e));
+  sections.emplace_back("fixes", e.rank == 0 ? fixes_section(e) : "");
+  sections.emplace_back("materials", e.rank == 0 ? materials_section(e) : "");
+  std::string problem;
+  if (e.rank == 0) {
+    const std::size_t head = 16 + 16, entry = kNameBytes + 8 + 8 + 4 + 4;
+    std::string table;
+    std::uint64_t offset = head + sections.size() * entry;
+    for (const auto& s : sections) {
+      char name[kNameBytes] = {0};
+      std::strncpy(name, s.first.c_str(), kNameBytes - 1);
+      table.append(name, kNameBytes);
+      put<std::uint64_t>(table, offset);
+      put<std::uint64_t>(table, s.second.size());
+      put<std::uint32_t>(table, crc32(s.second.data(), s.second.size()));
+      put<std::uint32_t>(table, 0);
+      offset += s.second.size();
+    }
+    std::string header(kMagic, 16);
+    put<std::uint32_t>(header, kVersion);
+    put<std::uint32_t>(header, kByteOrder);
+    put<std::uint32_t>(header, static_cast<std::uint32_t>(sections.size()));
+    put<std::uint32_t>(header, crc32(table.data(), table.size()));
+    const std::string tmp = file + ".tmp";
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    bool ok = f != nullptr;
+    if (ok) {
+      ok = std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
+           std::fwrite(table.data(), 1, table.size(), f) == table.size();
+      for (const auto& s : sections)
+        ok = ok && std::fwrite(s.second.data(), 1, s.second.size(), f) == s.second.size();
+      ok = (std::fclose(f) == 0) && ok;
+    }
+    if (!ok) {
+      std::remove(tmp.c_str());
+      problem = "cannot write restart file '" + file + "' (disk full or directory not writable?)";
+    } else if (std::rename(tmp.c_str(), file.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      problem = "cannot rename '" + tmp + "' to '" + file + "'";
+    }
+  }
+  agree(e, problem);
+  e.logger->print("Wrote restart file " + file + " at step " + std::to_string(e.update->ntimestep) + "\n");
+}
+
+void read_restart(Engine& e, const std::string& file) {
+  if (e.domain->box_exist) {
+    throw InputError("read_restart must come before the box is created; use clear first to start over");
+  }
+  FileSections fs;
+  std::string problem;
+  if (e.rank == 0) problem = load(file, fs);
+  agree(e, problem);
+  // every rank gets every section
+  std::uint32_t n = static_cast<std::uint32_t>(fs.sections.size());
+  MPI_Bcast(&n, 1, MPI_UINT32_T, 0, e.world);
+  std::vector<std::string> names;
+  for (const auto& kv : fs.sections) names.push_back(kv.first);
+  names.resize(n);
+  for (std::uint32_t k = 0; k < n; ++k) {
+    bcast_string(e, names[k]);
+    bcast_string(e, fs.sections[names[k]]);
+  }
+
+  // Parse everything before changing any state, so a bad file changes nothing.
+  auto g = parse_global(fs.sections["global"]);
+  auto need = [&](const std::string& key, std::size_t count) -> const std::vector<std::string>& {
+    auto it = g.find(key);
+    if (it == g.end() || it->second.size() < count) {
+      throw InputError("restart file '" + file + "': the global section lacks '" + key + "'");
+    }
+    return it->second;
+  };
+  auto vec = [&](const std::string& key) {
+    const auto& w = need(key, 3);
+    return Vec3(parse_double(w[0], key), parse_double(w[1], key), parse_double(w[2], key));
+  };
+  const std::string units = need("units", 1)[0];
+  const auto step = parse_int(need("step", 1)[0], "step");
+  const double atime = parse_double(need("atime", 1)[0], "atime");
+  const auto atimestep = parse_int(need("atimestep", 1)[0], "atimestep");
+  const double dt = parse_double(need("dt", 1)[0], "dt");
+  const auto& bnd = need("boundary", 3);
+  const Vec3 boxlo = vec("boxlo"), boxhi = vec("boxhi"), minlo = vec("minlo"), minhi = vec("minhi");
+  const int ntypes = static_cast<int>(parse_int(need("ntypes", 1)[0], "ntypes"));
+  const auto& nb = need("neighbor", 6);
+
+  Reader pr(fs.sections["particles"], file, "particles");
+  const auto count = pr.get<std::uint64_t>();
+  const auto nextra = pr.get<std::uint32_t>();
+  std::vector<std::string> fnames(nextra);
+  std::vector<int> fncomp(nextra);
+  std::size_t per = kCoreFields;
+  for (std::uint32_t k = 0; k < nextra; ++k) {
+    fnames[k] = pr.get_string();
+    fncomp[k] = static_cast<int>(pr.get<std::uint32_t>());
+    per += fncomp[k];
+  }
+  std::vector<double> records(count * per);
+  pr.get_doubles(records.data(), records.size());
+
+  std::vector<double> history;
+  if (fs.sections.count("contact_history")) {
+    Reader hr(fs.sections["contact_history"], file, "contact_history");
+    const auto nentries = hr.get<std::uint64_t>();
+    const auto nvalues = hr.get<std::uint32_t>();
+    history.push_back(static_cast<double>(nentries));
+    history.push_back(nvalues);
+    for (std::uint64_t c = 0; c < nentries; ++c) {
+      history.push_back(static_cast<double>(hr.get<std::int64_t>()));
+      history.push_back(static_cast<double>(hr.get<std::int64_t>()));
+      const std::size_t at = history.size();
+      history.resize(at + nvalues);
+      hr.get_doubles(&history[at], nvalues);
+    }
+  }
+  std::map<std::string, Modify::RestartState> states;
+  if (fs.sections.count("fixes")) {
+    Reader fr(fs.sections["fixes"], file, "fixes");
+    const auto nf = fr.get<std::uint32_t>();
+    for (std::uint32_t k = 0; k < nf; ++k) {
+      const std::string id = fr.get_string();
+      Modify::RestartState st;
+      st.style = fr.get_string();
+      st.data = fr.get_string();
+      states[id] = st;
+    }
+  }
+  std::map<std::string, std::vector<double>> materials;
+  if (fs.sections.count("materials")) {
+    Reader mr(fs.sections["materials"], file, "materials");
+    const auto nm = mr.get<std::uint32_t>();
+    for (std::uint32_t k = 0; k < nm; ++k) {
+      const std::string name = mr.get_string();
+      std::vector<double> values(mr.get<std::uint64_t>());
+      mr.get_doubles(values.data(), values.size());
+      materials[name] = values;
+    }
+  }
+
+  // ---- apply
+  Domain& d = *e.domain;
+  d.units = units;
+  for (int k = 0; k < 3; ++k) {
+    d.boundary[k] = {bnd[k][0], bnd[k].size() > 1 ? bnd[k][1] : bnd[k][0]};
+    d.periodic[k] = bnd[k][0] == 'p';
+  }
+  d.set_box(minlo, minhi);
+  d.boxlo = boxlo;
+  d.boxhi = boxhi;
+  d.prd = boxhi - boxlo;
+  e.particles->ntypes = ntypes;
+  Update& u = *e.update;
+  u.ntimestep = step;
+  u.atime = atime;
+  u.atimestep = atimestep;
+  u.dt = dt;
+  u.dt_set = true;
+  e.force->newton_pair = need("newton", 1)[0] == "on";
+  Neighbor& ne = *e.neighbor;
+  ne.skin = parse_double(nb[0], "skin");
+  ne.every = static_cast<int>(parse_int(nb[1], "every"));
+  ne.delay = static_cast<int>(parse_int(nb[2], "delay"));
+  ne.check = nb[3] == "1";
+  ne.sort_every = static_cast<int>(parse_int(nb[4], "sort"));
+  ne.sort_binsize = parse_double(nb[5], "sort binsize");
+  for (const auto& kv : g) {
+    if (kv.first.rfind("group#", 0) != 0 || kv.second.size() < 2) continue;
+    const int index = static_cast<int>(parse_int(kv.second[0], "group index"));
+    if (index >= 0 && index < Groups::kMaxGroups) e.groups->names[index] = kv.second[1];
+  }
+  if (g.count("pair_style")) e.force->restart_pair_style = join(g["pair_style"]);
+  e.comm->setup(0.0);
+
+  Particles& p = *e.particles;
+  std::vector<int> field(nextra);
+  for (std::uint32_t k = 0; k < nextra; ++k) field[k] = p.add_field(fnames[k], fncomp[k], false, true);
+  auto& stored = e.update->restart_forces;
+  stored.clear();
+  for (std::uint64_t r = 0; r < count; ++r) {
+    const double* rec = &records[r * per];
+    const Vec3 x(rec[3], rec[4], rec[5]);
+    if (e.comm->owner_of(x) != e.rank) continue;
+    // record layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image
+    const int i = p.add_local(static_cast<tagint>(rec[0]), static_cast<int>(rec[1]), x, rec[18], rec[19]);
+    p.mask[i] = static_cast<int>(rec[2]);
+    p.v[i] = Vec3(rec[6], rec[7], rec[8]);
+    p.omega[i] = Vec3(rec[9], rec[10], rec[11]);
+    p.f[i] = Vec3(rec[12], rec[13], rec[14]);
+    p.torque[i] = Vec3(rec[15], rec[16], rec[17]);
+    p.rmass[i] = rec[20];
+    p.body[i] = static_cast<tagint>(rec[21]);
+    p.image[i] = static_cast<int>(rec[22]);
+    std::size_t m = kCoreFields;
+    for (std::uint32_t k = 0; k < nextra; ++k) {
+      double* dst = &p.extras[field[k]].data[static_cast<std::size_t>(i) * fncomp[k]];
+      std::copy_n(rec + m, fncomp[k], dst);
+      m += fncomp[k];
+    }
+    stored[p.id[i]] = {rec[12], rec[13], rec[14], rec[15], rec[16], rec[17]};
+  }
+  p.natoms = u.count_global();
+  e.force->restart_history = std::move(history);
+  e.modify->restart_states = std::move(states);
+  e.modify->restart_materials = std::move(materials);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "Read restart file %s: %lld particles at step %lld, time %g s (written on %s rank(s))\n",
+                file.c_str(), static_cast<long long>(p.natoms), static_cast<long long>(step), u.time(),
+                g.count("written_on_ranks") ? g["written_on_ranks"][0].c_str() : "?");
+  e.logger->print(buf);
+}
+
+void cmd_write_restart(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "write_restart FILE");
+  write_restart(e, expand_step(a[0], e.update->ntimestep));
+}
+void cmd_read_restart(Engine& e, const Args& a) {
+  require_args(a, 1, 1, "read_restart FILE");
+  read_restart(e, a[0]);
+}
+GRANARY_COMMAND("write_restart", cmd_write_restart);
+GRANARY_COMMAND("read_restart", cmd_read_restart);
+
+}  // namespace granary
