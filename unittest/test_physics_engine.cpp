@@ -605,19 +605,13 @@ TEST_CASE("newton on and newton off give the same pile", "[physics][engine]") {
 }
 
 // The same comparison with cdt rolling friction, in a pile where two beads
-// without spin first touch across the periodic boundary at step 298. Known
-// failure (hence [!mayfail]): the cdt torque -mu_r kn delta R* w/|w|
-// (src/contact/contact_kernels.h, rolling_torque<Cdt>) has full size for any
-// nonzero relative rolling spin w, also for a w that is rounding error alone.
-// The tangential force gives two equal beads equal spins; with newton on they
-// are bitwise equal (w = 0, no rolling torque), with newton off each side
-// computes its own torque, the spins differ in the last bit (|w| ~ 1e-16 rad/s)
-// and a rolling torque of full size in a direction set by rounding acts: the
-// spins of the two runs differ by 0.5 rad/s at step 400. The same set-up
-// without rolling friction agrees to 1e-12 rad/s. A cut-off for |w| at the
-// rounding level of the spins (or a torque that vanishes continuously as
-// |w| -> 0) would remove this dependence on rounding.
-TEST_CASE("newton on and newton off give the same pile with cdt rolling friction", "[physics][engine][!mayfail]") {
+// without spin first touch across the periodic boundary at step 298. The cdt
+// torque -mu_r kn delta R* w/|w| has full size for any nonzero relative rolling
+// spin w; the tangential force gives two equal beads equal spins, which differ
+// only by rounding between newton on and off. The kernel treats a relative spin
+// at the rounding level of the spins as zero (kRollingSpinTolerance), so the
+// two runs must agree as closely as without rolling friction.
+TEST_CASE("newton on and newton off give the same pile with cdt rolling friction", "[physics][engine]") {
   const PileSetup setup{" rolling_friction cdt", 0.7, -0.5, 0.025, 400};
   const PileState on = pile("on", setup), off = pile("off", setup);
   compare_piles(on, off);

@@ -61,6 +61,10 @@ void Comm::modify_command(const Args& args) {
     }
     if ((w == "vel") && k + 1 < args.size()) {
       ghost_velocity = parse_bool(args[++k], "vel");
+      if (!ghost_velocity) {
+        throw InputError("comm_modify vel no: granular contacts need the velocities and spins of "
+                         "ghost particles; use vel yes (the default)");
+      }
     } else if ((w == "cutoff") && k + 1 < args.size()) {
       cutghost_user = parse_double(args[++k], "cutoff");
     } else {

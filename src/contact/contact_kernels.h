@@ -117,6 +117,10 @@ inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const
 /// Rolling sub-model: rolling-resistance torque on i (j receives the opposite).
 /// `fn` is the total normal force, `fn_elastic` = kn * overlap, `hist` the
 /// slot's history block (only used by epsd2).
+/// Relative rolling spins below this fraction of |omega_i| + |omega_j| count as
+/// zero in the cdt model (round-off of equal spins, never real rolling).
+constexpr double kRollingSpinTolerance = 1e-10;
+
 template <RollingModel R>
 inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const Coefficients& k,
                            double fn, double fn_elastic, double* hist) {
@@ -130,8 +134,10 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
     if constexpr (R == RollingModel::Cdt) {
       // Constant directional torque: mu_r (kn delta) R* opposing w.
       (void)hist, (void)fn;
+      // A relative spin at the round-off level of the spins themselves (two
+      // bodies turning together) gets no torque: its direction is noise.
       const double w_mag = w.norm();
-      if (w_mag <= 0.0) return Vec3::Zero();
+      if (w_mag <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm())) return Vec3::Zero();
       return (-m.rolling_friction * fn_elastic * c.r_eff / w_mag) * w;
     } else {
       // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,

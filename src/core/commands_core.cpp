@@ -54,6 +54,8 @@ void cmd_atom_modify(Engine& e, const Args& a) {
       k += 2;
     } else if (a[k] == "first" && k + 1 < a.size()) {
       ++k;
+    } else if (a[k] == "map" || a[k] == "sort" || a[k] == "first") {
+      throw InputError("atom_modify " + a[k] + " needs " + (a[k] == "sort" ? "two values: sort N BINSIZE" : "a value"));
     } else {
       throw InputError("unknown atom_modify keyword '" + a[k] + "'; expected map, sort or first");
     }
@@ -81,7 +83,9 @@ void cmd_boundary(Engine& e, const Args& a) {
 
 void cmd_newton(Engine& e, const Args& a) {
   require_args(a, 1, 2, "newton on|off [on|off]");
-  e.force->newton_pair = parse_bool(a.size() == 2 ? a[0] : a[0], "newton");
+  // "newton on|off" or "newton PAIR BOND": only the pair setting matters here
+  e.force->newton_pair = parse_bool(a[0], "newton");
+  if (a.size() == 2) parse_bool(a[1], "newton bond setting");
 }
 
 void cmd_dimension(Engine& e, const Args& a) {

@@ -217,13 +217,13 @@ void Update::step_loop(std::int64_t n) {
     }
     Timer t(timers[kOutput]);
     const bool last = ntimestep == laststep;
-    if (last || (e.thermo->every > 0 && ntimestep % e.thermo->every == 0)) e.thermo->line();
+    const bool thermo_due = last || (e.thermo->every > 0 && ntimestep % e.thermo->every == 0);
+    // Fixes that halt a run decide collectively, so every rank leaves together
+    // (with a thermo line for the step where it stopped).
+    if (thermo_due || halt_requested) e.thermo->line();
     if (ntimestep == e.output->next) e.output->write(ntimestep);
-    // Fixes that halt a run decide collectively, so every rank leaves together.
-    if (halt_requested) {
-      if (!last) e.thermo->line();
-      break;
-    }
+    if (halt_requested) break;
+    if (ntimestep % 64 == 0) e.thermo->progress();
   }
 }
 
@@ -241,7 +241,13 @@ void Update::run(std::int64_t n, bool pre, bool post) {
   halt_requested = false;
   if (pre || first_run) setup();
   first_run = false;
+  // the time split covers the loop only, not setup
+  std::fill(std::begin(timers), std::end(timers), 0.0);
+  if (!e.modify->has_integrator() && n > 0) {
+    e.logger->warning("no fix integrates the particles' motion (e.g. fix nve/sphere); they will not move");
+  }
   const double t0 = MPI_Wtime();
+  loop_start_wall = t0;
   step_loop(n);
   run_wall_time = MPI_Wtime() - t0;
   running = false;

@@ -41,6 +41,7 @@ class Update {
   void run(std::int64_t n, bool pre = true, bool post = true);
 
   double run_wall_time = 0.0;  // seconds of the last run's loop
+  double loop_start_wall = 0.0;  // MPI_Wtime() when the current run's loop started
 
   /// Forces and torques read from a restart file, by particle id. The first
   /// run after read_restart uses them in place of the recomputed ones when the

@@ -62,10 +62,6 @@ class Fix {
   virtual void unpack_restart(const std::string& /*in*/) {}
   bool restart_global = false;  // set by fixes that implement the two above
 
-  /// Largest distance from the box at which this fix can still act (walls):
-  /// contributes to shrink-wrap margins; 0 by default.
-  virtual double max_interaction_distance() const { return 0.0; }
-
   std::string id, style;
   int igroup = 0;     // group index
   int groupbit = 1;   // group bit mask

@@ -14,7 +14,6 @@ namespace granary {
 class FixNveSphere : public Fix {
  public:
   FixNveSphere(Engine& engine, const Args& args) : Fix(engine, args) {
-    // LIGGGHTS accepts an optional "update dipole"; nothing else.
     if (args.size() > 3) throw InputError("fix nve/sphere takes no arguments here; usage: fix ID group nve/sphere");
     time_integrate = true;
   }

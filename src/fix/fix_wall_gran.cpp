@@ -61,14 +61,14 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   if (pos != words.size()) throw InputError("fix wall/gran: unexpected word '" + words[pos] + "'; usage: " + usage);
   nhist_ = contact::history_size(spec_);
   if (nhist_ > 0) {
-    field_ = engine.particles->add_field("wall_history/" + id, nhist_, false, true);
+    field_ = engine.particles->add_field("wall_history/" + id + "/" + std::to_string(nhist_), nhist_, false, true);
     engine.particles->extras[field_].history = true;
   }
 }
 
 void FixWallGran::init() {
   materials_.build(engine_, spec_, "fix " + id + " wall/gran");
-  if (nhist_ > 0) field_ = engine_.particles->find_field("wall_history/" + id);
+  if (nhist_ > 0) field_ = engine_.particles->find_field("wall_history/" + id + "/" + std::to_string(nhist_));
 }
 
 bool FixWallGran::contact(const Vec3& x, double r, double& overlap, Vec3& n) const {

@@ -63,7 +63,7 @@ void Neighbor::modify_command(const Args& args) {
         k += 2;
       } else if (kind == "molecule" || kind == "molecule/intra") {
         value("exclude molecule");
-        exclude_body_ = true;
+        exclude_body_ = true;  // always on: sub-spheres of one clump never interact
       } else {
         throw InputError("neigh_modify exclude takes type, group, molecule/intra or none, got '" + kind + "'");
       }
@@ -98,10 +98,10 @@ bool Neighbor::excluded(int i, int j) const {
 }
 
 bool Neighbor::decide() {
+  if (once) return false;
   // Spatial sorting happens at fixed step multiples, on a rebuild forced there.
   if (sort_every > 0 && engine_.update->ntimestep % sort_every == 0) return true;
   if (ago < delay || ago % every != 0) return false;
-  if (once) return false;
   if (!check) return true;
   const Particles& p = *engine_.particles;
   const double limit = 0.25 * skin * skin;

@@ -41,8 +41,7 @@ class Neighbor {
   bool decide();
   /// Build the half list from owned and ghost particles.
   void build();
-  /// Interaction cutoff plus skin for a pair of radii.
-  double cutneighmax = 0.0;  // 2 * rmax + skin
+  double cutneighmax = 0.0;  // largest pair cutoff plus skin: 2 * rmax + skin
   double rmax = 0.0;
 
   // CSR half list: neighbours of owned particle i are

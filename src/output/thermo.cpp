@@ -32,8 +32,8 @@ void Thermo::style_command(const Args& args) {
   for (const auto& k : keywords) {
     if (k.rfind("c_", 0) == 0 || k.rfind("f_", 0) == 0 || k.rfind("v_", 0) == 0) continue;
     static const std::vector<std::string> known = {
-        "step", "elapsed", "elaplong", "dt", "time", "cpu", "tpcpu", "spcpu", "atoms", "ke", "vol",
-        "lx", "ly", "lz", "xlo", "xhi", "ylo", "yhi", "zlo", "zhi", "cpuremain", "part"};
+        "step", "elapsed", "elaplong", "dt", "time", "cpu", "atoms", "ke", "vol",
+        "lx", "ly", "lz", "xlo", "xhi", "ylo", "yhi", "zlo", "zhi", "spcpu", "cpuremain", "part"};
     bool ok = false;
     for (const auto& n : known) ok |= n == k;
     if (!ok) {
@@ -112,6 +112,14 @@ double Thermo::keyword_value(const std::string& key, bool& found) {
   if (key == "dt") return u.dt;
   if (key == "time") return u.time();
   if (key == "cpu") return MPI_Wtime() - wall_start;
+  if (key == "spcpu" || key == "cpuremain") {
+    // steps per second of wall time in the current run, and the time it still needs
+    const double elapsed = u.running ? MPI_Wtime() - u.loop_start_wall : 0.0;
+    const double done = static_cast<double>(u.ntimestep - u.firststep);
+    const double rate = elapsed > 0 && done > 0 ? done / elapsed : 0.0;
+    if (key == "spcpu") return rate;
+    return rate > 0 ? static_cast<double>(u.laststep - u.ntimestep) / rate : 0.0;
+  }
   if (key == "atoms") return static_cast<double>(u.count_global());
   if (key == "ke") {
     const Particles& p = *e.particles;
@@ -179,23 +187,19 @@ void Thermo::line() {
   }
   engine_.logger->print(out + "\n");
   if (flush) engine_.logger->flush();
-  progress();
 }
 
-// A progress line at most every 10 s of wall time during long runs.
+// A progress line at most every 10 s of wall time during long runs (the run
+// loop calls this every few steps; only rank 0 looks at the clock).
 void Thermo::progress() {
   Engine& e = engine_;
   const Update& u = *e.update;
-  if (!u.running) return;
+  if (!u.running || e.rank != 0) return;
   const double now = MPI_Wtime();
-  if (last_progress_ < run_start_ || run_start_step_ != u.firststep) {
-    run_start_ = now;
-    last_progress_ = now;
-    run_start_step_ = u.firststep;
-    return;
-  }
+  if (last_progress_ < u.loop_start_wall) last_progress_ = u.loop_start_wall;
   if (now - last_progress_ < 10.0) return;
   last_progress_ = now;
+  const double run_start_ = u.loop_start_wall;
   const double done = static_cast<double>(u.ntimestep - u.firststep);
   const double total = static_cast<double>(u.laststep - u.firststep);
   const double rate = done / std::max(now - run_start_, 1e-9);

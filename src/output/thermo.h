@@ -30,6 +30,8 @@ class Thermo {
   void header();
   /// Print one line for the current step (collective).
   void line();
+  /// Progress line (step, simulated time, rate, time left) every 10 s of a run.
+  void progress();
   /// Value of one keyword (collective).
   double keyword_value(const std::string& key, bool& found);
 
@@ -37,9 +39,7 @@ class Thermo {
   double wall_start = 0.0;
 
  private:
-  void progress();
-  double run_start_ = 0.0, last_progress_ = -1.0;
-  std::int64_t run_start_step_ = -1;
+  double last_progress_ = -1.0;
   Engine& engine_;
 };
 

@@ -25,7 +25,10 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   auto* Y = FixPropertyGlobal::require(modify, "youngsModulus", user);
   auto* nu = FixPropertyGlobal::require(modify, "poissonsRatio", user);
   auto* e = FixPropertyGlobal::require(modify, "coefficientRestitution", user);
-  auto* mu = FixPropertyGlobal::require(modify, "coefficientFriction", user);
+  FixPropertyGlobal* mu = nullptr;
+  if (spec.tangential != contact::TangentialModel::None) {
+    mu = FixPropertyGlobal::require(modify, "coefficientFriction", user);
+  }
   FixPropertyGlobal* mur = nullptr;
   if (spec.rolling != contact::RollingModel::None) {
     mur = FixPropertyGlobal::require(modify, "coefficientRollingFriction", user);
@@ -53,7 +56,7 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     for (int b = 1; b <= n; ++b) {
       try {
         table_[a * stride_ + b] = contact::mix_materials(youngs_[a], poisson_[a], youngs_[b], poisson_[b],
-                                                         e->per_pair(a, b), mu->per_pair(a, b),
+                                                         e->per_pair(a, b), mu ? mu->per_pair(a, b) : 0.0,
                                                          mur ? mur->per_pair(a, b) : 0.0, vchar);
       } catch (const std::invalid_argument& ex) {
         throw InputError(user + ": material of types " + std::to_string(a) + " and " + std::to_string(b) +

@@ -26,9 +26,6 @@ class Pair {
   virtual int history_size() const { return 0; }
   /// Sign of each history value when i and j swap roles.
   virtual void history_swap_signs(double* signs) const {}
-  /// Shortest collision time for the current materials and particles, used by
-  /// the timestep checks; 0 when unknown.
-  virtual double hertz_time(double v_rel_max) const { return 0.0; }
   /// Contact history aligned with the neighbour list, or nullptr.
   virtual ContactHistory* history() { return nullptr; }
 

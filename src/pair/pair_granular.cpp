@@ -65,8 +65,13 @@ void PairGranular::coeff(const Args& args) {
   require_args(args, 2, 2, "pair_coeff * *");
   int lo, hi;
   const int n = engine_.particles->ntypes;
-  parse_type_range(args[0], n, lo, hi);
-  parse_type_range(args[1], n, lo, hi);
+  for (int k = 0; k < 2; ++k) {
+    parse_type_range(args[k], n, lo, hi);
+    if (lo != 1 || hi != n) {
+      throw InputError("granular pair styles take their parameters from fix property/global for all "
+                       "types at once; use pair_coeff * *");
+    }
+  }
   coeff_set_ = true;
 }
 
