@@ -11,9 +11,12 @@ ratio, parallel speed-up and peak memory.
     /usr/bin/python3 tools/bench.py --only liggghts --nsteps 2000 --json out.json
     /usr/bin/python3 tools/bench.py --granary build/granary --ranks 1,2,4
 
-What is measured, per run (each run is started from a fresh helper process):
+What is measured, per run (each run is started from a fresh measuring subprocess):
   wall s       wall-clock time of the whole program run (start-up, setup and
                time stepping; measured around the process)
+  CPU s        user + system CPU time of all processes of the run (all ranks;
+               getrusage RUSAGE_CHILDREN); on a busy machine wall time grows
+               but CPU time much less, so compare the two
   loop s       the time the program itself reports for its time-stepping loop,
                from its final "Loop time of X on P procs for N steps with M
                atoms" line (summed over all such lines if a script has several
@@ -64,7 +67,7 @@ LOOP_RE = re.compile(r"^Loop time of\s+(\S+)\s+on\s+(\d+)\s+procs?\s+for\s+(\d+)
 
 
 # ---------------------------------------------------------------------------
-# helper mode: run one command, measure wall time and memory, write JSON
+# measurement mode: run one command, measure wall time and memory, write JSON
 # ---------------------------------------------------------------------------
 
 def _proc_table():
@@ -100,7 +103,7 @@ def _vmhwm_kib(pid):
     return None
 
 
-def helper_main(argv):
+def measure_main(argv):
     """bench.py --_measure RESULT.json PROGRAM_NAME STDOUT_FILE CWD -- cmd ..."""
     result_path, prog_name, out_path, cwd = argv[:4]
     cmd = argv[5:]
@@ -259,10 +262,10 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir):
             out_path = os.path.join(tmp, "stdout.txt")
             workdir = os.path.join(tmp, "run")
             os.mkdir(workdir)
-            helper = [sys.executable, os.path.abspath(__file__), "--_measure",
+            runner = [sys.executable, os.path.abspath(__file__), "--_measure",
                       res_path, exe, out_path, workdir, "--"] + cmd
             try:
-                subprocess.run(helper, timeout=args.timeout)
+                subprocess.run(runner, timeout=args.timeout)
                 with open(res_path) as f:
                     res = json.load(f)
             except subprocess.TimeoutExpired:
@@ -291,6 +294,7 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir):
         row["wall_s"] = res["wall_s"]
         row["cpu_user_s"] = res["user_s"]
         row["cpu_sys_s"] = res["sys_s"]
+        row["cpu_s"] = res["user_s"] + res["sys_s"]
         row["max_rank_rss_mib"] = res["max_rank_rss_kib"] / 1024.0
         if res["sum_rank_hwm_kib"]:
             row["peak_rss_mib"] = res["sum_rank_hwm_kib"] / 1024.0
@@ -318,16 +322,17 @@ def fmt(v, spec):
 
 
 def print_table(rows, out=sys.stdout):
-    heads = ["program", "ranks", "particles", "steps", "wall s", "loop s", "particle-steps/s",
+    heads = ["program", "ranks", "particles", "steps", "wall s", "loop s", "CPU s", "particle-steps/s",
              "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle"]
     lines = []
     for r in rows:
         if "error" in r:
-            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 8)
+            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 9)
             continue
         lines.append([r["program"], str(r["ranks"]), fmt(r.get("particles"), "d"),
                       fmt(r.get("steps"), "d"), fmt(r.get("wall_s"), ".2f"),
-                      fmt(r.get("loop_s"), ".2f"), fmt(r.get("particle_steps_per_s"), ".4g"),
+                      fmt(r.get("loop_s"), ".2f"), fmt(r.get("cpu_s"), ".2f"),
+                      fmt(r.get("particle_steps_per_s"), ".4g"),
                       fmt(r.get("speed_ratio"), ".2f"), fmt(r.get("speedup"), ".2f"),
                       fmt(r.get("peak_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle"), ".0f")])
     # markdown table, columns padded for reading in a terminal as well
@@ -345,7 +350,7 @@ def print_table(rows, out=sys.stdout):
 
 def main(argv):
     if argv and argv[0] == "--_measure":
-        return helper_main(argv[1:])
+        return measure_main(argv[1:])
 
     ap = argparse.ArgumentParser(
         description="Run LIGGGHTS and Granary on the same input script on 1 and 2 MPI ranks "
@@ -427,8 +432,10 @@ def main(argv):
             r = run_one(prog, exe, ranks, script, args.nsteps, args, args.keep_output)
             print("FAILED (%s)" % r["error"] if "error" in r else "%.2f s" % r["wall_s"])
             if "error" in r and r.get("output_tail"):
+                sys.stdout.flush()
                 sys.stderr.write("---- last output of %s on %d rank(s):\n%s\n----\n"
                                  % (prog, ranks, r["output_tail"].rstrip()))
+                sys.stderr.flush()
             rows.append(r)
 
     ok = [r for r in rows if "error" not in r]
@@ -452,10 +459,10 @@ def main(argv):
         if "error" in r:
             print("%s on %d rank(s) FAILED: %s" % (r["program"], r["ranks"], r["error"]))
     print()
-    print("particle-steps/s = particles x steps / loop time; speed G/L = Granary / LIGGGHTS "
+    print("particle-steps/s = particles x steps / loop s; speed G/L = Granary / LIGGGHTS "
           "particle-steps/s at equal ranks;")
-    print("speed-up = vs. 1 rank of the same program; peak RSS = sum of the ranks' peak "
-          "resident set sizes.")
+    print("speed-up = vs. 1 rank of the same program; CPU s = user + system time of all ranks;")
+    print("peak RSS = sum of the ranks' peak resident set sizes.")
 
     if args.json:
         doc = {

@@ -130,15 +130,18 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
   } else {
     // Relative spin without its twisting (normal) part.
     Vec3 w = c.omega_i - c.omega_j;
+    const double w_full = w.norm();
     w -= w.dot(c.n) * c.n;
     if constexpr (R == RollingModel::Cdt) {
-      // Constant directional torque: mu_r (kn delta) R* opposing w.
+      // Constant directional torque mu_r (kn delta) R*, opposing the rolling
+      // (tangential) part of the relative spin and scaled by its share of the
+      // whole relative spin |w_r|, twist included, as LIGGGHTS does: a contact
+      // that also twists gets a smaller rolling torque.
       (void)hist, (void)fn;
       // A relative spin at the round-off level of the spins themselves (two
       // bodies turning together) gets no torque: its direction is noise.
-      const double w_mag = w.norm();
-      if (w_mag <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm())) return Vec3::Zero();
-      return (-m.rolling_friction * fn_elastic * c.r_eff / w_mag) * w;
+      if (w_full <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm())) return Vec3::Zero();
+      return (-m.rolling_friction * fn_elastic * c.r_eff / w_full) * w;
     } else {
       // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,
       // capped at full mobilisation mu_r R* |Fn|.

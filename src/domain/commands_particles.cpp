@@ -20,9 +20,14 @@
 #include <Eigen/Dense>
 
 #include "core/engine.h"
+#include "neighbor/contact_history.h"
+#include "pair/pair.h"
+#include "pair/force.h"
 #include "core/error.h"
+#include "core/input.h"
 #include "core/logger.h"
 #include "core/registry.h"
+#include "core/variable.h"
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "domain/region.h"
@@ -32,7 +37,7 @@ namespace granary {
 
 namespace {
 
-// ---------------------------------------------------------------- helpers
+// -------------------------------------------------------------- utilities
 
 void require_box(Engine& e, const std::string& cmd) {
   if (!e.domain->box_exist) {
@@ -541,10 +546,20 @@ class Selection {
   const Region* region_ = nullptr;
 };
 
+/// Name of the variable in "v_name", or "" for a plain value; the variable must exist.
+std::string variable_ref(Engine& e, const std::string& word, const std::string& what) {
+  if (word.rfind("v_", 0) != 0) return "";
+  const std::string name = word.substr(2);
+  if (!e.input->variables().find(name)) {
+    throw InputError("unknown variable '" + name + "' in " + what + "; define it with the variable command first");
+  }
+  return name;
+}
+
 void cmd_set(Engine& e, const Args& a) {
   const char* usage =
       "set atom|type|group|region ID keyword value ...  (keywords: type, type/fraction, diameter, density, "
-      "mass, x, y, z, vx, vy, vz, omega, image)";
+      "mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, omega, image)";
   if (a.size() < 4) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
   require_box(e, "set");
   const Selection sel(e, a[0], a[1], "set");
@@ -554,12 +569,14 @@ void cmd_set(Engine& e, const Args& a) {
   struct Setting {
     std::string key;
     std::vector<double> v;
-    std::vector<bool> null;  // image components given as NULL
+    std::vector<std::string> var;  // per value: variable name or ""
+    std::vector<bool> null;        // image components given as NULL
   };
   std::vector<Setting> settings;
   static const std::vector<std::string> keys = {"type", "type/fraction", "diameter", "density", "mass",
                                                 "x",    "y",             "z",        "vx",      "vy",
-                                                "vz",   "omega",         "image"};
+                                                "vz",   "omegax",        "omegay",   "omegaz",  "omega",
+                                                "image"};
   for (std::size_t k = 2; k < a.size();) {
     Setting s;
     s.key = a[k];
@@ -575,16 +592,16 @@ void cmd_set(Engine& e, const Args& a) {
     }
     for (std::size_t m = 1; m <= nval; ++m) {
       const std::string& w = a[k + m];
-      if (w.rfind("v_", 0) == 0) {
-        throw InputError("set " + s.key + ": variables (" + w + ") are not supported here; give a number");
-      }
-      if (s.key == "image" && w == "NULL") {
+      s.var.push_back(variable_ref(e, w, "set " + s.key));
+      s.null.push_back(s.key == "image" && w == "NULL");
+      if (!s.var.back().empty()) {
+        if (s.key == "type/fraction" || s.key == "image") {
+          throw InputError("set " + s.key + " does not take variables; give numbers");
+        }
         s.v.push_back(0.0);
-        s.null.push_back(true);
-        continue;
-      }
-      s.null.push_back(false);
-      if (s.key == "type" || (s.key == "type/fraction" && m == 1)) {
+      } else if (s.null.back()) {
+        s.v.push_back(0.0);
+      } else if (s.key == "type" || (s.key == "type/fraction" && m == 1)) {
         s.v.push_back(parse_type(e, w, "set type"));
       } else if (s.key == "image" || (s.key == "type/fraction" && m == 3)) {
         s.v.push_back(static_cast<double>(parse_int(w, "set " + s.key)));
@@ -592,7 +609,7 @@ void cmd_set(Engine& e, const Args& a) {
         s.v.push_back(parse_double(w, "set " + s.key));
       }
     }
-    if ((s.key == "diameter" || s.key == "density" || s.key == "mass") && !(s.v[0] > 0.0)) {
+    if ((s.key == "diameter" || s.key == "density" || s.key == "mass") && s.var[0].empty() && !(s.v[0] > 0.0)) {
       throw InputError("set " + s.key + " must be positive, got '" + a[k + 1] + "'");
     }
     if (s.key == "type/fraction") {
@@ -605,30 +622,60 @@ void cmd_set(Engine& e, const Args& a) {
 
   e.logger->print("Setting atom values ...\n");
   for (const Setting& s : settings) {
+    // per-atom values of variables, evaluated before this keyword changes anything
+    std::vector<std::vector<double>> varvals(s.var.size());
+    for (std::size_t c = 0; c < s.var.size(); ++c) {
+      if (s.var[c].empty()) continue;
+      e.input->variables().compute_atom(s.var[c], varvals[c]);
+      varvals[c].resize(p.nlocal, 0.0);
+    }
+    auto value = [&](std::size_t c, int i) { return s.var[c].empty() ? s.v[c] : varvals[c][i]; };
+    const std::string& key = s.key;
+    bool any_var = false;
+    for (const auto& v : s.var) any_var |= !v.empty();
+    if (any_var) {
+      // variable values are checked on every rank before anything is set
+      long long bad = 0;
+      for (int i = 0; i < p.nlocal; ++i) {
+        if (!sel.selected(i)) continue;
+        const double v = value(0, i);
+        if (key == "type" && (static_cast<int>(v) < 1 || static_cast<int>(v) > p.ntypes)) ++bad;
+        if ((key == "diameter" || key == "density" || key == "mass") && !(v > 0.0)) ++bad;
+        for (std::size_t c = 0; c < s.var.size(); ++c)
+          if (!std::isfinite(value(c, i))) ++bad;
+      }
+      bad = sum_all(e, bad);
+      if (bad > 0) {
+        throw InputError("set " + key + ": the variable gives " + std::to_string(bad) +
+                         " invalid value(s) (types must be in 1.." + std::to_string(p.ntypes) +
+                         ", sizes and masses positive)");
+      }
+    }
     long long count = 0;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!sel.selected(i)) continue;
-      const std::string& key = s.key;
       if (key == "type") {
-        p.type[i] = static_cast<int>(s.v[0]);
+        p.type[i] = static_cast<int>(value(0, i));
       } else if (key == "type/fraction") {
         if (hash01(static_cast<long long>(s.v[2]), p.id[i]) >= s.v[1]) continue;
         p.type[i] = static_cast<int>(s.v[0]);
       } else if (key == "diameter") {
         // as LIGGGHTS: the mass follows the new size at the particle's density
-        p.radius[i] = 0.5 * s.v[0];
+        p.radius[i] = 0.5 * value(0, i);
         if (p.density[i] > 0.0) p.rmass[i] = Particles::sphere_mass(p.radius[i], p.density[i]);
       } else if (key == "density") {
-        p.density[i] = s.v[0];
-        p.rmass[i] = p.radius[i] > 0.0 ? Particles::sphere_mass(p.radius[i], s.v[0]) : s.v[0];
+        p.density[i] = value(0, i);
+        p.rmass[i] = p.radius[i] > 0.0 ? Particles::sphere_mass(p.radius[i], p.density[i]) : p.density[i];
       } else if (key == "mass") {
-        p.rmass[i] = s.v[0];  // density is left alone (LIGGGHTS)
+        p.rmass[i] = value(0, i);  // density is left alone (LIGGGHTS)
       } else if (key == "x" || key == "y" || key == "z") {
-        p.x[i][key[0] - 'x'] = s.v[0];
+        p.x[i][key[0] - 'x'] = value(0, i);
       } else if (key == "vx" || key == "vy" || key == "vz") {
-        p.v[i][key[1] - 'x'] = s.v[0];
+        p.v[i][key[1] - 'x'] = value(0, i);
+      } else if (key == "omegax" || key == "omegay" || key == "omegaz") {
+        p.omega[i][key[5] - 'x'] = value(0, i);
       } else if (key == "omega") {
-        p.omega[i] = Vec3(s.v[0], s.v[1], s.v[2]);
+        p.omega[i] = Vec3(value(0, i), value(1, i), value(2, i));
       } else if (key == "image") {
         int img[3];
         Particles::image_unpack(p.image[i], img[0], img[1], img[2]);
@@ -682,21 +729,28 @@ void cmd_velocity(Engine& e, const Args& a) {
   if (style == "set" || style == "setAngular") {
     bool given[3];
     double val[3];
+    std::vector<double> varvals[3];  // equal- or atom-style variables: one value per local particle
     for (int d = 0; d < 3; ++d) {
       const std::string& w = a[2 + d];
       given[d] = w != "NULL";
-      if (w.rfind("v_", 0) == 0) {
-        throw InputError("velocity " + style + ": variables (" + w + ") are not supported here; give a number");
+      const std::string var = variable_ref(e, w, "velocity " + style);
+      if (!var.empty()) {
+        e.input->variables().compute_atom(var, varvals[d]);
+        varvals[d].resize(p.nlocal, 0.0);
+        val[d] = 0.0;
+      } else {
+        val[d] = given[d] ? parse_double(w, "velocity " + style + " component") : 0.0;
       }
-      val[d] = given[d] ? parse_double(w, "velocity " + style + " component") : 0.0;
-      if (s && style == "set") val[d] *= s[d];
     }
+    const double unit[3] = {s && style == "set" ? s[0] : 1.0, s && style == "set" ? s[1] : 1.0,
+                            s && style == "set" ? s[2] : 1.0};
     std::vector<Vec3>& target = style == "set" ? p.v : p.omega;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & bit)) continue;
       for (int d = 0; d < 3; ++d) {
         if (!given[d]) continue;
-        target[i][d] = sum ? target[i][d] + val[d] : val[d];
+        const double v = (varvals[d].empty() ? val[d] : varvals[d][i]) * unit[d];
+        target[i][d] = sum ? target[i][d] + v : v;
       }
     }
     return;
@@ -851,8 +905,9 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     if (doomed[i]) p.remove_local(i);
   p.clear_ghosts();
 
-  if (compress) {
-    // ids 1..N in the order of the old ids (independent of the rank count)
+  {
+    // surviving ids on every rank; with compress they become 1..N in the
+    // order of the old ids (independent of the rank count)
     std::vector<long long> mine(p.nlocal);
     for (int i = 0; i < p.nlocal; ++i) mine[i] = static_cast<long long>(p.id[i]);
     int count = p.nlocal;
@@ -863,8 +918,13 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     MPI_Allgatherv(mine.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
                    e.world);
     std::sort(all.begin(), all.end());
-    for (int i = 0; i < p.nlocal; ++i) {
-      p.id[i] = static_cast<tagint>(std::lower_bound(all.begin(), all.end(), mine[i]) - all.begin() + 1);
+    // contact history between runs is keyed by ids: drop entries of deleted
+    // particles (their ids may be used again) and follow the renumbering
+    if (e.force->pair && e.force->pair->history()) e.force->pair->history()->retain(all, compress);
+    if (compress) {
+      for (int i = 0; i < p.nlocal; ++i) {
+        p.id[i] = static_cast<tagint>(std::lower_bound(all.begin(), all.end(), mine[i]) - all.begin() + 1);
+      }
     }
   }
   particles_changed(e);

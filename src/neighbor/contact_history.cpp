@@ -100,6 +100,29 @@ void ContactHistory::forget_particle(tagint tag) {
   for (auto it = range.first; it != range.second; ++it) store_.erase(it->second);
 }
 
+void ContactHistory::retain(const std::vector<long long>& sorted_ids, bool renumber) {
+  auto index = [&](tagint id) -> long long {
+    auto it = std::lower_bound(sorted_ids.begin(), sorted_ids.end(), static_cast<long long>(id));
+    return (it != sorted_ids.end() && *it == id) ? it - sorted_ids.begin() : -1;
+  };
+  std::unordered_map<std::uint64_t, std::vector<double>> kept;
+  by_particle_.clear();
+  for (auto& kv : store_) {
+    tagint a = static_cast<tagint>(kv.first >> 32), b = static_cast<tagint>(kv.first & 0xffffffffu);
+    const long long ia = index(a), ib = index(b);
+    if (ia < 0 || ib < 0) continue;
+    if (renumber) {
+      a = ia + 1;  // order is kept, so (a, b) stays (smaller, larger)
+      b = ib + 1;
+    }
+    const auto k = key(a, b);
+    kept[k] = std::move(kv.second);
+    by_particle_.emplace(a, k);
+    by_particle_.emplace(b, k);
+  }
+  store_.swap(kept);
+}
+
 void ContactHistory::pack_all(std::vector<double>& buf) const {
   buf.push_back(static_cast<double>(store_.size()));
   buf.push_back(nvalues_);

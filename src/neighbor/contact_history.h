@@ -39,6 +39,10 @@ class ContactHistory {
   int unpack_particle(const double* buf);
   /// Drop every entry of a particle that was deleted or lost.
   void forget_particle(tagint tag);
+  /// Between runs, after particles were deleted: keep only entries whose two
+  /// ids are in `sorted_ids` (ascending); with renumber, id sorted_ids[k]
+  /// becomes k + 1 (delete_atoms ... compress yes).
+  void retain(const std::vector<long long>& sorted_ids, bool renumber);
 
   // restart: every stored entry
   void pack_all(std::vector<double>& buf) const;

@@ -98,6 +98,10 @@ bool Neighbor::excluded(int i, int j) const {
 }
 
 bool Neighbor::decide() {
+  if (force_rebuild) {
+    force_rebuild = false;
+    return true;
+  }
   if (once) return false;
   // Spatial sorting happens at fixed step multiples, on a rebuild forced there.
   if (sort_every > 0 && engine_.update->ntimestep % sort_every == 0) return true;
@@ -160,12 +164,21 @@ void Neighbor::build() {
   Vec3 lo, hi;
   int nbin[3];
   double binsize[3];
-  for (int d = 0; d < 3; ++d) {
-    lo[d] = dom.sublo[d] - ghost - 1e-12;
-    hi[d] = dom.subhi[d] + ghost + 1e-12;
-    nbin[d] = std::max(1, static_cast<int>((hi[d] - lo[d]) / cut));
-    nbin[d] = std::min(nbin[d], 1 << 10);
-    binsize[d] = (hi[d] - lo[d]) / nbin[d];
+  // Bins at least one cutoff wide; a sparse system in a large box gets larger
+  // bins so that there are never many more bins than particles.
+  const double max_bins = 8.0 * nall + 1000.0;
+  double scale = 1.0;
+  for (int pass = 0; pass < 64; ++pass) {
+    double total = 1.0;
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = dom.sublo[d] - ghost - 1e-12;
+      hi[d] = dom.subhi[d] + ghost + 1e-12;
+      nbin[d] = std::clamp(static_cast<int>((hi[d] - lo[d]) / (cut * scale)), 1, 1 << 20);
+      binsize[d] = (hi[d] - lo[d]) / nbin[d];
+      total *= nbin[d];
+    }
+    if (total <= max_bins) break;
+    scale *= 1.5;
   }
   auto coord = [&](const Vec3& x, int d) {
     int c = static_cast<int>((x[d] - lo[d]) / binsize[d]);

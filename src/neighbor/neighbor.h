@@ -39,6 +39,9 @@ class Neighbor {
   void init();
   /// True when the list must be rebuilt this step (collective).
   bool decide();
+  /// Set on every rank by a fix that adds particles during a run (insertion):
+  /// the next decide() returns true and clears it, so that step reneighbours.
+  bool force_rebuild = false;
   /// Build the half list from owned and ghost particles.
   void build();
   double cutneighmax = 0.0;  // largest pair cutoff plus skin: 2 * rmax + skin

@@ -52,6 +52,16 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     youngs_[a] = Y->per_type(a);
     poisson_[a] = nu->per_type(a);
   }
+  for (const FixPropertyGlobal* prop : {e, mu, mur}) {
+    if (!prop) continue;
+    for (int a = 1; a <= n; ++a)
+      for (int b = a + 1; b <= n; ++b)
+        if (prop->per_pair(a, b) != prop->per_pair(b, a)) {
+          throw InputError(user + ": " + prop->name + " must be symmetric, but the value for types " +
+                           std::to_string(a) + "," + std::to_string(b) + " differs from " + std::to_string(b) +
+                           "," + std::to_string(a) + " (fix " + prop->id + ")");
+        }
+  }
   for (int a = 1; a <= n; ++a) {
     for (int b = 1; b <= n; ++b) {
       try {

@@ -130,6 +130,9 @@ void PairGranular::loop() {
     history_.values_.assign(list.neigh.size() * nh, 0.0);
   }
   double dummy[6] = {0, 0, 0, 0, 0, 0};
+  // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
+  const int body_mass_field = p.find_field("body_mass");
+  const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
   contact::ContactState c;
   contact::ContactResult res;
   c.dt = dt;
@@ -159,7 +162,11 @@ void PairGranular::loop() {
       c.r_i = ri;
       c.r_j = rj;
       c.r_eff = ri * rj / rsum;
-      const double mi = p.rmass[i], mj = p.rmass[j];
+      double mi = p.rmass[i], mj = p.rmass[j];
+      if (body_mass) {
+        if (body_mass[i] > 0.0) mi = body_mass[i];
+        if (body_mass[j] > 0.0) mj = body_mass[j];
+      }
       c.m_eff = mi * mj / (mi + mj);
       c.v_rel = p.v[i] - p.v[j];
       c.omega_i = p.omega[i];

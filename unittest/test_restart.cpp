@@ -1,0 +1,161 @@
+// Restart files: continuation, and bad files that must change nothing.
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/input.h"
+#include "core/logger.h"
+#include "core/update.h"
+#include "domain/domain.h"
+#include "particles/particles.h"
+#include "restart_scene.h"
+
+namespace {
+
+struct State {
+  std::map<long long, std::vector<double>> particles;  // id -> x v omega
+  long long step = 0;
+  double time = 0.0;
+};
+
+State state_of(granary::Engine& e) {
+  State s;
+  const auto& p = *e.particles;
+  for (int i = 0; i < p.nlocal; ++i) {
+    std::vector<double> v;
+    for (const auto* a : {&p.x, &p.v, &p.omega})
+      for (int d = 0; d < 3; ++d) v.push_back((*a)[i][d]);
+    s.particles[p.id[i]] = v;
+  }
+  s.step = e.update->ntimestep;
+  s.time = e.update->time();
+  return s;
+}
+
+void run_lines(granary::Engine& e, const std::vector<std::string>& lines) {
+  for (const auto& l : lines) e.input->one(l);
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+void write_file(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+}  // namespace
+
+TEST_CASE("a restarted run continues bit for bit on one rank") {
+  State straight, restarted;
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::fresh());
+    e.input->one("run 2000");
+    straight = state_of(e);
+  }
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::fresh());
+    e.input->one("run 1000");
+    e.input->one("write_restart continuation.restart");
+  }
+  {
+    granary::Engine e(MPI_COMM_SELF);  // a new engine: nothing carried over but the file
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::restarted("continuation.restart"));
+    e.input->one("run 1000");
+    restarted = state_of(e);
+  }
+  REQUIRE(straight.particles.size() > 400);
+  REQUIRE(restarted.particles.size() == straight.particles.size());
+  CHECK(restarted.step == straight.step);
+  CHECK(restarted.time == straight.time);
+  int differing = 0;
+  for (const auto& kv : straight.particles) {
+    const auto& other = restarted.particles.at(kv.first);
+    for (std::size_t k = 0; k < kv.second.size(); ++k) differing += kv.second[k] != other[k];
+  }
+  CHECK(differing == 0);  // identical to the bit
+}
+
+TEST_CASE("restart files are written to a temporary name and renamed") {
+  granary::Engine e(MPI_COMM_SELF);
+  e.logger->set_screen(false);
+  run_lines(e, restart_scene::fresh());
+  e.input->one("run 10");
+  e.input->one("write_restart atomic.restart");
+  CHECK(std::ifstream("atomic.restart").good());
+  CHECK_FALSE(std::ifstream("atomic.restart.tmp").good());
+  // periodic restarts with two alternating files and a step in the name
+  e.input->one("restart 5 ping_*.restart");
+  e.input->one("run 10");
+  CHECK(std::ifstream("ping_15.restart").good());
+  CHECK(std::ifstream("ping_20.restart").good());
+  e.input->one("restart 5 a.restart b.restart");
+  e.input->one("run 10");
+  CHECK(std::ifstream("a.restart").good());
+  CHECK(std::ifstream("b.restart").good());
+}
+
+TEST_CASE("bad restart files give a clear error and change nothing") {
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::fresh());
+    e.input->one("run 200");
+    e.input->one("write_restart good.restart");
+  }
+  const std::string good = read_file("good.restart");
+  REQUIRE(good.size() > 1000);
+
+  struct Case {
+    std::string name, bytes, expect;
+  };
+  std::string corrupted = good;
+  corrupted[good.size() / 2] ^= 0x5a;  // a flipped byte in the particle data
+  std::string wrong_version = good;
+  wrong_version[16] = 99;
+  std::string not_restart = "this is a text file, not a restart\n";
+  const std::vector<Case> cases = {
+      {"truncated.restart", good.substr(0, good.size() - 100), "truncated"},
+      {"corrupted.restart", corrupted, "corrupted"},
+      {"version.restart", wrong_version, "format version 99"},
+      {"text.restart", not_restart, "not a Granary restart file"},
+      {"header_only.restart", good.substr(0, 40), "truncated"},
+  };
+  for (const auto& c : cases) {
+    write_file(c.name, c.bytes);
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    e.input->one("atom_style granular");
+    INFO(c.name);
+    CHECK_THROWS_WITH(e.input->one("read_restart " + c.name), Catch::Contains(c.expect));
+    CHECK_FALSE(e.domain->box_exist);
+    CHECK(e.particles->nlocal == 0);
+    CHECK(e.update->ntimestep == 0);
+  }
+  granary::Engine e(MPI_COMM_SELF);
+  e.logger->set_screen(false);
+  CHECK_THROWS_WITH(e.input->one("read_restart no_such_file.restart"), Catch::Contains("cannot open"));
+  // the good file still reads after all that
+  e.input->one("read_restart good.restart");
+  CHECK(e.domain->box_exist);
+  CHECK(e.update->ntimestep == 200);
+}
+
+TEST_CASE("read_restart refuses an engine that already has a box") {
+  granary::Engine e(MPI_COMM_SELF);
+  e.logger->set_screen(false);
+  run_lines(e, restart_scene::fresh());
+  e.input->one("write_restart twice.restart");
+  CHECK_THROWS_WITH(e.input->one("read_restart twice.restart"), Catch::Contains("before the box"));
+}
