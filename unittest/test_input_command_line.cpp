@@ -41,7 +41,7 @@ struct Scratch {
   /// take this MPI process's settings for its own).
   Result run(const std::string& args, const std::string& stdin_text = "") const {
     const std::string in = write(".stdin", stdin_text);
-    const std::string cmd = "cd '" + dir + "' && env -i PATH=\"$PATH\" HOME=\"$HOME\" " GRANARY_BINARY " " +
+    const std::string cmd = "cd '" + dir + "' && env -i PATH=\"$PATH\" HOME=\"$HOME\" timeout 120 " GRANARY_BINARY " " +
                             args + " < " + in + " > .stdout 2> .stderr";
     const int rc = std::system(cmd.c_str());
     Result r;
@@ -54,7 +54,7 @@ struct Scratch {
 
 }  // namespace
 
-TEST_CASE("-in, -var, -log, banner and exit status", "[input][cli]") {
+TEST_CASE("command line: -in, -var, -log, banner and exit status", "[input][cli]") {
   Scratch s;
   s.write("in.test",
           "variable n index 1\n"  // the command line wins
@@ -96,12 +96,16 @@ TEST_CASE("errors: location, include chain, non-zero exit", "[input][cli]") {
   CHECK_THAT(r.err, Catch::Contains("\n  included from in.main:2\n"));
   CHECK_THAT(r.out, !Catch::Contains("never"));
 
+  r = s.run("-log none", "label top\njump SELF top\n");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::StartsWith("ERROR: stdin:2: jump: cannot jump back in 'stdin'"));
+
   r = s.run("-in no_such_file.in -log none");
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Contains("ERROR: cannot open input script 'no_such_file.in'"));
 }
 
-TEST_CASE("-help and unknown options", "[input][cli]") {
+TEST_CASE("command line: -help and unknown options", "[input][cli]") {
   Scratch s;
   Result r = s.run("-help");
   CHECK(r.status == 0);

@@ -9,6 +9,8 @@
 
 #include "core/error.h"
 #include "core/expression.h"
+#include "core/input.h"
+#include "core/variable.h"
 
 using granary::Args;
 using granary::Expression;
@@ -285,7 +287,7 @@ TEST_CASE("deep or long formulas are refused, not crashed on", "[input][expressi
 }
 
 TEST_CASE("if-command Booleans compare numbers or strings", "[input][expression]") {
-  using granary::evaluate_boolean;
+  using granary::script::evaluate_boolean;
   CHECK(evaluate_boolean("1 < 2"));
   CHECK_FALSE(evaluate_boolean("2 > 10"));  // numeric, not alphabetical
   CHECK(evaluate_boolean("-1 < 0"));

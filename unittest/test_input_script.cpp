@@ -1,5 +1,8 @@
 // Scripts run through Input with an Engine: control flow (label/jump/next,
-// if/elif/else, include, quit), print/log/echo and error locations.
+// if/elif/else, include, quit), print/log/echo and error locations. Also
+// valid when run on several MPI ranks (rank 0 reads the scripts).
+#include <mpi.h>
+
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
@@ -17,22 +20,32 @@ using granary::InputError;
 
 namespace {
 
-/// A scratch directory with helpers to write and read files in it.
+/// A scratch directory, the same on every MPI rank (rank 0 writes files).
 struct Scratch {
   std::string dir;
+  int rank = 0;
   Scratch() {
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     char tmpl[] = "/tmp/granary_input_XXXXXX";
-    REQUIRE(::mkdtemp(tmpl) != nullptr);
+    if (rank == 0) REQUIRE(::mkdtemp(tmpl) != nullptr);
+    MPI_Bcast(tmpl, sizeof(tmpl), MPI_CHAR, 0, MPI_COMM_WORLD);
     dir = tmpl;
   }
-  ~Scratch() { std::system(("rm -rf '" + dir + "'").c_str()); }
+  ~Scratch() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank == 0) std::system(("rm -rf '" + dir + "'").c_str());
+  }
   std::string path(const std::string& name) const { return dir + "/" + name; }
   std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream f(path(name));
-    f << text;
+    if (rank == 0) {
+      std::ofstream f(path(name));
+      f << text;
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
     return path(name);
   }
   std::string read(const std::string& name) const {
+    MPI_Barrier(MPI_COMM_WORLD);
     std::ifstream f(path(name));
     std::stringstream ss;
     ss << f.rdbuf();

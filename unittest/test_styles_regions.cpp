@@ -412,12 +412,22 @@ TEST_CASE("set keywords follow LIGGGHTS for diameter, density and mass", "[parti
   s.cmd("set atom * vx 1 vy 2 vz 3 omega 4 5 6 x 0.7");
   s.cmd("set type 1 type 3");
   const auto& p = *s.e.particles;
+  s.cmd("set group all omegax 7");
+  for (int i = 0; i < p.nlocal; ++i) CHECK(p.omega[i] == Vec3(7, 5, 6));
+  s.cmd("set group all omega 4 5 6");
   for (int i = 0; i < p.nlocal; ++i) {
     CHECK(p.v[i] == Vec3(1, 2, 3));
     CHECK(p.omega[i] == Vec3(4, 5, 6));
     CHECK(p.x[i][0] == 0.7);
     CHECK(p.type[i] == 3);
   }
+  s.cmds({"variable d atom 0.1*id", "set atom * diameter v_d"});
+  for (int i = 0; i < p.nlocal; ++i) CHECK(p.radius[i] == Approx(0.05 * p.id[i]));
+  s.cmds({"variable vz equal 4.0", "velocity all set NULL v_vz NULL sum yes"});
+  for (int i = 0; i < p.nlocal; ++i) CHECK(p.v[i] == Vec3(1, 6, 3));
+  s.cmd("variable bad atom 1-id");
+  CHECK_THROWS_WITH(s.cmd("set atom * diameter v_bad"), Contains("invalid"));
+  CHECK_THROWS_WITH(s.cmd("set atom * diameter v_none"), Contains("none"));
   CHECK_THROWS_WITH(s.cmd("set atom 1 diameter -1"), Contains("positive"));
   CHECK_THROWS_WITH(s.cmd("set atom 1 diametre 1"), Contains("diameter"));
   CHECK_THROWS_WITH(s.cmd("set atom 1 type 7"), Contains("1..3"));

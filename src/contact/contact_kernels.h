@@ -197,10 +197,13 @@ inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairM
     // at distance r - delta/2 from each centre (a wall has no lever arm).
     const double cr_i = c.r_i - 0.5 * c.overlap;
     const double cr_j = c.r_j > 0.0 ? c.r_j - 0.5 * c.overlap : 0.0;
-    // Relative velocity of the contact points, tangential part.
+    // Tangential relative velocity of the contact points: the tangential part
+    // of the centre velocities minus the surface velocity from the spins,
+    // (v_rel - vn n) - w x n. w x n already lies in the tangent plane, so no
+    // second projection; this order of evaluation is LIGGGHTS', and it decides
+    // the round-off that CDT rolling friction amplifies in symmetric packings.
     const Vec3 w = cr_i * c.omega_i + cr_j * c.omega_j;
-    const Vec3 vr = c.v_rel - w.cross(c.n);
-    const Vec3 vt = vr - vr.dot(c.n) * c.n;
+    const Vec3 vt = (c.v_rel - vn * c.n) - w.cross(c.n);
     const Vec3 ft = detail::tangential_force<T>(c, m, k, fn, vt, history + kShear);
     out.ft = ft;
     out.force += ft;

@@ -6,7 +6,6 @@
 
 #include "core/engine.h"
 #include "core/error.h"
-#include "core/expression.h"
 #include "core/input.h"
 #include "core/logger.h"
 #include "core/registry.h"
@@ -69,7 +68,7 @@ void cmd_if(Engine& e, const Args& a) {
   }
   if (branches.back().commands.empty()) throw InputError("no command to execute at the end; " + usage);
   for (const auto& b : branches) {
-    const bool take = b.condition.empty() || evaluate_boolean(e.input->substitute(b.condition));
+    const bool take = b.condition.empty() || script::evaluate_boolean(e.input->substitute(b.condition));
     if (!take) continue;
     for (const auto& c : b.commands) {
       e.input->one(c);

@@ -22,28 +22,19 @@ namespace {
 }
 }  // namespace
 
+using Vec = std::vector<double>;
 double Resolver::compute_value(const std::string& id, int) { unavailable("c_" + id); }
 double Resolver::fix_value(const std::string& id, int) { unavailable("f_" + id); }
-double Resolver::group_function(const std::string& name, const Args&) {
-  unavailable("group function " + name + "()");
-}
-bool Resolver::atom_vector(const std::string&, std::vector<double>&) { return false; }
-void Resolver::compute_peratom(const std::string& id, int, std::vector<double>&) {
-  unavailable("per-atom c_" + id);
-}
-void Resolver::fix_peratom(const std::string& id, int, std::vector<double>&) {
-  unavailable("per-atom f_" + id);
-}
+double Resolver::group_function(const std::string& name, const Args&) { unavailable(name + "()"); }
+bool Resolver::atom_vector(const std::string&, Vec&) { return false; }
+void Resolver::compute_peratom(const std::string& id, int, Vec&) { unavailable("per-atom c_" + id); }
+void Resolver::fix_peratom(const std::string& id, int, Vec&) { unavailable("per-atom f_" + id); }
 std::size_t Resolver::nlocal() { return 0; }
-double Resolver::atom_element(const std::vector<double>&, long long) {
-  unavailable("a value of one atom");
-}
+double Resolver::atom_element(const Vec&, long long) { unavailable("a value of one atom"); }
 bool Resolver::variable_exists(const std::string&) { return false; }
 bool Resolver::variable_is_atom(const std::string&) { return false; }
 double Resolver::variable_value(const std::string& name) { unavailable("v_" + name); }
-void Resolver::variable_atom(const std::string& name, std::vector<double>&) {
-  unavailable("v_" + name);
-}
+void Resolver::variable_atom(const std::string& name, Vec&) { unavailable("v_" + name); }
 
 // ---------------------------------------------------------------- tree
 
@@ -270,20 +261,10 @@ class Parser {
 
   std::unique_ptr<Node> parse_unary() {
     if (++depth_ > kMaxDepth) fail("the expression is nested too deeply");
+    Op op = Op::Plus;
+    const bool unary = !peek("!=") && ((accept("-") && (op = Op::Neg, true)) ||
+                                       (accept("!") && (op = Op::Not, true)) || accept("+"));
     std::unique_ptr<Node> n;
-    Op op;
-    bool unary = true;
-    if (peek("!=")) {
-      unary = false;  // let the caller report the stray operator
-    } else if (accept("-")) {
-      op = Op::Neg;
-    } else if (accept("!")) {
-      op = Op::Not;
-    } else if (accept("+")) {
-      op = Op::Plus;
-    } else {
-      unary = false;
-    }
     if (unary) {
       n = make(Node::Unary);
       n->op = op;
@@ -536,6 +517,12 @@ Val map_n(const Ctx& ctx, const std::vector<Val>& args, F f) {
   return vector_of(std::move(out));
 }
 
+/// Integer value of a step-like argument, saturated to +-1e15 (NaN gives 0).
+long long ll(double x) {
+  if (!(x == x)) return 0;
+  return static_cast<long long>(std::max(-1.0e15, std::min(1.0e15, x)));
+}
+
 long long to_index(const Ctx& ctx, double x, const std::string& what) {
   if (!(std::fabs(x) < 9.0e15) || x != std::floor(x)) {
     throw EvalError(what + " must be an integer");
@@ -553,10 +540,10 @@ double keyword_or_fail(Ctx& ctx, const std::string& key, const std::string& fn) 
 
 Val eval(const Node& n, Ctx& ctx);
 
-double eval_scalar(const Node& n, Ctx& ctx, const std::string& what) {
+/// Indices and atom IDs are equal-style even inside atom-style formulas.
+double eval_scalar(const Node& n, Ctx& ctx) {
   Ctx sub{ctx.r, false};
-  Val v = eval(n, sub);
-  return v.s;
+  return eval(n, sub).s;
 }
 
 [[noreturn]] void unknown_name(const std::string& name, Ctx& ctx) {
@@ -581,7 +568,7 @@ Val eval_ref(const Node& n, Ctx& ctx) {
   Resolver& r = ctx.r;
   std::vector<long long> idx;
   for (const auto& k : n.kids) {
-    idx.push_back(to_index(ctx, eval_scalar(*k, ctx, "index"), "an index"));
+    idx.push_back(to_index(ctx, eval_scalar(*k, ctx), "an index"));
   }
   for (long long i : idx) {
     if (i < 1) throw EvalError("index " + std::to_string(i) + " of " + std::string(1, n.ref) + "_" + n.name + " must be 1 or larger");
@@ -710,7 +697,7 @@ Val eval_func(const Node& n, Ctx& ctx) {
   }
   // Functions of the current step.
   const double step = keyword_or_fail(ctx, "step", n.name);
-  const auto istep = static_cast<long long>(step);
+  const long long istep = ll(step);
   switch (n.fn) {
     case Fn::Ramp: {
       const double b = keyword_or_fail(ctx, "__beginstep", n.name);
@@ -733,7 +720,7 @@ Val eval_func(const Node& n, Ctx& ctx) {
     }
     case Fn::Stagger:
       return map_n(ctx, a, [&](const double* x) {
-        const long long p = static_cast<long long>(x[0]), q = static_cast<long long>(x[1]);
+        const long long p = ll(x[0]), q = ll(x[1]);
         if (p <= 0 || q <= 0 || q >= p) fault(ctx, "stagger(x,y) needs x > y > 0");
         const long long lower = istep / p * p;
         return static_cast<double>(istep - lower < q ? lower + q : lower + p);
@@ -742,12 +729,11 @@ Val eval_func(const Node& n, Ctx& ctx) {
     case Fn::Logfreq2: {
       const bool two = n.fn == Fn::Logfreq2;
       return map_n(ctx, a, [&](const double* x) {
-        const long long p = static_cast<long long>(x[0]), q = static_cast<long long>(x[1]),
-                        z = static_cast<long long>(x[2]);
+        const long long p = ll(x[0]), q = ll(x[1]), z = ll(x[2]);
         if (p <= 0 || q <= 0 || z <= 1 || (!two && q >= z)) fault(ctx, fname + " needs x > 0, y > 0, z > 1" + std::string(two ? "" : ", y < z"));
         if (istep < p) return static_cast<double>(p);
         long long lower = p;
-        while (istep >= z * lower && lower < (1LL << 60) / z) lower *= z;
+        while (lower < (1LL << 60) / z && istep >= z * lower) lower *= z;
         if (!two) {
           const long long multiple = istep / lower;
           return static_cast<double>(multiple < q ? (multiple + 1) * lower : lower * z);
@@ -760,8 +746,7 @@ Val eval_func(const Node& n, Ctx& ctx) {
     }
     case Fn::Stride:
       return map_n(ctx, a, [&](const double* x) {
-        const long long lo = static_cast<long long>(x[0]), hi = static_cast<long long>(x[1]),
-                        dz = static_cast<long long>(x[2]);
+        const long long lo = ll(x[0]), hi = ll(x[1]), dz = ll(x[2]);
         if (lo < 0 || hi < lo || dz <= 0) fault(ctx, "stride(x,y,z) needs 0 <= x <= y and z > 0");
         if (istep < lo) return static_cast<double>(lo);
         const long long next = lo + ((istep - lo) / dz + 1) * dz;
@@ -856,7 +841,7 @@ Val eval(const Node& n, Ctx& ctx) {
       unknown_name(n.name, ctx);
     }
     case Node::AtomValue: {
-      const long long id = to_index(ctx, eval_scalar(*n.kids[0], ctx, "atom ID"), "an atom ID");
+      const long long id = to_index(ctx, eval_scalar(*n.kids[0], ctx), "an atom ID");
       std::vector<double> v;
       if (!ctx.r.atom_vector(n.name, v)) {
         throw EvalError("'" + n.name + "[" + std::to_string(id) + "]': '" + n.name + "' is not a per-atom property");
@@ -916,221 +901,6 @@ void Expression::evaluate_atom(Resolver& resolver, std::vector<double>& out) con
 const std::vector<std::string>& expression_function_names() {
   static const std::vector<std::string> names = builtin_names();
   return names;
-}
-
-// ---------------------------------------------------------------- number formats
-
-std::string format_number(double value, const std::string& format) {
-  // Locate exactly one conversion; "%%" is a literal percent sign.
-  std::size_t conv = std::string::npos, end = 0;
-  for (std::size_t i = 0; i < format.size(); ++i) {
-    if (format[i] != '%') continue;
-    if (i + 1 < format.size() && format[i + 1] == '%') {
-      ++i;
-      continue;
-    }
-    if (conv != std::string::npos) {
-      throw InputError("format '" + format + "' has more than one '%' conversion; use exactly one, e.g. %.6g");
-    }
-    conv = i;
-    std::size_t j = i + 1;
-    while (j < format.size() && std::string("-+ #0").find(format[j]) != std::string::npos) ++j;
-    int width = 0, prec = 0;
-    while (j < format.size() && std::isdigit(static_cast<unsigned char>(format[j]))) {
-      width = std::min(width * 10 + (format[j++] - '0'), 100000);
-    }
-    if (j < format.size() && format[j] == '.') {
-      ++j;
-      while (j < format.size() && std::isdigit(static_cast<unsigned char>(format[j]))) {
-        prec = std::min(prec * 10 + (format[j++] - '0'), 100000);
-      }
-    }
-    if (j >= format.size() || std::string("eEfFgGaAdi").find(format[j]) == std::string::npos) {
-      throw InputError("format '" + format + "' is not a number format; use e.g. %g, %.6f, %12.4e or %d");
-    }
-    if (width > 500 || prec > 500) throw InputError("format '" + format + "' asks for too many characters");
-    end = j;
-  }
-  if (conv == std::string::npos) {
-    throw InputError("format '" + format + "' has no '%' conversion; use e.g. %g, %.6f or %d");
-  }
-  const char type = format[end];
-  std::string spec = format;
-  char buf[1100];
-  if (type == 'd' || type == 'i') {
-    spec.insert(end, "ll");
-    const double r = std::round(value);
-    const long long iv = std::fabs(r) < 9.2e18 ? static_cast<long long>(r) : 0;
-    std::snprintf(buf, sizeof(buf), spec.c_str(), iv);
-  } else {
-    std::snprintf(buf, sizeof(buf), spec.c_str(), value);
-  }
-  return buf;
-}
-
-// ---------------------------------------------------------------- if-command Booleans
-
-namespace {
-
-struct BVal {
-  bool is_str = false;
-  double num = 0.0;
-  std::string str;
-};
-
-class BoolParser {
- public:
-  explicit BoolParser(const std::string& text) : s_(text) {}
-
-  bool run() {
-    BVal v = parse_or();
-    skip_ws();
-    if (pos_ < s_.size()) fail("unexpected '" + snippet(s_, pos_) + "'");
-    return truth(v);
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError("bad Boolean expression '" + s_ + "': " + what);
-  }
-  void skip_ws() {
-    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
-  }
-  bool accept(const char* tok) {
-    skip_ws();
-    const std::size_t n = std::char_traits<char>::length(tok);
-    if (s_.compare(pos_, n, tok) != 0) return false;
-    pos_ += n;
-    return true;
-  }
-  double truth(const BVal& v) const {
-    if (!v.is_str) return v.num != 0.0;
-    if (v.str == "yes" || v.str == "on" || v.str == "true") return 1.0;
-    if (v.str == "no" || v.str == "off" || v.str == "false") return 0.0;
-    fail("'" + v.str + "' is a string, not a true/false value" + arithmetic_hint(v.str));
-  }
-  static std::string arithmetic_hint(const std::string& s) {
-    if (s.find_first_of("+-*/^%") != std::string::npos) {
-      return " (arithmetic is not evaluated here: write $(" + s + ") to compute it)";
-    }
-    return "";
-  }
-  static BVal num(double x) {
-    BVal b;
-    b.num = x;
-    return b;
-  }
-
-  BVal parse_or() {
-    BVal a = parse_and();
-    for (;;) {
-      if (accept("||")) {
-        BVal b = parse_and();
-        a = num(truth(a) || truth(b) ? 1.0 : 0.0);
-      } else if (accept("|^")) {
-        BVal b = parse_and();
-        a = num((truth(a) != 0.0) != (truth(b) != 0.0) ? 1.0 : 0.0);
-      } else {
-        return a;
-      }
-    }
-  }
-  BVal parse_and() {
-    BVal a = parse_eq();
-    while (accept("&&")) {
-      BVal b = parse_eq();
-      a = num(truth(a) && truth(b) ? 1.0 : 0.0);
-    }
-    return a;
-  }
-  BVal compare(const BVal& a, const BVal& b, const std::string& op) {
-    int c;
-    if (a.is_str != b.is_str) {
-      const std::string& str = a.is_str ? a.str : b.str;
-      fail("cannot compare a number with the string '" + str + "' using " + op + arithmetic_hint(str));
-    }
-    if (a.is_str) c = a.str.compare(b.str);
-    else c = a.num < b.num ? -1 : (a.num > b.num ? 1 : 0);
-    bool r = false;
-    if (op == "==") r = c == 0;
-    else if (op == "!=") r = c != 0;
-    else if (op == "<") r = c < 0;
-    else if (op == "<=") r = c <= 0;
-    else if (op == ">") r = c > 0;
-    else r = c >= 0;
-    return num(r ? 1.0 : 0.0);
-  }
-  BVal parse_eq() {
-    BVal a = parse_rel();
-    for (;;) {
-      const char* op = accept("==") ? "==" : accept("!=") ? "!=" : nullptr;
-      if (!op) return a;
-      BVal b = parse_rel();
-      a = compare(a, b, op);
-    }
-  }
-  BVal parse_rel() {
-    BVal a = parse_not();
-    for (;;) {
-      const char* op = accept("<=") ? "<=" : accept(">=") ? ">=" : accept("<") ? "<" : accept(">") ? ">" : nullptr;
-      if (!op) return a;
-      BVal b = parse_not();
-      a = compare(a, b, op);
-    }
-  }
-  BVal parse_not() {
-    if (++depth_ > kMaxDepth) fail("nested too deeply");
-    BVal r;
-    skip_ws();
-    if (pos_ < s_.size() && s_[pos_] == '!' && s_.compare(pos_, 2, "!=") != 0) {
-      ++pos_;
-      r = num(truth(parse_not()) ? 0.0 : 1.0);
-    } else {
-      r = parse_operand();
-    }
-    --depth_;
-    return r;
-  }
-  BVal parse_operand() {
-    skip_ws();
-    if (pos_ >= s_.size()) fail("a value is missing at the end");
-    if (s_[pos_] == '(') {
-      ++pos_;
-      BVal v = parse_or();
-      skip_ws();
-      if (pos_ >= s_.size() || s_[pos_] != ')') fail("missing ')'");
-      ++pos_;
-      return v;
-    }
-    const std::size_t start = pos_;
-    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) &&
-           std::string("()<>=!&|").find(s_[pos_]) == std::string::npos) {
-      ++pos_;
-    }
-    if (pos_ == start) fail("a value is missing before '" + snippet(s_, pos_) + "'");
-    const std::string word = s_.substr(start, pos_ - start);
-    char* endp = nullptr;
-    const double x = std::strtod(word.c_str(), &endp);
-    const char c0 = word[0];
-    const bool numeric_start = std::isdigit(static_cast<unsigned char>(c0)) || c0 == '.' || c0 == '-' || c0 == '+';
-    if (numeric_start && endp && *endp == '\0') return num(x);
-    BVal b;
-    b.is_str = true;
-    b.str = word;
-    return b;
-  }
-
-  const std::string& s_;
-  std::size_t pos_ = 0;
-  int depth_ = 0;
-};
-
-}  // namespace
-
-bool evaluate_boolean(const std::string& text) {
-  if (text.size() > kMaxText) throw InputError("Boolean expression is too long");
-  BoolParser p(text);
-  return p.run();
 }
 
 }  // namespace granary

@@ -89,15 +89,6 @@ class Expression {
   std::shared_ptr<const expr_detail::Node> root_;
 };
 
-/// The Boolean of the `if` command (LAMMPS rules): operands are numbers or
-/// strings; operators == != < <= > >= && || |^ ! and parentheses. Two strings
-/// compare alphabetically; a number never compares with a string.
-bool evaluate_boolean(const std::string& text);
-
-/// Format a number with one C conversion ("%g", "%.6f", "%10.3e", "%d", ...).
-/// Throws InputError for anything else (text around the conversion is kept).
-std::string format_number(double value, const std::string& format);
-
 /// Names of the built-in math functions, group functions and constants.
 const std::vector<std::string>& expression_function_names();
 

@@ -3,6 +3,8 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -120,6 +122,179 @@ bool read_command(std::istream& in, std::string& command, int& lines) {
   return lines > 0;  // input ended inside a continued command
 }
 
+// ---------------------------------------------------------------- if-command Booleans
+
+namespace {
+
+constexpr int kMaxBoolDepth = 250;
+
+std::string snippet(const std::string& s, std::size_t pos) {
+  std::string rest = s.substr(std::min(pos, s.size()), 24);
+  if (pos + 24 < s.size()) rest += "...";
+  return rest;
+}
+
+struct BVal {
+  bool is_str = false;
+  double num = 0.0;
+  std::string str;
+};
+
+class BoolParser {
+ public:
+  explicit BoolParser(const std::string& text) : s_(text) {}
+
+  bool run() {
+    BVal v = parse_or();
+    skip_ws();
+    if (pos_ < s_.size()) fail("unexpected '" + snippet(s_, pos_) + "'");
+    return truth(v);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError("bad Boolean expression '" + s_ + "': " + what);
+  }
+  void skip_ws() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+  bool accept(const char* tok) {
+    skip_ws();
+    const std::size_t n = std::char_traits<char>::length(tok);
+    if (s_.compare(pos_, n, tok) != 0) return false;
+    pos_ += n;
+    return true;
+  }
+  double truth(const BVal& v) const {
+    if (!v.is_str) return v.num != 0.0;
+    if (v.str == "yes" || v.str == "on" || v.str == "true") return 1.0;
+    if (v.str == "no" || v.str == "off" || v.str == "false") return 0.0;
+    fail("'" + v.str + "' is a string, not a true/false value" + arithmetic_hint(v.str));
+  }
+  static std::string arithmetic_hint(const std::string& s) {
+    if (s.find_first_of("+-*/^%") != std::string::npos) {
+      return " (arithmetic is not evaluated here: write $(" + s + ") to compute it)";
+    }
+    return "";
+  }
+  static BVal num(double x) {
+    BVal b;
+    b.num = x;
+    return b;
+  }
+
+  BVal parse_or() {
+    BVal a = parse_and();
+    for (;;) {
+      if (accept("||")) {
+        BVal b = parse_and();
+        a = num(truth(a) || truth(b) ? 1.0 : 0.0);
+      } else if (accept("|^")) {
+        BVal b = parse_and();
+        a = num((truth(a) != 0.0) != (truth(b) != 0.0) ? 1.0 : 0.0);
+      } else {
+        return a;
+      }
+    }
+  }
+  BVal parse_and() {
+    BVal a = parse_eq();
+    while (accept("&&")) {
+      BVal b = parse_eq();
+      a = num(truth(a) && truth(b) ? 1.0 : 0.0);
+    }
+    return a;
+  }
+  BVal compare(const BVal& a, const BVal& b, const std::string& op) {
+    int c;
+    if (a.is_str != b.is_str) {
+      const std::string& str = a.is_str ? a.str : b.str;
+      fail("cannot compare a number with the string '" + str + "' using " + op + arithmetic_hint(str));
+    }
+    if (a.is_str) c = a.str.compare(b.str);
+    else c = a.num < b.num ? -1 : (a.num > b.num ? 1 : 0);
+    bool r = false;
+    if (op == "==") r = c == 0;
+    else if (op == "!=") r = c != 0;
+    else if (op == "<") r = c < 0;
+    else if (op == "<=") r = c <= 0;
+    else if (op == ">") r = c > 0;
+    else r = c >= 0;
+    return num(r ? 1.0 : 0.0);
+  }
+  BVal parse_eq() {
+    BVal a = parse_rel();
+    for (;;) {
+      const char* op = accept("==") ? "==" : accept("!=") ? "!=" : nullptr;
+      if (!op) return a;
+      BVal b = parse_rel();
+      a = compare(a, b, op);
+    }
+  }
+  BVal parse_rel() {
+    BVal a = parse_not();
+    for (;;) {
+      const char* op = accept("<=") ? "<=" : accept(">=") ? ">=" : accept("<") ? "<" : accept(">") ? ">" : nullptr;
+      if (!op) return a;
+      BVal b = parse_not();
+      a = compare(a, b, op);
+    }
+  }
+  BVal parse_not() {
+    if (++depth_ > kMaxBoolDepth) fail("nested too deeply");
+    BVal r;
+    skip_ws();
+    if (pos_ < s_.size() && s_[pos_] == '!' && s_.compare(pos_, 2, "!=") != 0) {
+      ++pos_;
+      r = num(truth(parse_not()) ? 0.0 : 1.0);
+    } else {
+      r = parse_operand();
+    }
+    --depth_;
+    return r;
+  }
+  BVal parse_operand() {
+    skip_ws();
+    if (pos_ >= s_.size()) fail("a value is missing at the end");
+    if (s_[pos_] == '(') {
+      ++pos_;
+      BVal v = parse_or();
+      skip_ws();
+      if (pos_ >= s_.size() || s_[pos_] != ')') fail("missing ')'");
+      ++pos_;
+      return v;
+    }
+    const std::size_t start = pos_;
+    while (pos_ < s_.size() && !std::isspace(static_cast<unsigned char>(s_[pos_])) &&
+           std::string("()<>=!&|").find(s_[pos_]) == std::string::npos) {
+      ++pos_;
+    }
+    if (pos_ == start) fail("a value is missing before '" + snippet(s_, pos_) + "'");
+    const std::string word = s_.substr(start, pos_ - start);
+    char* endp = nullptr;
+    const double x = std::strtod(word.c_str(), &endp);
+    const char c0 = word[0];
+    const bool numeric_start = std::isdigit(static_cast<unsigned char>(c0)) || c0 == '.' || c0 == '-' || c0 == '+';
+    if (numeric_start && endp && *endp == '\0') return num(x);
+    BVal b;
+    b.is_str = true;
+    b.str = word;
+    return b;
+  }
+
+  const std::string& s_;
+  std::size_t pos_ = 0;
+  int depth_ = 0;
+};
+
+}  // namespace
+
+bool evaluate_boolean(const std::string& text) {
+  if (text.size() > 100000) throw InputError("Boolean expression is too long");
+  BoolParser p(text);
+  return p.run();
+}
+
 }  // namespace script
 
 // ---------------------------------------------------------------- errors
@@ -137,6 +312,10 @@ class CommandError : public InputError {
 class ScriptError : public InputError {
  public:
   using InputError::InputError;
+};
+class LocatedRunError : public RunError {
+ public:
+  using RunError::RunError;
 };
 
 std::string first_word(const std::string& text) {
@@ -209,6 +388,7 @@ struct Input::Source {
   std::string name;
   std::unique_ptr<std::ifstream> file;  // rank 0, when reading a file
   std::istream* in = nullptr;           // rank 0 only
+  bool rewindable = false;              // a file (jump SELF can start it again)
   int line = 0;                         // physical lines consumed
   int cmd_line = 0;                     // first line of the current command
 };
@@ -286,6 +466,7 @@ bool Input::open_source(Source& src, const std::string& path) {
   if (!ok) return false;
   src.file = std::move(f);
   src.in = src.file.get();
+  src.rewindable = true;
   src.name = path;
   src.line = 0;
   return true;
@@ -371,6 +552,10 @@ void Input::run_source() {
       throw ScriptError(format_error(frames(), e.command, e.what()));
     } catch (const InputError& e) {
       throw ScriptError(format_error(frames(), "", e.what()));
+    } catch (const LocatedRunError&) {
+      throw;
+    } catch (const RunError& e) {  // may be raised on this rank only: add where, nothing collective
+      throw LocatedRunError(format_error(frames(), first_word(script::strip_comment(text)), e.what()));
     }
   }
   if (!label_.empty() && !quit_) {
@@ -429,7 +614,7 @@ void Input::jump(const std::string& file, const std::string& label) {
   const std::string origin = src.name + ":" + std::to_string(src.cmd_line);
   if (file == "SELF") {
     int ok = 0;
-    if (engine_.rank == 0 && src.in) {
+    if (engine_.rank == 0 && src.in && src.rewindable) {
       src.in->clear();
       src.in->seekg(0);
       ok = src.in->fail() ? 0 : 1;
@@ -437,7 +622,7 @@ void Input::jump(const std::string& file, const std::string& label) {
     MPI_Bcast(&ok, 1, MPI_INT, 0, engine_.world);
     if (!ok) {
       throw InputError("cannot jump back in '" + src.name +
-                       "' (input that cannot be rewound); run the script with -in FILE");
+                       "' (standard input or a stream cannot be read again); run the script with -in FILE");
     }
     src.line = 0;
   } else if (!open_source(src, file)) {

@@ -32,6 +32,11 @@ int count_triple_quotes(const std::string& text);
 /// break are removed) and lines inside an open """ (line breaks kept).
 /// Returns false at the end of the input; `lines` = physical lines consumed.
 bool read_command(std::istream& in, std::string& command, int& lines);
+/// The Boolean of the `if` command (LAMMPS rules): operands are numbers or
+/// strings; operators == != < <= > >= && || |^ ! and parentheses. Two strings
+/// compare alphabetically; a number never compares with a string. The words
+/// yes/on/true and no/off/false count as true and false.
+bool evaluate_boolean(const std::string& text);
 
 }  // namespace script
 

@@ -48,15 +48,23 @@ struct Timer {
 // Reneighbouring: migrate particles with their contact history, rebuild ghosts and lists.
 // During a run the list-aligned history is saved first; at setup it is already
 // in the keyed store (saved at the end of the previous run, or read from a restart).
+//
+// The history is saved and the ghosts are dropped before the pre_exchange
+// fixes run, so those fixes (insertion, deletion) may add or remove owned
+// particles freely: nothing refers to particle indices any more.
 void Update::reneighbor(bool save_history) {
   Engine& e = engine_;
   ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  {
+    Timer t(timers[kNeigh]);
+    if (history && save_history) history->save(*e.neighbor, *e.particles);
+    e.particles->clear_ghosts();
+  }
   {
     Timer t(timers[kModify]);
     e.modify->pre_exchange();
   }
   Timer t(timers[kNeigh]);
-  if (history && save_history) history->save(*e.neighbor, *e.particles);
   e.domain->reset_box();
   e.comm->setup(e.neighbor->cutneighmax);
   e.comm->exchange(history);
@@ -152,7 +160,10 @@ void Update::setup() {
     for (auto& field : e.particles->extras)
       if (field.history) field.data.swap(saved_fields[k++]);
   }
-  if (!restart_forces.empty()) use_restart_forces();
+  // collective: a rank may hold none of the particles of the restart file
+  long long stored = static_cast<long long>(restart_forces.size()), any = 0;
+  MPI_Allreduce(&stored, &any, 1, MPI_LONG_LONG, MPI_MAX, e.world);
+  if (any > 0) use_restart_forces();
   e.modify->setup();
   e.thermo->header();
   e.thermo->line();

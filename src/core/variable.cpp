@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -65,9 +66,10 @@ bool to_number(const std::string& s, double& x) {
 
 long long loop_bound(const std::string& w, const std::string& what) {
   double x;
-  if (!to_number(w, x) || x != static_cast<double>(static_cast<long long>(x))) {
+  if (!to_number(w, x) || x != std::floor(x)) {
     throw InputError("loop " + what + " must be an integer, got '" + w + "'");
   }
+  if (std::fabs(x) > 1.0e15) throw InputError("loop " + what + " is too large: " + w);
   return static_cast<long long>(x);
 }
 
@@ -568,6 +570,56 @@ std::string Variables::substitute(const std::string& text) {
     ++i;
   }
   return out;
+}
+
+// ---------------------------------------------------------------- number formats
+
+std::string format_number(double value, const std::string& format) {
+  // Locate exactly one conversion; "%%" is a literal percent sign.
+  std::size_t conv = std::string::npos, end = 0;
+  for (std::size_t i = 0; i < format.size(); ++i) {
+    if (format[i] != '%') continue;
+    if (i + 1 < format.size() && format[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    if (conv != std::string::npos) {
+      throw InputError("format '" + format + "' has more than one '%' conversion; use exactly one, e.g. %.6g");
+    }
+    conv = i;
+    std::size_t j = i + 1;
+    while (j < format.size() && std::string("-+ #0").find(format[j]) != std::string::npos) ++j;
+    int width = 0, prec = 0;
+    while (j < format.size() && std::isdigit(static_cast<unsigned char>(format[j]))) {
+      width = std::min(width * 10 + (format[j++] - '0'), 100000);
+    }
+    if (j < format.size() && format[j] == '.') {
+      ++j;
+      while (j < format.size() && std::isdigit(static_cast<unsigned char>(format[j]))) {
+        prec = std::min(prec * 10 + (format[j++] - '0'), 100000);
+      }
+    }
+    if (j >= format.size() || std::string("eEfFgGaAdi").find(format[j]) == std::string::npos) {
+      throw InputError("format '" + format + "' is not a number format; use e.g. %g, %.6f, %12.4e or %d");
+    }
+    if (width > 500 || prec > 500) throw InputError("format '" + format + "' asks for too many characters");
+    end = j;
+  }
+  if (conv == std::string::npos) {
+    throw InputError("format '" + format + "' has no '%' conversion; use e.g. %g, %.6f or %d");
+  }
+  const char type = format[end];
+  std::string spec = format;
+  char buf[1100];
+  if (type == 'd' || type == 'i') {
+    spec.insert(end, "ll");
+    const double r = std::round(value);
+    const long long iv = std::fabs(r) < 9.2e18 ? static_cast<long long>(r) : 0;
+    std::snprintf(buf, sizeof(buf), spec.c_str(), iv);
+  } else {
+    std::snprintf(buf, sizeof(buf), spec.c_str(), value);
+  }
+  return buf;
 }
 
 }  // namespace granary

@@ -17,6 +17,10 @@
 
 namespace granary {
 
+/// Format a number with one C conversion ("%g", "%.6f", "%10.3e", "%d", ...);
+/// text around the conversion is kept. Throws InputError for anything else.
+std::string format_number(double value, const std::string& format);
+
 class Variables {
  public:
   Variables();

@@ -19,28 +19,33 @@ class FixNveSphere : public Fix {
   }
   unsigned hooks() const override { return INITIAL_INTEGRATE | FINAL_INTEGRATE; }
 
+  // Operations in LIGGGHTS' order (dtf / m, then (dtf / 0.4) / (r^2 m)), so
+  // that both programs round alike.
   void initial_integrate() override {
     Particles& p = *engine_.particles;
     const double dt = engine_.update->dt;
     const double dtf = 0.5 * dt;
+    const double dtfrot = dtf / kInertia;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit) || p.body[i] >= 0) continue;
-      const double inv_m = 1.0 / p.rmass[i];
-      p.v[i] += dtf * inv_m * p.f[i];
+      const double dtfm = dtf / p.rmass[i];
+      p.v[i] += dtfm * p.f[i];
       p.x[i] += dt * p.v[i];
-      const double inv_i = 1.0 / (kInertia * p.rmass[i] * p.radius[i] * p.radius[i]);
-      p.omega[i] += dtf * inv_i * p.torque[i];
+      const double dtirotate = dtfrot / (p.radius[i] * p.radius[i] * p.rmass[i]);
+      p.omega[i] += dtirotate * p.torque[i];
     }
   }
 
   void final_integrate() override {
     Particles& p = *engine_.particles;
     const double dtf = 0.5 * engine_.update->dt;
+    const double dtfrot = dtf / kInertia;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit) || p.body[i] >= 0) continue;
-      p.v[i] += dtf / p.rmass[i] * p.f[i];
-      const double inv_i = 1.0 / (kInertia * p.rmass[i] * p.radius[i] * p.radius[i]);
-      p.omega[i] += dtf * inv_i * p.torque[i];
+      const double dtfm = dtf / p.rmass[i];
+      p.v[i] += dtfm * p.f[i];
+      const double dtirotate = dtfrot / (p.radius[i] * p.radius[i] * p.rmass[i]);
+      p.omega[i] += dtirotate * p.torque[i];
     }
   }
 

@@ -95,28 +95,55 @@ void FixWallGran::post_force() {
   Particles& p = *engine_.particles;
   const double dt = engine_.update->history_dt();
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
+  // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
+  const int body_mass_field = p.find_field("body_mass");
+  const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  // Planes are tested inline (one coordinate per particle); this loop runs for
+  // every particle and wall on every step, so no calls or stores unless in contact.
+  const bool plane = shape_ != Shape::ZCylinder;
+  const int dim = shape_ == Shape::XPlane ? 0 : shape_ == Shape::YPlane ? 1 : 2;
   contact::dispatch_model(spec_, [&](auto kernel) {
     using K = decltype(kernel);
+    constexpr int nh = K::history_size;
     contact::ContactState c;
     contact::ContactResult res;
     c.dt = dt;
     c.r_j = 0.0;
     c.omega_j.setZero();
     double dummy[6] = {0, 0, 0, 0, 0, 0};
-    for (int i = 0; i < p.nlocal; ++i) {
+    const int nlocal = p.nlocal;
+    for (int i = 0; i < nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
-      double* h = nhist_ > 0 ? hist_base + static_cast<std::size_t>(i) * nhist_ : dummy;
+      double* h = nh > 0 ? hist_base + static_cast<std::size_t>(i) * nh : dummy;
+      const double r = p.radius[i];
       double overlap;
       Vec3 n;
-      if (!contact(p.x[i], p.radius[i], overlap, n)) {
-        for (int q = 0; q < nhist_; ++q) h[q] = 0.0;
+      bool touching;
+      if (plane) {
+        const double dist = p.x[i][dim] - pos_;
+        touching = dist < r && dist > -r;
+        if (touching) {
+          overlap = r - std::fabs(dist);
+          n.setZero();
+          n[dim] = dist >= 0 ? 1.0 : -1.0;
+        }
+      } else {
+        touching = contact(p.x[i], r, overlap, n);
+      }
+      if (!touching) {
+        if constexpr (nh > 0) {
+          bool stale = false;
+          for (int q = 0; q < nh; ++q) stale |= h[q] != 0.0;
+          if (stale)
+            for (int q = 0; q < nh; ++q) h[q] = 0.0;
+        }
         continue;
       }
       c.n = n;
       c.overlap = overlap;
-      c.r_i = p.radius[i];
-      c.r_eff = p.radius[i];
-      c.m_eff = p.rmass[i];
+      c.r_i = r;
+      c.r_eff = r;
+      c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : p.rmass[i];
       c.v_rel = p.v[i];
       c.omega_i = p.omega[i];
       K::evaluate(spec_, c, materials_(p.type[i], wall_type_), h, res);

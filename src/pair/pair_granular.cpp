@@ -157,7 +157,9 @@ void PairGranular::loop() {
       }
       const double r = std::sqrt(r2);
       const double rj = p.radius[j];
-      c.n = d / r;
+      // d * (1/r), not d / r: the same rounding as LIGGGHTS (round-off spins
+      // feed the cdt rolling torque, so the last bit matters for agreement)
+      c.n = d * (1.0 / r);
       c.overlap = rsum - r;
       c.r_i = ri;
       c.r_j = rj;

@@ -1,0 +1,485 @@
+#include "fix/fix_multisphere.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "comm/comm.h"
+#include "compute/compute.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "domain/domain.h"
+#include "fix/fix_particletemplate_multisphere.h"
+#include "fix/modify.h"
+#include "neighbor/contact_history.h"
+#include "pair/force.h"
+#include "pair/pair.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+
+constexpr const char* kIndexField = "multisphere/index";
+constexpr const char* kMassField = "body_mass";
+
+/// Rotation by angle phi about body axis k, applied on the right of q; the
+/// body-frame angular momentum turns by -phi about the same axis.
+void rotate_about_axis(Eigen::Quaterniond& q, Vec3& lb, int k, double phi) {
+  const double c = std::cos(0.5 * phi), s = std::sin(0.5 * phi);
+  Eigen::Quaterniond r(c, 0.0, 0.0, 0.0);
+  r.coeffs()[k] = s;  // coeffs() is (x, y, z, w)
+  q = q * r;
+  const int a = (k + 1) % 3, b = (k + 2) % 3;
+  const double cp = std::cos(phi), sp = std::sin(phi);
+  const double la = lb[a], lbb = lb[b];
+  lb[a] = cp * la + sp * lbb;
+  lb[b] = -sp * la + cp * lbb;
+}
+
+std::string fmt(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
+
+FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, args) {
+  const std::string usage = "fix ID group multisphere [allow_group_and_set yes|no] [allow_heatsource yes|no]";
+  for (std::size_t k = 3; k < args.size(); k += 2) {
+    const std::string& w = args[k];
+    if (k + 1 >= args.size()) throw InputError("fix multisphere keyword '" + w + "' needs a value; usage: " + usage);
+    if (w == "allow_group_and_set" || w == "allow_heatsource") {
+      parse_bool(args[k + 1], "fix multisphere " + w);  // accepted; Granary always allows both
+    } else if (w == "CAddRhoFluid") {
+      throw InputError("fix multisphere CAddRhoFluid (added mass of a fluid) needs CFD coupling, which Granary "
+                       "does not have; remove the keyword");
+    } else {
+      throw InputError("unknown fix multisphere keyword '" + w + "'; usage: " + usage);
+    }
+  }
+  time_integrate = true;
+  scalar_flag = true;
+  restart_global = true;
+  if (engine.modify) {
+    for (const auto& f : engine.modify->fixes) {
+      if (f->style != "multisphere") continue;
+      if (f->id != id) {
+        throw InputError("fix multisphere " + f->id + " already integrates the clumps; use one fix multisphere");
+      }
+      // the fix is being redefined: keep the clumps
+      if (auto* old = dynamic_cast<FixMultisphere*>(f.get())) bodies_ = old->bodies_;
+    }
+  }
+  find_fields();
+}
+
+void FixMultisphere::find_fields() {
+  Particles& p = *engine_.particles;
+  index_field_ = p.add_field(kIndexField, 1, false, true);
+  mass_field_ = p.add_field(kMassField, 1, true, true);
+}
+
+FixMultisphere* FixMultisphere::find(const Modify& modify) {
+  for (const auto& f : modify.fixes)
+    if (f->style == "multisphere") return dynamic_cast<FixMultisphere*>(f.get());
+  return nullptr;
+}
+
+void FixMultisphere::init() {
+  find_fields();
+  bodies_changed();
+}
+
+void FixMultisphere::bodies_changed() {
+  if (!engine_.modify) return;
+  for (const auto& c : engine_.modify->computes)
+    if (auto* out = dynamic_cast<BodyOutput*>(c.get())) out->bodies_changed(bodies_.size());
+}
+
+// ---------------------------------------------------------------- bodies
+
+void FixMultisphere::add_body(tagint body_id, tagint first_id, const TemplateParticle& particle, const Vec3& x_cm,
+                              const Eigen::Quaterniond& q, const Vec3& v, const Vec3& omega) {
+  try {
+    bodies_.add(body_id, first_id, particle.type, particle.mass, particle.volume, particle.density,
+                particle.inertia, particle.offsets, particle.radii, x_cm, q, v, omega);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("fix multisphere: ") + e.what());
+  }
+  pending_ = true;
+  bodies_changed();
+}
+
+tagint FixMultisphere::next_body_id() {
+  const Particles& p = *engine_.particles;
+  long long local = static_cast<long long>(bodies_.max_tag()), all = 0;
+  for (int i = 0; i < p.nlocal; ++i) local = std::max(local, static_cast<long long>(p.body[i]));
+  MPI_Allreduce(&local, &all, 1, MPI_LONG_LONG, MPI_MAX, engine_.world);
+  return static_cast<tagint>(all + 1);
+}
+
+tagint FixMultisphere::create_clump(const TemplateParticle& particle, const Vec3& x, const Eigen::Quaterniond& q,
+                                    const Vec3& v, const Vec3& omega) {
+  Engine& e = engine_;
+  Domain& dom = *e.domain;
+  Particles& p = *e.particles;
+  if (!dom.box_exist) throw InputError("create_clump needs the simulation box; use create_box first");
+  if (particle.type < 1 || particle.type > p.ntypes) {
+    throw InputError("create_clump: the template's atom type " + std::to_string(particle.type) + " is outside 1.." +
+                     std::to_string(p.ntypes));
+  }
+  const Eigen::Quaterniond qn = q.normalized();
+  const Eigen::Matrix3d r = qn.toRotationMatrix();
+  const int ns = static_cast<int>(particle.offsets.size());
+  std::vector<Vec3> pos(ns);
+  std::vector<int> image(ns);
+  for (int k = 0; k < ns; ++k) {
+    pos[k] = x + r * particle.offsets[k];
+    image[k] = Particles::image_pack(0, 0, 0);
+    dom.remap(pos[k], image[k]);
+    if (!dom.inside_box(pos[k])) {
+      throw InputError("create_clump: sub-sphere " + std::to_string(k + 1) + " at (" + fmt(pos[k][0]) + ", " +
+                       fmt(pos[k][1]) + ", " + fmt(pos[k][2]) + ") lies outside the box");
+    }
+  }
+  long long local_max = static_cast<long long>(p.max_local_id()), max_id = 0;
+  MPI_Allreduce(&local_max, &max_id, 1, MPI_LONG_LONG, MPI_MAX, e.world);
+  const tagint first = static_cast<tagint>(max_id + 1);
+  const tagint body_id = next_body_id();
+  p.clear_ghosts();
+  for (int k = 0; k < ns; ++k) {
+    if (e.comm->owner_of(pos[k]) != e.rank) continue;
+    const int i = p.add_local(first + k, particle.type, pos[k], particle.radii[k], particle.density);
+    p.body[i] = body_id;
+    p.image[i] = image[k];
+  }
+  add_body(body_id, first, particle, x, qn, v, omega);
+  resolve_new_spheres();
+  compute_rotations();
+  place_spheres(false);
+  long long n = p.nlocal, total = 0;
+  MPI_Allreduce(&n, &total, 1, MPI_LONG_LONG, MPI_SUM, e.world);
+  p.natoms = total;
+  p.map_clear();
+  return body_id;
+}
+
+int FixMultisphere::body_of(int i, int& k) const {
+  const Particles& p = *engine_.particles;
+  if (p.body[i] < 0) return -1;
+  const int b = bodies_.find(p.body[i]);
+  if (b < 0) return -1;
+  k = static_cast<int>(p.extras[index_field_].data[i]) - 1;
+  return k >= 0 ? b : -1;
+}
+
+void FixMultisphere::resolve_new_spheres() {
+  Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  double* index = p.extras[index_field_].data.data();
+  int bad = 0;
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (p.body[i] < 0 || index[i] != 0.0) continue;
+    const int b = bodies_.find(p.body[i]);
+    if (b < 0) continue;
+    const tagint k = p.id[i] - bodies_.first_id[b];
+    if (k < 0 || k >= bodies_.nspheres[b]) {
+      ++bad;
+      continue;
+    }
+    index[i] = static_cast<double>(k + 1);
+    // sub-spheres share the body mass so that per-particle body forces
+    // (gravity) sum to the body's weight with no torque about its centre
+    const int s0 = bodies_.sphere_start[b];
+    p.rmass[i] = bodies_.mass[b] * bodies_.mass_share[s0 + k];
+    // image flags that make x + image * prd the unwrapped position of the sub-sphere
+    const Vec3 xu = bodies_.xcm[b] + bodies_.rotation(b) * bodies_.offsets[s0 + k];
+    int img[3] = {0, 0, 0};
+    for (int d = 0; d < 3; ++d)
+      if (dom.periodic[d]) img[d] = static_cast<int>(std::lround((xu[d] - p.x[i][d]) / dom.prd[d]));
+    p.image[i] = Particles::image_pack(img[0], img[1], img[2]);
+  }
+  int all = 0;
+  MPI_Allreduce(&bad, &all, 1, MPI_INT, MPI_SUM, engine_.world);
+  if (all > 0) {
+    throw RunError("fix multisphere: " + std::to_string(all) +
+                   " sub-sphere(s) carry a body id whose id range does not contain them; bodies must be "
+                   "created with consecutive particle ids first_id .. first_id + n - 1");
+  }
+  pending_ = false;
+}
+
+void FixMultisphere::fill_body_mass() {
+  Particles& p = *engine_.particles;
+  double* bm = p.extras[mass_field_].data.data();
+  const int n = p.size();
+  for (int i = 0; i < n; ++i) {
+    const int b = p.body[i] >= 0 ? bodies_.find(p.body[i]) : -1;
+    bm[i] = b >= 0 ? bodies_.mass[b] : 0.0;
+  }
+  // owned sub-spheres: their mass share again (`set mass|density|diameter` must not change body forces)
+  for (int i = 0; i < p.nlocal; ++i) {
+    int k;
+    const int b = body_of(i, k);
+    if (b >= 0) p.rmass[i] = bodies_.mass[b] * bodies_.mass_share[bodies_.sphere_start[b] + k];
+  }
+}
+
+long long FixMultisphere::remove_incomplete_bodies() {
+  Engine& e = engine_;
+  Particles& p = *e.particles;
+  // cheap test first: the total number of sub-spheres, and particles of unknown bodies
+  long long local[2] = {0, 0}, all[2] = {0, 0};
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (p.body[i] < 0) continue;
+    if (bodies_.find(p.body[i]) >= 0) ++local[0];
+    else ++local[1];
+  }
+  MPI_Allreduce(local, all, 2, MPI_LONG_LONG, MPI_SUM, e.world);
+  if (all[1] > 0) {
+    throw RunError("fix multisphere " + id + ": " + std::to_string(all[1]) +
+                   " particle(s) belong to clumps this fix does not know; after read_restart define fix "
+                   "multisphere with the ID it had when the restart file was written");
+  }
+  if (all[0] == bodies_.total_spheres()) return 0;
+
+  const int nb = bodies_.size();
+  std::vector<int> count(nb, 0), total(nb, 0);
+  for (int i = 0; i < p.nlocal; ++i)
+    if (p.body[i] >= 0) ++count[bodies_.find(p.body[i])];
+  MPI_Allreduce(count.data(), total.data(), nb, MPI_INT, MPI_SUM, e.world);
+  std::vector<char> doomed(nb, 0);
+  long long ndoomed = 0;
+  for (int b = 0; b < nb; ++b) {
+    if (total[b] > bodies_.nspheres[b]) {
+      throw RunError("fix multisphere: clump " + std::to_string(bodies_.tag[b]) + " has " +
+                     std::to_string(total[b]) + " sub-spheres, more than its " +
+                     std::to_string(bodies_.nspheres[b]) + "; particle ids or body ids were duplicated");
+    }
+    if (total[b] < bodies_.nspheres[b]) {
+      doomed[b] = 1;
+      ++ndoomed;
+    }
+  }
+  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  long long removed = 0;
+  for (int i = p.nlocal - 1; i >= 0; --i) {
+    if (p.body[i] < 0 || !doomed[bodies_.find(p.body[i])]) continue;
+    if (history) history->forget_particle(p.id[i]);
+    p.remove_local(i);
+    ++removed;
+  }
+  long long removed_all = 0;
+  MPI_Allreduce(&removed, &removed_all, 1, MPI_LONG_LONG, MPI_SUM, e.world);
+  bodies_.remove(doomed);
+  bodies_changed();
+  p.natoms -= removed_all;
+  p.map_clear();
+  e.logger->print("fix multisphere " + id + ": removed " + std::to_string(ndoomed) +
+                  " clump(s) that lost sub-spheres, with their remaining " + std::to_string(removed_all) +
+                  " sub-sphere(s)\n");
+  return ndoomed;
+}
+
+Vec3 FixMultisphere::wrapped_centre(int b) const {
+  Vec3 x = bodies_.xcm[b];
+  int image = Particles::image_pack(0, 0, 0);
+  engine_.domain->remap(x, image);
+  return x;
+}
+
+// ------------------------------------------------------------ integration
+
+void FixMultisphere::rotate_free(Eigen::Quaterniond& q, Vec3& lb, const Vec3& inertia, double dt) {
+  auto step = [&](int k, double h) {
+    if (inertia[k] > 0.0) rotate_about_axis(q, lb, k, h * lb[k] / inertia[k]);
+  };
+  step(2, 0.5 * dt);
+  step(1, 0.5 * dt);
+  step(0, dt);
+  step(1, 0.5 * dt);
+  step(2, 0.5 * dt);
+  q.normalize();
+}
+
+void FixMultisphere::compute_rotations() {
+  rot_.resize(bodies_.size());
+  for (int b = 0; b < bodies_.size(); ++b) rot_[b] = bodies_.rotation(b);
+}
+
+void FixMultisphere::place_spheres(bool positions) {
+  Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  for (int i = 0; i < p.nlocal; ++i) {
+    int k;
+    const int b = body_of(i, k);
+    if (b < 0) continue;
+    const Vec3 r = rot_[b] * bodies_.offsets[bodies_.sphere_start[b] + k];
+    if (positions) {
+      Vec3 x = bodies_.xcm[b] + r;
+      if (p.image[i] != Particles::image_pack(0, 0, 0)) {
+        int img[3];
+        Particles::image_unpack(p.image[i], img[0], img[1], img[2]);
+        for (int d = 0; d < 3; ++d)
+          if (dom.periodic[d]) x[d] -= img[d] * dom.prd[d];
+      }
+      p.x[i] = x;
+    }
+    p.v[i] = bodies_.vcm[b] + bodies_.omega[b].cross(r);
+    p.omega[i] = bodies_.omega[b];
+  }
+}
+
+void FixMultisphere::sum_forces() {
+  const Particles& p = *engine_.particles;
+  const int nb = bodies_.size();
+  buf_.assign(6 * static_cast<std::size_t>(nb), 0.0);
+  sum_.resize(buf_.size());
+  for (int i = 0; i < p.nlocal; ++i) {
+    int k;
+    const int b = body_of(i, k);
+    if (b < 0) continue;
+    const Vec3 r = rot_[b] * bodies_.offsets[bodies_.sphere_start[b] + k];
+    const Vec3 t = r.cross(p.f[i]) + p.torque[i];
+    double* s = &buf_[6 * static_cast<std::size_t>(b)];
+    for (int d = 0; d < 3; ++d) {
+      s[d] += p.f[i][d];
+      s[3 + d] += t[d];
+    }
+  }
+  if (nb > 0) MPI_Allreduce(buf_.data(), sum_.data(), 6 * nb, MPI_DOUBLE, MPI_SUM, engine_.world);
+  for (int b = 0; b < nb; ++b) {
+    const double* s = &sum_[6 * static_cast<std::size_t>(b)];
+    bodies_.fcm[b] = Vec3(s[0], s[1], s[2]);
+    bodies_.torque[b] = Vec3(s[3], s[4], s[5]);
+  }
+}
+
+void FixMultisphere::pre_neighbor() {
+  // Ghosts exist here: removing particles drops them, so they are rebuilt.
+  if (pending_) resolve_new_spheres();
+  if (remove_incomplete_bodies() > 0) engine_.comm->borders();
+  fill_body_mass();
+  compute_rotations();  // bodies may have come (insertion) or gone since initial_integrate
+}
+
+void FixMultisphere::setup() {
+  if (pending_) resolve_new_spheres();
+  compute_rotations();
+  sum_forces();
+  place_spheres(false);
+}
+
+void FixMultisphere::initial_integrate() {
+  if (pending_) resolve_new_spheres();
+  const double dt = engine_.update->dt, dtf = 0.5 * dt;
+  Bodies& B = bodies_;
+  for (int b = 0; b < B.size(); ++b) {
+    B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
+    B.angmom[b] += dtf * B.torque[b];
+    B.xcm[b] += dt * B.vcm[b];
+    // torque-free rotation for dt; the space-frame angular momentum is unchanged
+    Vec3 lb = B.quat[b].toRotationMatrix().transpose() * B.angmom[b];
+    rotate_free(B.quat[b], lb, B.inertia[b], dt);
+    B.omega[b] = B.omega_from_angmom(b);
+  }
+  compute_rotations();
+  place_spheres(true);
+}
+
+void FixMultisphere::final_integrate() {
+  sum_forces();
+  const double dtf = 0.5 * engine_.update->dt;
+  Bodies& B = bodies_;
+  for (int b = 0; b < B.size(); ++b) {
+    B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
+    B.angmom[b] += dtf * B.torque[b];
+    B.omega[b] = B.omega_from_angmom(b);
+  }
+  place_spheres(false);
+}
+
+// ---------------------------------------------------------------- restart
+
+void FixMultisphere::pack_restart(std::string& out) const { bodies_.pack(out); }
+
+void FixMultisphere::unpack_restart(const std::string& in) {
+  try {
+    bodies_.unpack(in);
+  } catch (const std::runtime_error& e) {
+    throw InputError("fix multisphere " + id + ": the restart file's clump data is unreadable (" + e.what() + ")");
+  }
+  pending_ = false;
+  bodies_changed();
+}
+
+// ------------------------------------------------------------ create_clump
+
+namespace {
+
+// create_clump TEMPLATE-ID x y z [quat w i j k] [vel vx vy vz] [omega wx wy wz] [frame principal|file]
+void cmd_create_clump(Engine& e, const Args& a) {
+  const std::string usage =
+      "create_clump TEMPLATE-ID X Y Z [quat W I J K] [vel VX VY VZ] [omega WX WY WZ] [frame principal|file]";
+  if (a.size() < 4) throw InputError("wrong number of arguments; usage: " + usage);
+  auto* tmpl = dynamic_cast<FixParticleTemplate*>(e.modify->fix_or_error(a[0], "create_clump"));
+  if (!tmpl) throw InputError("create_clump: fix " + a[0] + " is not a particle template (particletemplate/...)");
+  FixMultisphere* ms = FixMultisphere::find(*e.modify);
+  if (!ms) throw InputError("create_clump needs fix multisphere to integrate the clump; define it first");
+  Vec3 x, v(0, 0, 0), w(0, 0, 0);
+  for (int d = 0; d < 3; ++d) x[d] = parse_double(a[1 + d], "create_clump position");
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  bool file_frame = false;
+  for (std::size_t k = 4; k < a.size();) {
+    const std::string& key = a[k];
+    if (key == "frame") {
+      if (k + 1 >= a.size() || (a[k + 1] != "principal" && a[k + 1] != "file")) {
+        throw InputError("create_clump frame takes principal or file; usage: " + usage);
+      }
+      file_frame = a[k + 1] == "file";
+      k += 2;
+      continue;
+    }
+    const std::size_t n = key == "quat" ? 4 : 3;
+    if (key != "quat" && key != "vel" && key != "omega") {
+      throw InputError("unknown create_clump keyword '" + key + "'; usage: " + usage);
+    }
+    if (k + n >= a.size()) throw InputError("create_clump " + key + " needs " + std::to_string(n) + " values");
+    double val[4];
+    for (std::size_t m = 0; m < n; ++m) val[m] = parse_double(a[k + 1 + m], "create_clump " + key);
+    if (key == "quat") {
+      q = Eigen::Quaterniond(val[0], val[1], val[2], val[3]);
+      if (!(q.norm() > 0.0)) throw InputError("create_clump quat must not be zero");
+    } else if (key == "vel") {
+      v = Vec3(val[0], val[1], val[2]);
+    } else {
+      w = Vec3(val[0], val[1], val[2]);
+    }
+    k += n + 1;
+  }
+  if (file_frame) {
+    // quat turns the frame the spheres were given in; the body frame is the principal one
+    auto* ms_tmpl = dynamic_cast<FixParticleTemplateMultisphere*>(tmpl);
+    if (!ms_tmpl) throw InputError("create_clump frame file needs a particletemplate/multisphere template");
+    q = q.normalized() * Eigen::Quaterniond(ms_tmpl->axes());
+  }
+  const TemplateParticle particle = tmpl->draw();
+  const tagint body = ms->create_clump(particle, x, q, v, w);
+  e.logger->print("Created clump " + std::to_string(body) + " (" + std::to_string(particle.offsets.size()) +
+                  " spheres, mass " + fmt(particle.mass) + " kg)\n");
+}
+
+}  // namespace
+
+GRANARY_FIX_STYLE("multisphere", FixMultisphere);
+GRANARY_COMMAND("create_clump", cmd_create_clump);
+
+}  // namespace granary

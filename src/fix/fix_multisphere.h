@@ -1,0 +1,104 @@
+// fix multisphere: rigid clumps of spheres (LIGGGHTS syntax).
+//
+//   fix ID group multisphere [allow_group_and_set yes|no] [allow_heatsource yes|no]
+//
+// Sub-spheres are ordinary particles whose `body` field is the body id; they
+// migrate and are ghosted like any particle. The body state (Bodies) is
+// replicated on every rank: each step every rank sums the forces and torques
+// of the sub-spheres it owns into per-body arrays, one MPI_Allreduce combines
+// them, every rank advances every body identically, and each rank places its
+// own sub-spheres (ghosts follow by forward communication). Centre of mass:
+// velocity Verlet. Rotation: the NO_SQUISH symplectic splitting of the free
+// rotor (Miller et al. 2002), in quaternion form. See doc/fixes/multisphere.md
+// and doc/multisphere_design.md.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+#include "fix/fix.h"
+#include "fix/fix_particle_template.h"
+#include "particles/bodies.h"
+
+namespace granary {
+
+class Modify;
+
+/// Implemented by outputs whose size follows the number of bodies (compute
+/// multisphere): fix multisphere tells them whenever bodies come or go.
+class BodyOutput {
+ public:
+  virtual ~BodyOutput() = default;
+  virtual void bodies_changed(int nbodies) = 0;
+};
+
+class FixMultisphere : public Fix, public BodyRegistrar {
+ public:
+  FixMultisphere(Engine& engine, const Args& args);
+  unsigned hooks() const override { return INITIAL_INTEGRATE | PRE_NEIGHBOR | FINAL_INTEGRATE; }
+
+  void init() override;
+  void setup() override;
+  void initial_integrate() override;
+  void pre_neighbor() override;
+  void final_integrate() override;
+  double compute_scalar() override { return bodies_.size(); }
+
+  void pack_restart(std::string& out) const override;
+  void unpack_restart(const std::string& in) override;
+
+  /// BodyRegistrar: record a body (every rank, identical arguments). Its
+  /// sub-spheres (ids first_id + k) are taken over at the next placement.
+  void add_body(tagint body_id, tagint first_id, const TemplateParticle& particle, const Vec3& x_cm,
+                const Eigen::Quaterniond& q, const Vec3& v, const Vec3& omega) override;
+
+  /// Smallest body id above every id in use (collective).
+  tagint next_body_id();
+  /// Create one clump from `particle` with its centre of mass at x (collective;
+  /// the `create_clump` command). Returns the body id.
+  tagint create_clump(const TemplateParticle& particle, const Vec3& x, const Eigen::Quaterniond& q,
+                      const Vec3& v, const Vec3& omega);
+  /// Remove every body that lost a sub-sphere (delete_atoms, particles lost
+  /// through a fixed boundary) together with its remaining sub-spheres
+  /// (collective; particles must have no ghosts or ghosts are rebuilt by the
+  /// caller). Returns the number of bodies removed.
+  long long remove_incomplete_bodies();
+
+  const Bodies& bodies() const { return bodies_; }
+  Bodies& bodies() { return bodies_; }
+  /// Body centre wrapped into the periodic box [m].
+  Vec3 wrapped_centre(int b) const;
+
+  /// The engine's fix multisphere, or nullptr.
+  static FixMultisphere* find(const Modify& modify);
+
+  /// One NO_SQUISH step of a torque-free rotor: rotates q (body -> space) and
+  /// the body-frame angular momentum lb for time dt with principal moments
+  /// `inertia` (sequence axes 3, 2, 1, 2, 3 with dt/2, dt/2, dt, dt/2, dt/2).
+  static void rotate_free(Eigen::Quaterniond& q, Vec3& lb, const Vec3& inertia, double dt);
+
+ private:
+  void find_fields();
+  /// Tell the outputs (BodyOutput) the current number of bodies.
+  void bodies_changed();
+  /// Take over sub-spheres not yet placed (index field 0): index, mass, image.
+  void resolve_new_spheres();
+  /// body_mass of every particle (owned and ghost) from the replicated bodies.
+  void fill_body_mass();
+  void compute_rotations();
+  /// Set x (optionally), v and omega of the owned sub-spheres from their bodies.
+  void place_spheres(bool positions);
+  /// Sum forces and torques of owned sub-spheres and combine over ranks into fcm/torque.
+  void sum_forces();
+  /// Body index and sub-sphere index of owned particle i (-1 when free).
+  int body_of(int i, int& k) const;
+
+  Bodies bodies_;
+  std::vector<Eigen::Matrix3d> rot_;  // rotation matrix of each body at the current step
+  std::vector<double> buf_, sum_;     // per-body force/torque sums
+  int index_field_ = -1;              // per-particle sub-sphere index + 1 (0: not yet placed)
+  int mass_field_ = -1;               // per-particle body mass (read by contact models)
+  bool pending_ = false;              // bodies added whose sub-spheres were not yet taken over
+};
+
+}  // namespace granary

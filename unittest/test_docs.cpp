@@ -1,0 +1,78 @@
+// Every command and style registered in the engine has its page in doc/, and
+// doc/README.md lists every page.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "core/registry.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kDoc = fs::path(GRANARY_SOURCE_DIR) / "doc";
+
+std::string page_name(std::string style) {
+  for (char& c : style)
+    if (c == '/') c = '_';
+  return style + ".md";
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Commands documented on another command's page.
+const std::map<std::string, std::string> kAliases = {
+    {"communicate", "comm_modify"},
+    {"particledistribution/discrete/massbased", "particledistribution/discrete"},
+    {"particledistribution/discrete/numberbased", "particledistribution/discrete"}};
+
+template <class Registry>
+void check_pages(const std::string& folder) {
+  for (const auto& name : Registry::instance().names()) {
+    INFO(folder << " style or command '" << name << "'");
+    std::string page = name;
+    auto alias = kAliases.find(name);
+    if (alias != kAliases.end()) page = alias->second;
+    CHECK(fs::exists(kDoc / folder / page_name(page)));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("every command and style has a doc page") {
+  check_pages<granary::CommandRegistry>("commands");
+  check_pages<granary::FixRegistry>("fixes");
+  check_pages<granary::ComputeRegistry>("computes");
+  check_pages<granary::PairRegistry>("pairs");
+}
+
+TEST_CASE("region and dump styles are described on their command pages") {
+  const std::string region = read(kDoc / "commands" / "region.md");
+  for (const auto& name : granary::RegionRegistry::instance().names()) {
+    INFO("region style " << name);
+    CHECK(region.find(name) != std::string::npos);
+  }
+  const std::string dump = read(kDoc / "commands" / "dump.md");
+  for (const auto& name : granary::DumpRegistry::instance().names()) {
+    INFO("dump style " << name);
+    CHECK(dump.find(name) != std::string::npos);
+  }
+}
+
+TEST_CASE("doc/README.md lists every page") {
+  const std::string index = read(kDoc / "README.md");
+  for (const auto& entry : fs::recursive_directory_iterator(kDoc)) {
+    if (entry.path().extension() != ".md" || entry.path().filename() == "README.md") continue;
+    const std::string rel = fs::relative(entry.path(), kDoc).generic_string();
+    INFO("page " << rel);
+    CHECK(index.find("(" + rel + ")") != std::string::npos);
+  }
+}
