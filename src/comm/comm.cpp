@@ -268,10 +268,21 @@ void Comm::borders() {
   }
 }
 
+// Message sizes are known from borders(): only the data travel each step, and
+// swaps with no partner on either side are skipped.
+void Comm::exchange_known(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
+                          std::size_t nrecv, int recvproc) {
+  recv.resize(recvproc == MPI_PROC_NULL ? 0 : nrecv);
+  MPI_Sendrecv(send.data(), sendproc == MPI_PROC_NULL ? 0 : static_cast<int>(send.size()), MPI_DOUBLE,
+               sendproc, 3, recv.data(), static_cast<int>(recv.size()), MPI_DOUBLE, recvproc, 3,
+               engine_.world, MPI_STATUS_IGNORE);
+}
+
 void Comm::forward_comm() {
   Particles& p = *engine_.particles;
   const int per = ghost_velocity ? 9 : 3;
   for (const Swap& s : swaps_) {
+    if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
     sendbuf_.clear();
     sendbuf_.reserve(s.sendlist.size() * per);
     for (int i : s.sendlist) {
@@ -281,9 +292,9 @@ void Comm::forward_comm() {
         for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.omega[i][d]);
       }
     }
-    sendrecv_doubles(sendbuf_, s.sendproc, recvbuf_, s.recvproc, engine_.world);
+    exchange_known(sendbuf_, s.sendproc, recvbuf_, static_cast<std::size_t>(s.nrecv) * per, s.recvproc);
     std::size_t m = 0;
-    for (int k = 0; k < s.nrecv; ++k) {
+    for (int k = 0; k < s.nrecv && m < recvbuf_.size(); ++k) {
       const int j = s.firstrecv + k;
       for (int d = 0; d < 3; ++d) p.x[j][d] = recvbuf_[m++];
       if (ghost_velocity) {
@@ -298,16 +309,20 @@ void Comm::reverse_comm() {
   Particles& p = *engine_.particles;
   for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
     const Swap& s = *it;
+    if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
     sendbuf_.clear();
-    for (int k = 0; k < s.nrecv; ++k) {
-      const int j = s.firstrecv + k;
-      for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.f[j][d]);
-      for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.torque[j][d]);
+    if (s.recvproc != MPI_PROC_NULL) {
+      for (int k = 0; k < s.nrecv; ++k) {
+        const int j = s.firstrecv + k;
+        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.f[j][d]);
+        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.torque[j][d]);
+      }
     }
     // back along the swap: to whom we received from, from whom we sent to
-    sendrecv_doubles(sendbuf_, s.recvproc, recvbuf_, s.sendproc, engine_.world);
+    exchange_known(sendbuf_, s.recvproc, recvbuf_, s.sendlist.size() * 6, s.sendproc);
     std::size_t m = 0;
     for (int i : s.sendlist) {
+      if (m >= recvbuf_.size()) break;
       for (int d = 0; d < 3; ++d) p.f[i][d] += recvbuf_[m++];
       for (int d = 0; d < 3; ++d) p.torque[i][d] += recvbuf_[m++];
     }

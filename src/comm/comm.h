@@ -72,6 +72,8 @@ class Comm {
   };
   void choose_grid();
   void set_subdomain();
+  void exchange_known(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
+                      std::size_t nrecv, int recvproc);
   Engine& engine_;
   std::vector<Swap> swaps_;
   std::vector<double> sendbuf_, recvbuf_;

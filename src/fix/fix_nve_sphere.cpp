@@ -26,13 +26,19 @@ class FixNveSphere : public Fix {
     const double dt = engine_.update->dt;
     const double dtf = 0.5 * dt;
     const double dtfrot = dtf / kInertia;
-    for (int i = 0; i < p.nlocal; ++i) {
-      if (!(p.mask[i] & groupbit) || p.body[i] >= 0) continue;
-      const double dtfm = dtf / p.rmass[i];
-      p.v[i] += dtfm * p.f[i];
-      p.x[i] += dt * p.v[i];
-      const double dtirotate = dtfrot / (p.radius[i] * p.radius[i] * p.rmass[i]);
-      p.omega[i] += dtirotate * p.torque[i];
+    Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
+    const Vec3 *const f = p.f.data(), *const torque = p.torque.data();
+    const double *const rmass = p.rmass.data(), *const radius = p.radius.data();
+    const int* const mask = p.mask.data();
+    const tagint* const body = p.body.data();
+    const int bit = groupbit, n = p.nlocal;
+    for (int i = 0; i < n; ++i) {
+      if (!(mask[i] & bit) || body[i] >= 0) continue;
+      const double dtfm = dtf / rmass[i];
+      v[i] += dtfm * f[i];
+      x[i] += dt * v[i];
+      const double dtirotate = dtfrot / (radius[i] * radius[i] * rmass[i]);
+      omega[i] += dtirotate * torque[i];
     }
   }
 
@@ -40,12 +46,18 @@ class FixNveSphere : public Fix {
     Particles& p = *engine_.particles;
     const double dtf = 0.5 * engine_.update->dt;
     const double dtfrot = dtf / kInertia;
-    for (int i = 0; i < p.nlocal; ++i) {
-      if (!(p.mask[i] & groupbit) || p.body[i] >= 0) continue;
-      const double dtfm = dtf / p.rmass[i];
-      p.v[i] += dtfm * p.f[i];
-      const double dtirotate = dtfrot / (p.radius[i] * p.radius[i] * p.rmass[i]);
-      p.omega[i] += dtirotate * p.torque[i];
+    Vec3 *const v = p.v.data(), *const omega = p.omega.data();
+    const Vec3 *const f = p.f.data(), *const torque = p.torque.data();
+    const double *const rmass = p.rmass.data(), *const radius = p.radius.data();
+    const int* const mask = p.mask.data();
+    const tagint* const body = p.body.data();
+    const int bit = groupbit, n = p.nlocal;
+    for (int i = 0; i < n; ++i) {
+      if (!(mask[i] & bit) || body[i] >= 0) continue;
+      const double dtfm = dtf / rmass[i];
+      v[i] += dtfm * f[i];
+      const double dtirotate = dtfrot / (radius[i] * radius[i] * rmass[i]);
+      omega[i] += dtirotate * torque[i];
     }
   }
 

@@ -102,7 +102,23 @@ void FixWallGran::post_force() {
   // every particle and wall on every step, so no calls or stores unless in contact.
   const bool plane = shape_ != Shape::ZCylinder;
   const int dim = shape_ == Shape::XPlane ? 0 : shape_ == Shape::YPlane ? 1 : 2;
-  contact::dispatch_model(spec_, [&](auto kernel) {
+  // local copies: the loop stores forces and history, which would otherwise
+  // force the compiler to reload members and vector pointers each iteration
+  const Vec3* const x = p.x.data();
+  const Vec3* const v = p.v.data();
+  const Vec3* const omega = p.omega.data();
+  Vec3* const f = p.f.data();
+  Vec3* const torque = p.torque.data();
+  const double* const radius = p.radius.data();
+  const double* const rmass = p.rmass.data();
+  const int* const mask = p.mask.data();
+  const int* const type = p.type.data();
+  const int bit = groupbit;
+  const double pos = pos_;
+  const int wall_type = wall_type_;
+  const contact::ModelSpec spec = spec_;
+  const MaterialTable& materials = materials_;
+  contact::dispatch_model(spec, [&](auto kernel) {
     using K = decltype(kernel);
     constexpr int nh = K::history_size;
     contact::ContactState c;
@@ -113,14 +129,14 @@ void FixWallGran::post_force() {
     double dummy[6] = {0, 0, 0, 0, 0, 0};
     const int nlocal = p.nlocal;
     for (int i = 0; i < nlocal; ++i) {
-      if (!(p.mask[i] & groupbit)) continue;
+      if (!(mask[i] & bit)) continue;
       double* h = nh > 0 ? hist_base + static_cast<std::size_t>(i) * nh : dummy;
-      const double r = p.radius[i];
-      double overlap;
+      const double r = radius[i];
+      double overlap = 0.0;
       Vec3 n;
       bool touching;
       if (plane) {
-        const double dist = p.x[i][dim] - pos_;
+        const double dist = x[i][dim] - pos;
         touching = dist < r && dist > -r;
         if (touching) {
           overlap = r - std::fabs(dist);
@@ -128,7 +144,7 @@ void FixWallGran::post_force() {
           n[dim] = dist >= 0 ? 1.0 : -1.0;
         }
       } else {
-        touching = contact(p.x[i], r, overlap, n);
+        touching = contact(x[i], r, overlap, n);
       }
       if (!touching) {
         if constexpr (nh > 0) {
@@ -143,12 +159,12 @@ void FixWallGran::post_force() {
       c.overlap = overlap;
       c.r_i = r;
       c.r_eff = r;
-      c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : p.rmass[i];
-      c.v_rel = p.v[i];
-      c.omega_i = p.omega[i];
-      K::evaluate(spec_, c, materials_(p.type[i], wall_type_), h, res);
-      p.f[i] += res.force;
-      p.torque[i] += res.torque_i;
+      c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
+      c.v_rel = v[i];
+      c.omega_i = omega[i];
+      K::evaluate(spec, c, materials(type[i], wall_type), h, res);
+      f[i] += res.force;
+      torque[i] += res.torque_i;
     }
   });
 }

@@ -1,6 +1,7 @@
 #include "pair/pair_granular.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 
@@ -116,47 +117,63 @@ void PairGranular::take_restart_history() {
   force.restart_history.clear();
 }
 
+// The hot loop reads particle data through local pointers: stores to the
+// one-byte touch flags may alias anything, and members read through
+// references would be reloaded after each of them.
 template <class Kernel>
 void PairGranular::loop() {
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
   const int nlocal = p.nlocal;
   const bool newton = engine_.force->newton_pair;
-  const double dt = engine_.update->history_dt();
   constexpr int nh = Kernel::history_size;
-  const bool with_history = nh > 0;
-  if (with_history && history_.touch_.size() != list.neigh.size()) {
+  if (nh > 0 && history_.touch_.size() != list.neigh.size()) {
     history_.touch_.assign(list.neigh.size(), 0);
     history_.values_.assign(list.neigh.size() * nh, 0.0);
   }
   double dummy[6] = {0, 0, 0, 0, 0, 0};
   // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
   const int body_mass_field = p.find_field("body_mass");
-  const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  const double* const body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  const Vec3* const x = p.x.data();
+  const Vec3* const v = p.v.data();
+  const Vec3* const omega = p.omega.data();
+  Vec3* const f = p.f.data();
+  Vec3* const torque = p.torque.data();
+  const double* const radius = p.radius.data();
+  const double* const rmass = p.rmass.data();
+  const int* const type = p.type.data();
+  const int* const offset = list.offset.data();
+  const int* const neigh = list.neigh.data();
+  std::uint8_t* const touch = history_.touch_.data();
+  double* const hist = history_.values_.data();
+  const contact::ModelSpec spec = spec_;
+  const MaterialTable& materials = materials_;
   contact::ContactState c;
   contact::ContactResult res;
-  c.dt = dt;
+  c.dt = engine_.update->history_dt();
   for (int i = 0; i < nlocal; ++i) {
-    const Vec3 xi = p.x[i];
-    const double ri = p.radius[i];
-    const int ti = p.type[i];
-    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      const int j = list.neigh[k];
-      const Vec3 d = xi - p.x[j];
-      const double rsum = ri + p.radius[j];
+    const Vec3 xi = x[i];
+    const double ri = radius[i];
+    const int ti = type[i];
+    const int kend = offset[i + 1];
+    for (int k = offset[i]; k < kend; ++k) {
+      const int j = neigh[k];
+      const Vec3 d = xi - x[j];
+      const double rsum = ri + radius[j];
       const double r2 = d.squaredNorm();
-      double* h = with_history ? &history_.values_[static_cast<std::size_t>(k) * nh] : dummy;
+      double* h = nh > 0 ? hist + static_cast<std::size_t>(k) * nh : dummy;
       if (r2 >= rsum * rsum || r2 == 0.0) {
         if constexpr (nh > 0) {
-          if (history_.touch_[k]) {
-            history_.touch_[k] = 0;
+          if (touch[k]) {
+            touch[k] = 0;
             for (int q = 0; q < nh; ++q) h[q] = 0.0;
           }
         }
         continue;
       }
       const double r = std::sqrt(r2);
-      const double rj = p.radius[j];
+      const double rj = radius[j];
       // d * (1/r), not d / r: the same rounding as LIGGGHTS (round-off spins
       // feed the cdt rolling torque, so the last bit matters for agreement)
       c.n = d * (1.0 / r);
@@ -164,22 +181,22 @@ void PairGranular::loop() {
       c.r_i = ri;
       c.r_j = rj;
       c.r_eff = ri * rj / rsum;
-      double mi = p.rmass[i], mj = p.rmass[j];
+      double mi = rmass[i], mj = rmass[j];
       if (body_mass) {
         if (body_mass[i] > 0.0) mi = body_mass[i];
         if (body_mass[j] > 0.0) mj = body_mass[j];
       }
       c.m_eff = mi * mj / (mi + mj);
-      c.v_rel = p.v[i] - p.v[j];
-      c.omega_i = p.omega[i];
-      c.omega_j = p.omega[j];
-      Kernel::evaluate(spec_, c, materials_(ti, p.type[j]), h, res);
-      if constexpr (nh > 0) history_.touch_[k] = 1;
-      p.f[i] += res.force;
-      p.torque[i] += res.torque_i;
+      c.v_rel = v[i] - v[j];
+      c.omega_i = omega[i];
+      c.omega_j = omega[j];
+      Kernel::evaluate(spec, c, materials(ti, type[j]), h, res);
+      if constexpr (nh > 0) touch[k] = 1;
+      f[i] += res.force;
+      torque[i] += res.torque_i;
       if (newton || j < nlocal) {
-        p.f[j] -= res.force;
-        p.torque[j] += res.torque_j;
+        f[j] -= res.force;
+        torque[j] += res.torque_j;
       }
     }
   }
