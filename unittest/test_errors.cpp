@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -34,13 +35,8 @@ std::string num(double v) {
   return s.str();
 }
 
-struct Sim {
-  granary::Engine e{MPI_COMM_SELF};
-  Sim() { e.logger->set_screen(false); }
-  void lines(const std::vector<std::string>& script) {
-    for (const auto& l : script) e.input->one(l);
-  }
-  void cmd(const std::string& l) { e.input->one(l); }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_SELF) {}
 };
 
 /// The message of the InputError that `line` raises (fails the test when it

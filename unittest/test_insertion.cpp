@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -34,13 +35,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-struct Sim {
-  Engine e{MPI_COMM_WORLD};
-  Sim() { e.logger->set_screen(false); }
-  void cmd(const std::string& line) { e.input->one(line); }
-  void cmds(const std::vector<std::string>& lines) {
-    for (const auto& l : lines) cmd(l);
-  }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_WORLD) {}
 };
 
 struct Part {

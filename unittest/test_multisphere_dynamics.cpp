@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -25,13 +26,8 @@ using granary::Vec3;
 
 namespace {
 
-struct Sim {
-  Engine e{MPI_COMM_WORLD};
-  Sim() { e.logger->set_screen(false); }
-  void cmd(const std::string& line) { e.input->one(line); }
-  void cmds(const std::vector<std::string>& lines) {
-    for (const auto& l : lines) cmd(l);
-  }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_WORLD) {}
   const Bodies& bodies() { return FixMultisphere::find(*e.modify)->bodies(); }
 };
 

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/input.h"
 #include "core/logger.h"
@@ -68,14 +69,8 @@ std::vector<std::string> materials(int ntypes, double e, double mu, double mu_r 
 }
 
 /// One engine on this rank alone, screen output off.
-struct Sim {
-  granary::Engine e{MPI_COMM_SELF};
-  Sim() { e.logger->set_screen(false); }
-  void lines(const std::vector<std::string>& script) {
-    for (const auto& l : script) e.input->one(l);
-  }
-  void cmd(const std::string& l) { e.input->one(l); }
-  const granary::Particles& p() const { return *e.particles; }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_SELF) {}
   /// Local index of the particle with this id (fails the test when absent).
   int index(long long id) const {
     for (int i = 0; i < p().nlocal; ++i)

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -29,14 +30,8 @@ std::string num(double v) {
   return s.str();
 }
 
-struct Sim {
-  granary::Engine e{MPI_COMM_SELF};
-  Sim() { e.logger->set_screen(false); }
-  void lines(const std::vector<std::string>& script) {
-    for (const auto& l : script) e.input->one(l);
-  }
-  void cmd(const std::string& l) { e.input->one(l); }
-  const granary::Particles& p() const { return *e.particles; }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_SELF) {}
   int index(long long id) const {
     for (int i = 0; i < p().nlocal; ++i)
       if (p().id[i] == id) return i;

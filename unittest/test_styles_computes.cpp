@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "compute/compute.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -21,13 +22,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-struct Sim {
-  Engine e{MPI_COMM_WORLD};
-  Sim() { e.logger->set_screen(false); }
-  void cmd(const std::string& line) { e.input->one(line); }
-  void cmds(const std::vector<std::string>& lines) {
-    for (const auto& l : lines) cmd(l);
-  }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_WORLD) {}
   double value(const std::string& id, int index = 0) { return e.compute_value(id, index); }
 };
 

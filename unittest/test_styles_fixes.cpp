@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -23,13 +24,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-struct Sim {
-  Engine e{MPI_COMM_WORLD};
-  Sim() { e.logger->set_screen(false); }
-  void cmd(const std::string& line) { e.input->one(line); }
-  void cmds(const std::vector<std::string>& lines) {
-    for (const auto& l : lines) cmd(l);
-  }
+struct Sim : granary::test::ScriptEngine {
+  Sim() : ScriptEngine(MPI_COMM_WORLD) {}
 };
 
 /// Position and velocity of particle `id`, wherever it lives.
