@@ -29,6 +29,7 @@
 #include "core/registry.h"
 #include "core/variable.h"
 #include "domain/domain.h"
+#include "domain/sphere_grid.h"
 #include "domain/groups.h"
 #include "domain/region.h"
 #include "particles/particles.h"
@@ -204,68 +205,6 @@ void create_single(Engine& e, int type, const Args& a) {
   e.logger->print("Created 1 atoms\n");
 }
 
-/// Insertion grid for the overlap test of random insertion (identical on all ranks).
-class OverlapGrid {
- public:
-  OverlapGrid(const Domain& dom, double dist) : dom_(dom), dist_(dist) {}
-
-  void add(const Vec3& x) {
-    points_.push_back(x);
-    cells_[key(cell(x))].push_back(static_cast<int>(points_.size()) - 1);
-  }
-
-  /// True when x is at least `dist` from every stored point (periodic images included).
-  bool free(const Vec3& x) const {
-    // images of x across periodic faces it is close to
-    int nshift[3][3], count[3];
-    for (int d = 0; d < 3; ++d) {
-      count[d] = 0;
-      nshift[d][count[d]++] = 0;
-      if (dom_.periodic[d]) {
-        if (x[d] - dom_.boxlo[d] < dist_) nshift[d][count[d]++] = 1;
-        if (dom_.boxhi[d] - x[d] < dist_) nshift[d][count[d]++] = -1;
-      }
-    }
-    const double d2 = dist_ * dist_;
-    for (int a = 0; a < count[0]; ++a) {
-      for (int b = 0; b < count[1]; ++b) {
-        for (int c = 0; c < count[2]; ++c) {
-          const Vec3 xs = x + Vec3(nshift[0][a] * dom_.prd[0], nshift[1][b] * dom_.prd[1],
-                                   nshift[2][c] * dom_.prd[2]);
-          const auto base = cell(xs);
-          for (long long i = base[0] - 1; i <= base[0] + 1; ++i) {
-            for (long long j = base[1] - 1; j <= base[1] + 1; ++j) {
-              for (long long k = base[2] - 1; k <= base[2] + 1; ++k) {
-                auto it = cells_.find(key({i, j, k}));
-                if (it == cells_.end()) continue;
-                for (int n : it->second)
-                  if ((points_[n] - xs).squaredNorm() < d2) return false;
-              }
-            }
-          }
-        }
-      }
-    }
-    return true;
-  }
-
- private:
-  std::array<long long, 3> cell(const Vec3& x) const {
-    std::array<long long, 3> c;
-    for (int d = 0; d < 3; ++d) c[d] = static_cast<long long>(std::floor((x[d] - dom_.boxlo[d]) / dist_));
-    return c;
-  }
-  // cells whose keys collide only share a bucket: distances are always checked
-  static std::uint64_t key(const std::array<long long, 3>& c) {
-    const std::uint64_t m = (1ull << 21) - 1;
-    return (static_cast<std::uint64_t>(c[0]) & m) | (static_cast<std::uint64_t>(c[1]) & m) << 21 |
-           (static_cast<std::uint64_t>(c[2]) & m) << 42;
-  }
-  const Domain& dom_;
-  double dist_;
-  std::vector<Vec3> points_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
-};
 
 void create_random(Engine& e, int type, const Args& a) {
   const char* usage =
@@ -311,9 +250,10 @@ void create_random(Engine& e, int type, const Args& a) {
 
   // existing particles, known to every rank, for the overlap test
   Particles& p = *e.particles;
-  std::unique_ptr<OverlapGrid> grid;
+  // points at least `overlap` apart: spheres of radius overlap/2 that must not overlap
+  std::unique_ptr<SphereGrid> grid;
   if (overlap > 0.0) {
-    grid = std::make_unique<OverlapGrid>(dom, overlap);
+    grid = std::make_unique<SphereGrid>(dom, 0.5 * overlap);
     std::vector<double> mine;
     mine.reserve(3 * static_cast<std::size_t>(p.nlocal));
     for (int i = 0; i < p.nlocal; ++i)
@@ -325,7 +265,7 @@ void create_random(Engine& e, int type, const Args& a) {
     std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
     MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
                    e.world);
-    for (std::size_t k = 0; k + 2 < all.size(); k += 3) grid->add(Vec3(all[k], all[k + 1], all[k + 2]));
+    for (std::size_t k = 0; k + 2 < all.size(); k += 3) grid->add(Vec3(all[k], all[k + 1], all[k + 2]), 0.5 * overlap);
   }
 
   // every rank draws the same points; each keeps those in its subdomain
@@ -347,11 +287,11 @@ void create_random(Engine& e, int type, const Args& a) {
         }
         continue;
       }
-      if (grid && !grid->free(x)) {
+      if (grid && grid->overlaps(x, 0.5 * overlap)) {
         if (++overlaps >= maxtry) break;  // give up on this particle
         continue;
       }
-      if (grid) grid->add(x);
+      if (grid) grid->add(x, 0.5 * overlap);
       if (owns_point(dom, x)) p.add_local(base + inserted, type, x, 0.5 * kDefaultDiameter, kDefaultDensity);
       ++inserted;
       break;

@@ -1,0 +1,82 @@
+// Spheres hashed into cells of the box, for overlap tests during insertion
+// and random particle creation (periodic images included).
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "core/vec3.h"
+#include "domain/domain.h"
+
+namespace granary {
+
+/// Spheres of radius up to rmax hashed into cells 2 rmax wide; queries include
+/// the periodic images of the query sphere.
+class SphereGrid {
+ public:
+  SphereGrid(const Domain& dom, double rmax) : dom_(dom), rmax_(rmax), cell_(2.0 * rmax) {}
+
+  /// Add a sphere; x must lie inside the box in periodic dimensions.
+  void add(const Vec3& x, double r) {
+    centres_.push_back(x);
+    radii_.push_back(r);
+    cells_[key(cell(x))].push_back(static_cast<int>(centres_.size()) - 1);
+  }
+
+  /// True when (x, r) overlaps a stored sphere (distance < sum of radii).
+  bool overlaps(const Vec3& x, double r) const {
+    int shifts[3][3], count[3];
+    const double reach = r + rmax_;
+    for (int d = 0; d < 3; ++d) {
+      count[d] = 0;
+      shifts[d][count[d]++] = 0;
+      if (dom_.periodic[d]) {
+        if (x[d] - dom_.boxlo[d] < reach) shifts[d][count[d]++] = 1;
+        if (dom_.boxhi[d] - x[d] < reach) shifts[d][count[d]++] = -1;
+      }
+    }
+    for (int a = 0; a < count[0]; ++a) {
+      for (int b = 0; b < count[1]; ++b) {
+        for (int c = 0; c < count[2]; ++c) {
+          const Vec3 xs = x + Vec3(shifts[0][a] * dom_.prd[0], shifts[1][b] * dom_.prd[1], shifts[2][c] * dom_.prd[2]);
+          const auto base = cell(xs);
+          for (long long i = base[0] - 1; i <= base[0] + 1; ++i) {
+            for (long long j = base[1] - 1; j <= base[1] + 1; ++j) {
+              for (long long k = base[2] - 1; k <= base[2] + 1; ++k) {
+                auto it = cells_.find(key({i, j, k}));
+                if (it == cells_.end()) continue;
+                for (int n : it->second) {
+                  const double s = r + radii_[n];
+                  if ((centres_[n] - xs).squaredNorm() < s * s) return true;
+                }
+              }
+            }
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::array<long long, 3> cell(const Vec3& x) const {
+    std::array<long long, 3> c;
+    for (int d = 0; d < 3; ++d) c[d] = static_cast<long long>(std::floor((x[d] - dom_.boxlo[d]) / cell_));
+    return c;
+  }
+  static std::uint64_t key(const std::array<long long, 3>& c) {
+    const std::uint64_t m = (1ull << 21) - 1;
+    return (static_cast<std::uint64_t>(c[0]) & m) | (static_cast<std::uint64_t>(c[1]) & m) << 21 |
+           (static_cast<std::uint64_t>(c[2]) & m) << 42;
+  }
+  const Domain& dom_;
+  double rmax_, cell_;
+  std::vector<Vec3> centres_;
+  std::vector<double> radii_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
+
+}  // namespace granary
