@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(cmake g++ make libeigen3-dev libopenmpi-dev openmpi-bin libvtk9-dev catch2
-          python3-numpy python3-scipy python3-matplotlib)
+          python3-numpy python3-scipy python3-matplotlib clang libclang-rt-14-dev)
 # LIGGGHTS is the reference the agreement tests and benchmarks compare against.
 optional=(liggghts)
 missing=()

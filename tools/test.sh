@@ -5,5 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# The input-language fuzzer (clang, libFuzzer) for a minute; then the suite,
+# whose ctest summary is the last thing printed.
+tools/fuzz.sh 60
 cd build
 ctest --output-on-failure --timeout 900 -j "$(nproc 2>/dev/null || echo 2)"
