@@ -8,5 +8,6 @@ mkdir -p out/pour
 cd out/pour
 mpirun --allow-run-as-root --oversubscribe -np 2 ../../build/granary \
   -in ../../examples/pour/in.pour -log log.pour "$@"
-/usr/bin/python3 ../../tools/plot_thermo.py log.pour --out energies.png --log-y
-echo "Demo output: out/pour/log.pour and out/pour/energies.png"
+/usr/bin/python3 ../../tools/plot_thermo.py log.pour --out energies.png --log-y \
+  --columns KinEng c_rke v_zmax
+echo "Demo output in out/pour: log.pour, energies.png, and pour_.pvd (open it in ParaView)"
