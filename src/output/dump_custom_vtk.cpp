@@ -1,4 +1,5 @@
 #include "output/dump_custom_vtk.h"
+#include "output/vtk_support.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellType.h>
@@ -33,6 +34,12 @@
 
 namespace granary {
 
+using vtkio::byte_order;
+using vtkio::extension;
+using vtkio::strip_extension;
+using vtkio::write_text;
+using vtkio::xml_escape;
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -51,66 +58,12 @@ const Triple kTriples[] = {
     {"xs", "ys", "zs", "x_scaled"},
 };
 
-std::string extension(const std::string& file) {
-  const auto slash = file.find_last_of('/');
-  const auto dot = file.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  return file.substr(dot);
-}
-
-std::string strip_extension(const std::string& file) {
-  return file.substr(0, file.size() - extension(file).size());
-}
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char ch : text) {
-    switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += ch;
-    }
-  }
-  return out;
-}
-
-const char* byte_order() {
-  const std::uint16_t word = 1;
-  return *reinterpret_cast<const unsigned char*>(&word) == 1 ? "LittleEndian" : "BigEndian";
-}
-
-std::string write_text(const std::string& file, const std::string& text) {
-  std::FILE* fp = std::fopen(file.c_str(), "w");
-  if (!fp) return dumpio::open_error(file);
-  const bool ok = std::fwrite(text.data(), 1, text.size(), fp) == text.size();
-  if (std::fclose(fp) != 0 || !ok) return dumpio::open_error(file);
-  return "";
-}
-
 // Try to create (truncate) a file so that a failure names the file and the reason.
 std::string probe(const std::string& file) {
   std::FILE* fp = std::fopen(file.c_str(), "wb");
   if (!fp) return dumpio::open_error(file);
   std::fclose(fp);
   return "";
-}
-
-template <class Writer>
-void configure(Writer* w, bool binary, const std::string& compressor) {
-  w->SetHeaderTypeToUInt64();
-  if (!binary) {
-    w->SetDataModeToAscii();
-    w->SetCompressorTypeToNone();
-    return;
-  }
-  w->SetDataModeToAppended();
-  w->SetEncodeAppendedData(false);
-  if (compressor == "none") w->SetCompressorTypeToNone();
-  else if (compressor == "lz4") w->SetCompressorTypeToLZ4();
-  else if (compressor == "lzma") w->SetCompressorTypeToLZMA();
-  else w->SetCompressorTypeToZLib();
 }
 
 }  // namespace
@@ -139,13 +92,9 @@ DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
   }
   dumpio::check_directory(engine.world, filename, "dump " + id);
 
-  // the .pvd collection next to the files: the pattern without '*', extension .pvd
-  std::string stem = strip_extension(filename);
-  const auto star = stem.find('*');
-  if (star != std::string::npos) stem.erase(star, 1);
-  if (fs::path(stem).filename().empty()) stem = (fs::path(stem).parent_path() / id).string();
+  // the .pvd collection next to the files: the pattern without '*', extension .pvd.
   // ParaView's .pvd reader opens XML files only: no collection for legacy files
-  if (kind_ != Kind::kLegacy) pvd_ = stem + ".pvd";
+  if (kind_ != Kind::kLegacy) pvd_.path = vtkio::pvd_name(filename, id);
 
   // point-data arrays; x y z are the points (fields 0..2)
   std::vector<bool> used(fields_.ncols(), false);
@@ -202,6 +151,7 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
   if (key == "pvd" && has1) {
     const std::string& v = args[k + 1];
     if (v == "no" || v == "off" || v == "none") {
+      pvd_.path.clear();
       pvd_.clear();
       return 2;
     }
@@ -211,8 +161,8 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
     }
     if (extension(v) != ".pvd") throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
     dumpio::check_directory(engine_.world, v, where);
-    pvd_ = v;
-    entries_.clear();
+    pvd_.path = v;
+    pvd_.clear();
     return 2;
   }
   if (key == "sort" && has1) {
@@ -291,13 +241,13 @@ std::string DumpCustomVTK::write_xml(const std::string& frame, const std::vector
   int ok = 0;
   if (poly) {
     auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    configure(w.Get(), binary_, compressor_);
+    vtkio::configure_writer(w.Get(), binary_, compressor_);
     w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, ncols, arrays_, time, step));
     w->SetFileName(file.c_str());
     ok = w->Write();
   } else {
     auto w = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-    configure(w.Get(), binary_, compressor_);
+    vtkio::configure_writer(w.Get(), binary_, compressor_);
     w->SetInputData(build_dataset<vtkUnstructuredGrid>(rows, nrows, ncols, arrays_, time, step));
     w->SetFileName(file.c_str());
     ok = w->Write();
@@ -344,37 +294,6 @@ std::string DumpCustomVTK::write_legacy(const std::string& frame, const std::vec
   return w->Write() ? "" : "VTK could not write '" + frame + "'";
 }
 
-std::string DumpCustomVTK::write_pvd(const std::string& frame) {
-  // paths in a .pvd are relative to the .pvd's own directory
-  const fs::path dir = fs::absolute(fs::path(pvd_)).lexically_normal().parent_path();
-  const std::string rel = fs::absolute(fs::path(frame)).lexically_normal().lexically_relative(dir).generic_string();
-  for (auto it = entries_.begin(); it != entries_.end();) {
-    it = it->file == rel ? entries_.erase(it) : it + 1;
-  }
-  entries_.push_back({engine_.update->time(), rel});
-
-  std::string text = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"";
-  text += byte_order();
-  text += "\">\n  <Collection>\n";
-  char buf[64];
-  for (const auto& e : entries_) {
-    for (int digits = 15; digits <= 17; ++digits) {  // shortest text that reads back exactly
-      std::snprintf(buf, sizeof buf, "%.*g", digits, e.time);
-      if (std::strtod(buf, nullptr) == e.time) break;
-    }
-    text += std::string("    <DataSet timestep=\"") + buf + "\" group=\"\" part=\"0\" file=\"" + xml_escape(e.file) + "\"/>\n";
-  }
-  text += "  </Collection>\n</VTKFile>\n";
-
-  // a temporary file renamed over the old one: the .pvd is never half-written
-  const std::string tmp = pvd_ + ".tmp";
-  if (std::string e = write_text(tmp, text); !e.empty()) return e;
-  if (std::rename(tmp.c_str(), pvd_.c_str()) != 0) {
-    return "cannot rename '" + tmp + "' to '" + pvd_ + "': " + std::strerror(errno);
-  }
-  return "";
-}
-
 void DumpCustomVTK::write() {
   std::vector<int> sel;
   fields_.select(groupbit, region_, sel);
@@ -394,9 +313,9 @@ void DumpCustomVTK::write() {
     err = write_xml(frame, local, static_cast<std::int64_t>(sel.size()));
   }
   err = dumpio::first_error(engine_.world, err);
-  if (err.empty() && (parallel || !pvd_.empty())) {
+  if (err.empty() && (parallel || !pvd_.path.empty())) {
     if (engine_.rank == 0 && parallel) err = write_index(frame, listed);
-    if (engine_.rank == 0 && err.empty() && !pvd_.empty()) err = write_pvd(listed);
+    if (engine_.rank == 0 && err.empty() && !pvd_.path.empty()) err = pvd_.add(listed, engine_.update->time());
     err = dumpio::first_error(engine_.world, err);
   }
   if (!err.empty()) throw RunError("dump " + id + ": " + err);

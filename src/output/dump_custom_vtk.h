@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "output/dump.h"
+#include "output/vtk_support.h"
 #include "output/dump_custom.h"
 
 namespace granary {
@@ -46,7 +47,6 @@ class DumpCustomVTK : public Dump {
   std::string write_xml(const std::string& frame, const std::vector<double>& rows, std::int64_t nrows);
   std::string write_legacy(const std::string& frame, const std::vector<double>& rows, std::int64_t nrows);
   std::string write_index(const std::string& frame, const std::string& index);
-  std::string write_pvd(const std::string& frame);
 
   DumpFields fields_;
   std::vector<Array> arrays_;
@@ -56,12 +56,7 @@ class DumpCustomVTK : public Dump {
   std::string compressor_ = "zlib";
   int pad_ = 0;
   std::string region_;
-  std::string pvd_;
-  struct Entry {
-    double time;
-    std::string file;
-  };
-  std::vector<Entry> entries_;
+  vtkio::PvdCollection pvd_;
 };
 
 }  // namespace granary

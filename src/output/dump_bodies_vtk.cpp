@@ -1,0 +1,205 @@
+#include "output/dump_bodies_vtk.h"
+
+#include <mpi.h>
+#include <vtkCellArray.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cstdio>
+#include <vector>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "fix/fix_multisphere.h"
+#include "fix/modify.h"
+#include "output/dump_custom.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+DumpBodiesVTK::DumpBodiesVTK(Engine& engine, const Args& args) : Dump(engine, args) {
+  if (args.size() > 5) {
+    throw InputError("dump " + id + ": bodies/vtk takes no fields (it writes every body's state), got '" + args[5] +
+                     "'");
+  }
+  if (vtkio::extension(filename) != ".vtp") {
+    throw InputError("dump " + id + ": bodies/vtk needs a file name ending in .vtp, got '" + filename + "'");
+  }
+  if (filename.find('%') != std::string::npos) {
+    throw InputError("dump " + id + ": bodies/vtk writes one file per frame on rank 0; '%' is not allowed in '" +
+                     filename + "'");
+  }
+  dumpio::check_directory(engine.world, filename, "dump " + id);
+  pvd_.path = vtkio::pvd_name(filename, id);
+}
+
+int DumpBodiesVTK::modify_param(const Args& args, std::size_t k) {
+  const std::string& key = args[k];
+  const bool has1 = k + 1 < args.size();
+  const std::string where = "dump_modify " + id + " " + key;
+  if (key == "binary" && has1) return binary_ = parse_bool(args[k + 1], where), 2;
+  if (key == "compression" && has1) {
+    const std::string& v = args[k + 1];
+    if (v != "zlib" && v != "none" && v != "lz4" && v != "lzma") {
+      throw InputError(where + ": expected zlib, lz4, lzma or none, got '" + v + "'");
+    }
+    compressor_ = v;
+    return 2;
+  }
+  if (key == "pad" && has1) {
+    const long long n = parse_int(args[k + 1], where);
+    if (n < 0 || n > 30) throw InputError(where + ": pad must be 0..30");
+    pad_ = static_cast<int>(n);
+    return 2;
+  }
+  if (key == "pvd" && has1) {
+    const std::string& v = args[k + 1];
+    if (v == "no" || v == "off" || v == "none") {
+      pvd_.path.clear();
+    } else {
+      if (vtkio::extension(v) != ".pvd") {
+        throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
+      }
+      dumpio::check_directory(engine_.world, v, where);
+      pvd_.path = v;
+    }
+    pvd_.clear();
+    return 2;
+  }
+  return 0;
+}
+
+FixMultisphere& DumpBodiesVTK::multisphere() const {
+  FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+  if (!ms) {
+    throw InputError("dump " + id + ": bodies/vtk writes the clumps of fix multisphere, but no fix multisphere "
+                     "is defined");
+  }
+  return *ms;
+}
+
+void DumpBodiesVTK::init() { multisphere(); }
+
+std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vector<char>& selected) {
+  const FixMultisphere& ms = multisphere();
+  const Bodies& B = ms.bodies();
+  std::vector<int> list;
+  for (int b = 0; b < B.size(); ++b)
+    if (selected[b]) list.push_back(b);
+  const vtkIdType n = static_cast<vtkIdType>(list.size());
+
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  auto conn = vtkSmartPointer<vtkIdTypeArray>::New();
+  conn->SetNumberOfValues(n);
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+
+  auto make = [n](vtkDataArray* a, const char* name, int nc) {
+    a->SetName(name);
+    a->SetNumberOfComponents(nc);
+    a->SetNumberOfTuples(n);
+  };
+  auto ids = vtkSmartPointer<vtkTypeInt64Array>::New();
+  auto types = vtkSmartPointer<vtkIntArray>::New();
+  auto mass = vtkSmartPointer<vtkDoubleArray>::New();
+  auto quat = vtkSmartPointer<vtkDoubleArray>::New();
+  auto axis = vtkSmartPointer<vtkDoubleArray>::New();
+  auto vel = vtkSmartPointer<vtkDoubleArray>::New();
+  auto omega = vtkSmartPointer<vtkDoubleArray>::New();
+  auto nsph = vtkSmartPointer<vtkIntArray>::New();
+  make(ids, "id", 1);
+  make(types, "type", 1);
+  make(mass, "mass", 1);
+  make(quat, "quaternion", 4);
+  make(axis, "long_axis", 3);
+  make(vel, "velocity", 3);
+  make(omega, "angular_velocity", 3);
+  make(nsph, "nspheres", 1);
+  // the component names ParaView shows for the quaternion
+  const char* qnames[4] = {"w", "x", "y", "z"};
+  for (int c = 0; c < 4; ++c) quat->SetComponentName(c, qnames[c]);
+
+  for (vtkIdType k = 0; k < n; ++k) {
+    const int b = list[k];
+    const Vec3 x = ms.wrapped_centre(b);
+    points->SetPoint(k, x[0], x[1], x[2]);
+    conn->SetValue(k, k);
+    ids->SetValue(k, B.tag[b]);
+    types->SetValue(k, B.type[b]);
+    mass->SetValue(k, B.mass[b]);
+    const Eigen::Quaterniond& q = B.quat[b];
+    const double qv[4] = {q.w(), q.x(), q.y(), q.z()};
+    quat->SetTypedTuple(k, qv);
+    // body axis x is the principal axis of the smallest moment (the long axis)
+    const Vec3 a = q * Vec3(1.0, 0.0, 0.0);
+    axis->SetTypedTuple(k, a.data());
+    vel->SetTypedTuple(k, B.vcm[b].data());
+    omega->SetTypedTuple(k, B.omega[b].data());
+    nsph->SetValue(k, B.nspheres[b]);
+  }
+  cells->SetData(1, conn);
+
+  auto ds = vtkSmartPointer<vtkPolyData>::New();
+  ds->SetPoints(points);
+  ds->SetVerts(cells);
+  for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{ids, types, mass, quat, axis, vel, omega, nsph})
+    ds->GetPointData()->AddArray(a);
+  auto tv = vtkSmartPointer<vtkDoubleArray>::New();
+  tv->SetName("TimeValue");
+  tv->InsertNextValue(engine_.update->time());
+  auto cycle = vtkSmartPointer<vtkTypeInt64Array>::New();
+  cycle->SetName("Step");
+  cycle->InsertNextValue(engine_.update->ntimestep);
+  ds->GetFieldData()->AddArray(tv);
+  ds->GetFieldData()->AddArray(cycle);
+
+  // create the file first so that a failure names the file and the reason
+  if (std::FILE* fp = std::fopen(frame.c_str(), "wb")) std::fclose(fp);
+  else return dumpio::open_error(frame);
+  auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+  vtkio::configure_writer(w.Get(), binary_, compressor_);
+  w->SetInputData(ds);
+  w->SetFileName(frame.c_str());
+  if (!w->Write()) return "VTK could not write '" + frame + "'";
+  if (!pvd_.path.empty()) return pvd_.add(frame, engine_.update->time());
+  return "";
+}
+
+void DumpBodiesVTK::write() {
+  const FixMultisphere& ms = multisphere();
+  const Bodies& B = ms.bodies();
+
+  // a body belongs to the dump's group when one of its sub-spheres does
+  std::vector<char> selected(B.size(), 1);
+  if (groupbit != 1) {
+    const Particles& p = *engine_.particles;
+    std::vector<int> local(B.size(), 0), all(B.size(), 0);
+    for (int i = 0; i < p.nlocal; ++i) {
+      if (p.body[i] < 0 || !(p.mask[i] & groupbit)) continue;
+      const int b = B.find(p.body[i]);
+      if (b >= 0) local[b] = 1;
+    }
+    MPI_Allreduce(local.data(), all.data(), B.size(), MPI_INT, MPI_MAX, engine_.world);
+    for (int b = 0; b < B.size(); ++b) selected[b] = static_cast<char>(all[b]);
+  }
+
+  std::string err;
+  if (engine_.rank == 0) err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, pad_), selected);
+  err = dumpio::first_error(engine_.world, err);
+  if (!err.empty()) throw RunError("dump " + id + ": " + err);
+}
+
+GRANARY_DUMP_STYLE("bodies/vtk", DumpBodiesVTK);
+
+}  // namespace granary
