@@ -68,7 +68,8 @@ Options parse_options(int argc, char** argv) {
     } else if (a == "-var" || a == "-v") {
       const std::string name = value(i, a, "a variable name and at least one value");
       std::vector<std::string> vals;
-      while (i + 1 < args.size() && !is_option(args[i + 1])) vals.push_back(args[++i]);
+      while (i + 1 < args.size() && !is_option(args[i + 1]))
+        vals.push_back(args[++i]);
       if (vals.empty()) throw UsageError(a + " " + name + " needs at least one value");
       o.vars.emplace_back(name, vals);
     } else if (a == "-log" || a == "-l") {
@@ -126,9 +127,12 @@ void run(granary::Engine& engine, const Options& opt) {
   if (opt.echo == "log") input.set_echo(false, true);
   if (opt.echo == "both") input.set_echo(true, true);
   if (opt.echo == "none") input.set_echo(false, false);
-  for (const auto& v : opt.vars) input.variables().set_command_line(v.first, v.second);
-  if (opt.have_in) input.file(opt.in);
-  else input.stream(std::cin, "stdin");
+  for (const auto& v : opt.vars)
+    input.variables().set_command_line(v.first, v.second);
+  if (opt.have_in)
+    input.file(opt.in);
+  else
+    input.stream(std::cin, "stdin");
 }
 
 }  // namespace

@@ -21,7 +21,8 @@ struct ScriptEngine {
   void cmd(const std::string& line) { e.input->one(line); }
   /// Execute script lines in order.
   void cmds(const std::vector<std::string>& lines) {
-    for (const auto& l : lines) cmd(l);
+    for (const auto& l : lines)
+      cmd(l);
   }
   void lines(const std::vector<std::string>& script) { cmds(script); }
   const granary::Particles& p() const { return *e.particles; }

@@ -130,8 +130,7 @@ TEST_CASE("Tangential history follows a rotating contact normal", "[contact][tan
   }
 }
 
-TEST_CASE("Spin enters the contact-point velocity with lever arm r - delta/2",
-          "[contact][tangential]") {
+TEST_CASE("Spin enters the contact-point velocity with lever arm r - delta/2", "[contact][tangential]") {
   // A sphere spinning about y on a wall (no centre velocity): its contact
   // point moves with -cr w (y x z) = -cr w x, cr = r - delta/2. After one step
   // Ft = kt cr w dt x and the torque -cr n x Ft = -kt cr^2 w dt y opposes the spin.
@@ -171,8 +170,7 @@ TEST_CASE("Tangential no_history: viscous friction capped by Coulomb", "[contact
   const ModelSpec spec = spec_of(NormalModel::Hertz, TangentialModel::NoHistory);
   REQUIRE(history_size(spec) == 0);
   ContactState c = wall_contact();
-  const double gamma_t =
-      -2.0 * std::sqrt(5.0 / 6.0) * mat.beta * std::sqrt(hertz_kt(c, mat) * c.m_eff);
+  const double gamma_t = -2.0 * std::sqrt(5.0 / 6.0) * mat.beta * std::sqrt(hertz_kt(c, mat) * c.m_eff);
   const Vec3 dir = Vec3(3, -4, 0) / 5.0;
   bool saw_viscous = false, saw_coulomb = false;
   for (double speed = 1e-5; speed < 10.0; speed *= 1.5) {
@@ -199,8 +197,7 @@ TEST_CASE("Tangential no_history: viscous friction capped by Coulomb", "[contact
   CHECK(res.ft.norm() == 0.0);
 }
 
-TEST_CASE("Rolling cdt: constant torque mu_r (kn delta) R* against the rolling spin",
-          "[contact][rolling]") {
+TEST_CASE("Rolling cdt: constant torque mu_r (kn delta) R* against the rolling spin", "[contact][rolling]") {
   // Uses the elastic normal force kn delta (not the damped one). The torque
   // opposes the tangential part w_t of w_r = w_i - w_j and is divided by |w_r|
   // (twist included), as LIGGGHTS 3.8 does (in.three_spheres agrees with it
@@ -287,16 +284,14 @@ TEST_CASE("Rolling epsd2: spring k_r = kt R*^2 up to mu_r R* |Fn|", "[contact][r
   }
 }
 
-TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact",
-          "[contact][history]") {
+TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact", "[contact][history]") {
   // Every model combination: run a few steps as (i,j), copy the history with
   // the swap signs, and evaluate the mirrored state (n, v_rel negated, radii
   // and spins exchanged). Forces must be opposite, torques exchanged and the
   // updated histories mirror images (1e-12 relative).
   const PairMaterial mat = mix_materials(kY, kNu, 2 * kY, 0.2, 0.6, 0.3, 0.1, 0.9);
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
-    for (TangentialModel tm :
-         {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
+    for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
         for (bool limit : {false, true}) {
           ModelSpec spec = spec_of(nm, tm, rm);
@@ -316,8 +311,10 @@ TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact",
           ij.omega_j = Vec3(-8, 12, 30);
           ij.dt = 2e-6;
           ContactResult r_ij, r_ji;
-          for (int k = 0; k < 3; ++k) evaluate(spec, ij, mat, h_ij.data(), r_ij);
-          for (int h = 0; h < nh; ++h) h_ji[h] = signs[h] * h_ij[h];
+          for (int k = 0; k < 3; ++k)
+            evaluate(spec, ij, mat, h_ij.data(), r_ij);
+          for (int h = 0; h < nh; ++h)
+            h_ji[h] = signs[h] * h_ij[h];
           ContactState ji = ij;
           ji.n = -ij.n;
           ji.v_rel = -ij.v_rel;

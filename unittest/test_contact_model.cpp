@@ -98,8 +98,7 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
              Catch::Contains("unknown tangential model 'sticky'"));
   CHECK_THAT(parse_error("model hertz rolling_friction epsd"),
              Catch::Contains("'rolling_friction epsd' is not supported"));
-  CHECK_THAT(parse_error("model hertz cohesion sjkr"),
-             Catch::Contains("'cohesion sjkr' is not supported"));
+  CHECK_THAT(parse_error("model hertz cohesion sjkr"), Catch::Contains("'cohesion sjkr' is not supported"));
   CHECK_THAT(parse_error("model hertz tangential"), Catch::Contains("missing value after"));
   CHECK_THAT(parse_error("model hertz limitForce yes"),
              Catch::Contains("expected 'on' or 'off' after 'limitForce'"));
@@ -110,8 +109,7 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
 
 TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
-    for (TangentialModel tm :
-         {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
+    for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
         for (int flags = 0; flags < 8; ++flags) {
           ModelSpec s;
@@ -145,7 +143,8 @@ TEST_CASE("History layout and swap signs", "[contact][history]") {
   CHECK(history_size(s) == 6);
   double signs[6];
   history_swap_signs(s, signs);
-  for (double x : signs) CHECK(x == -1.0);
+  for (double x : signs)
+    CHECK(x == -1.0);
 
   s.tangential = TangentialModel::NoHistory;
   h = history_layout(s);
@@ -165,8 +164,8 @@ TEST_CASE("Material mixing", "[contact][material]") {
   CHECK(m.Y_eff == Approx(1.0 / ((1 - n1 * n1) / y1 + (1 - n2 * n2) / y2)).epsilon(1e-14));
   CHECK(m.G_eff ==
         Approx(1.0 / (2 * (2 - n1) * (1 + n1) / y1 + 2 * (2 - n2) * (1 + n2) / y2)).epsilon(1e-14));
-  CHECK(m.beta == Approx(std::log(0.5) / std::sqrt(std::log(0.5) * std::log(0.5) + M_PI * M_PI))
-                      .epsilon(1e-14));
+  CHECK(m.beta ==
+        Approx(std::log(0.5) / std::sqrt(std::log(0.5) * std::log(0.5) + M_PI * M_PI)).epsilon(1e-14));
   CHECK(m.restitution == 0.5);
   CHECK(m.friction == 0.4);
   CHECK(m.rolling_friction == 0.05);
@@ -198,8 +197,7 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   c.omega_j = Vec3(-1, 4, 0);
   c.dt = 1e-6;
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
-    for (TangentialModel tm :
-         {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
+    for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
         for (bool limit : {false, true}) {
           ModelSpec s;
@@ -231,8 +229,7 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
           CHECK(h1 == h3);
           CHECK(a.force.norm() > 0.0);
           CHECK((tm == TangentialModel::None) == (a.ft.norm() == 0.0));
-          CHECK((rm == RollingModel::None && tm == TangentialModel::None) ==
-                (a.torque_i.norm() == 0.0));
+          CHECK((rm == RollingModel::None && tm == TangentialModel::None) == (a.torque_i.norm() == 0.0));
         }
       }
     }
@@ -242,8 +239,8 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   std::vector<double> h1(3, 0.0), h2(3, 0.0);
   ContactResult a, b;
   evaluate(s, c, mat, h1.data(), a);
-  evaluate_t<NormalModel::Hertz, TangentialModel::History, RollingModel::None, false>(s, c, mat,
-                                                                                      h2.data(), b);
+  evaluate_t<NormalModel::Hertz, TangentialModel::History, RollingModel::None, false>(s, c, mat, h2.data(),
+                                                                                      b);
   CHECK(a.force == b.force);
 }
 
@@ -268,5 +265,6 @@ TEST_CASE("No overlap gives no force and clears the history", "[contact][dispatc
   CHECK(r.torque_i.norm() == 0.0);
   CHECK(r.torque_j.norm() == 0.0);
   CHECK(r.fn == 0.0);
-  for (double x : h) CHECK(x == 0.0);
+  for (double x : h)
+    CHECK(x == 0.0);
 }

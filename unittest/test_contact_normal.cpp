@@ -60,8 +60,8 @@ ContactState make_state(const Body& a, const Body* b, double dt) {
 // for one sphere against another sphere or the wall z = 0. Runs until the
 // contact has been made and broken again (or max_steps). `observe` sees the
 // result of every force evaluation that found an overlap.
-int collide(const ModelSpec& spec, const PairMaterial& mat, Body& a, Body* b, double dt,
-            int max_steps, const std::function<void(const ContactResult&)>& observe = {}) {
+int collide(const ModelSpec& spec, const PairMaterial& mat, Body& a, Body* b, double dt, int max_steps,
+            const std::function<void(const ContactResult&)>& observe = {}) {
   std::vector<double> hist(history_size(spec), 0.0);
   bool touched = false;
   int contact_steps = 0;
@@ -172,14 +172,13 @@ TEST_CASE("Hertz and Hooke normal damping follow the LIGGGHTS coefficients", "[c
   evaluate(spec_of(NormalModel::Hertz), c, mat, hist, res);
   const double s = std::sqrt(c.r_eff * c.overlap);
   const double kn_hz = 4.0 / 3.0 * mat.Y_eff * s;
-  const double gn_hz =
-      -2.0 * std::sqrt(5.0 / 6.0) * mat.beta * std::sqrt(2 * mat.Y_eff * s * c.m_eff);
+  const double gn_hz = -2.0 * std::sqrt(5.0 / 6.0) * mat.beta * std::sqrt(2 * mat.Y_eff * s * c.m_eff);
   CHECK(res.fn == Approx(kn_hz * c.overlap + gn_hz * 0.3).epsilon(1e-12));
 
   evaluate(spec_of(NormalModel::Hooke), c, mat, hist, res);
   const double sr = std::sqrt(c.r_eff);
-  const double kn_hk = 16.0 / 15.0 * sr * mat.Y_eff *
-                       std::pow(15.0 * c.m_eff * vchar * vchar / (16.0 * sr * mat.Y_eff), 0.2);
+  const double kn_hk =
+      16.0 / 15.0 * sr * mat.Y_eff * std::pow(15.0 * c.m_eff * vchar * vchar / (16.0 * sr * mat.Y_eff), 0.2);
   const double q = M_PI / std::log(e);
   const double gn_hk = std::sqrt(4.0 * c.m_eff * kn_hk / (1.0 + q * q));
   CHECK(res.fn == Approx(kn_hk * c.overlap + gn_hk * 0.3).epsilon(1e-12));
@@ -211,8 +210,8 @@ TEST_CASE("Head-on impact reproduces the coefficient of restitution", "[contact]
         collide(spec_of(nm), mat, a, wall ? nullptr : &b, dt, 100000);
         const double vn_after = (wall ? a.v : Vec3(a.v - b.v)).dot(n);
         const double e_measured = -vn_after / vn_before;
-        INFO("model " << (nm == NormalModel::Hertz ? "hertz" : "hooke") << " e " << e << " wall "
-                      << wall << " measured " << e_measured);
+        INFO("model " << (nm == NormalModel::Hertz ? "hertz" : "hooke") << " e " << e << " wall " << wall
+                      << " measured " << e_measured);
         CHECK(e_measured == Approx(e).epsilon(0.01));
       }
     }
@@ -227,8 +226,8 @@ TEST_CASE("Hertz contact duration matches the elastic theory", "[contact][normal
     const double m_eff = a.m * b.m / (a.m + b.m), r_eff = a.r * b.r / (a.r + b.r);
     const double tc = hertz_contact_time(m_eff, r_eff, mat.Y_eff, v0);
     // The closed form quoted in the literature.
-    CHECK(tc == Approx(2.8683 * std::pow(m_eff * m_eff / (r_eff * mat.Y_eff * mat.Y_eff * v0), 0.2))
-                    .epsilon(1e-4));
+    CHECK(tc ==
+          Approx(2.8683 * std::pow(m_eff * m_eff / (r_eff * mat.Y_eff * mat.Y_eff * v0), 0.2)).epsilon(1e-4));
     const double dt = tc / 5000.0;
     a.x = Vec3(0, -a.r, 0);
     b.x = Vec3(0, b.r, 0);
@@ -289,8 +288,7 @@ TEST_CASE("Pair collisions conserve linear and angular momentum", "[contact][nor
         b.w = Vec3(-20, 60, 10);
         auto momentum = [&]() { return Vec3(a.m * a.v + b.m * b.v); };
         auto angular = [&]() {
-          return Vec3(a.x.cross(a.m * a.v) + a.inertia * a.w + b.x.cross(b.m * b.v) +
-                      b.inertia * b.w);
+          return Vec3(a.x.cross(a.m * a.v) + a.inertia * a.w + b.x.cross(b.m * b.v) + b.inertia * b.w);
         };
         const Vec3 p0 = momentum(), l0 = angular();
         const double tc = hertz_contact_time(a.m * b.m / (a.m + b.m), 0.0013, kY, 1.0);
@@ -317,8 +315,8 @@ TEST_CASE("limitForce forbids attractive normal forces", "[contact][normal]") {
       a.v = Vec3(0, 0, -1.0);
       double fn_min = 0.0;
       const double dt = hertz_contact_time(a.m, a.r, mat.Y_eff, 1.0) / 2000.0;
-      collide(spec_of(nm, TangentialModel::History, RollingModel::None, limit), mat, a, nullptr, dt,
-              100000, [&](const ContactResult& r) {
+      collide(spec_of(nm, TangentialModel::History, RollingModel::None, limit), mat, a, nullptr, dt, 100000,
+              [&](const ContactResult& r) {
                 fn_min = std::min(fn_min, r.fn);
                 CHECK(r.force.dot(Vec3::UnitZ()) == Approx(r.fn).margin(1e-15));
               });

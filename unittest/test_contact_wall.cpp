@@ -170,6 +170,7 @@ TEST_CASE("Without rolling friction a rolling sphere keeps its speed", "[contact
   RollingSphere s(spec_of(NormalModel::Hertz, TangentialModel::History, RollingModel::None), mat);
   s.v = Vec3(0.5, 0, 0);
   s.w = Vec3(0, 0.5 / (s.r - 0.5 * (s.r - s.x.z())), 0);
-  for (double time = 0.0; time < 0.3; time += s.dt) s.step();
+  for (double time = 0.0; time < 0.3; time += s.dt)
+    s.step();
   CHECK(s.v.x() == Approx(0.5).epsilon(1e-4));
 }

@@ -66,7 +66,8 @@ void setup(Engine& e) {
       "fix dumb all particletemplate/multisphere 15485867 atom_type 2 density constant 2500 nspheres 2 "
       "ntry 1000000 spheres -0.001 0 0 0.001 0.001 0 0 0.001 type 2",
   };
-  for (const auto& l : lines) e.input->one(l);
+  for (const auto& l : lines)
+    e.input->one(l);
 }
 
 vtkSmartPointer<vtkPolyData> read_vtp(const std::string& file) {
@@ -107,7 +108,8 @@ TEST_CASE("dump bodies/vtk: every array reads back as the body state", "[dump][v
   setup(e);
   e.input->one("fix ms all multisphere");
   e.input->one("create_clump tri -0.01 0.002 0.0 quat 0.9238795 0 0 0.3826834 vel 0.3 0 0 omega 0 0 10");
-  e.input->one("create_clump dumb 0.01 -0.002 0.001 quat 0.9659258 0 0.2588190 0 vel -0.2 0.1 0 omega 5 -3 2");
+  e.input->one(
+      "create_clump dumb 0.01 -0.002 0.001 quat 0.9659258 0 0.2588190 0 vel -0.2 0.1 0 omega 5 -3 2");
   e.input->one("create_clump tri 0.0 0.02 -0.01 quat 0.5 0.5 0.5 0.5 omega 20 0 0");
   e.input->one("fix g all gravity 9.81 vector 0 0 -1");
   e.input->one("dump b all bodies/vtk 25 " + dir + "/bodies_*.vtp");
@@ -130,19 +132,22 @@ TEST_CASE("dump bodies/vtk: every array reads back as the body state", "[dump][v
   CHECK(id->GetDataTypeSize() == 8);
   CHECK(type->GetDataType() == VTK_INT);
   CHECK(nsph->GetDataType() == VTK_INT);
-  for (vtkDataArray* a : {mass, quat, axis, vel, omega}) CHECK(a->GetDataType() == VTK_DOUBLE);
+  for (vtkDataArray* a : {mass, quat, axis, vel, omega})
+    CHECK(a->GetDataType() == VTK_DOUBLE);
 
   for (int b = 0; b < 3; ++b) {
     INFO("body " << b);
     double x[3];
     pd->GetPoint(b, x);
-    for (int d = 0; d < 3; ++d) CHECK(x[d] == B.xcm[b][d]);  // no periodic boundary: wrapped = unwrapped
+    for (int d = 0; d < 3; ++d)
+      CHECK(x[d] == B.xcm[b][d]);  // no periodic boundary: wrapped = unwrapped
     CHECK(id->GetComponent(b, 0) == static_cast<double>(B.tag[b]));
     CHECK(type->GetComponent(b, 0) == B.type[b]);
     CHECK(mass->GetComponent(b, 0) == B.mass[b]);
     CHECK(nsph->GetComponent(b, 0) == B.nspheres[b]);
     const double q[4] = {B.quat[b].w(), B.quat[b].x(), B.quat[b].y(), B.quat[b].z()};
-    for (int c = 0; c < 4; ++c) CHECK(quat->GetComponent(b, c) == q[c]);
+    for (int c = 0; c < 4; ++c)
+      CHECK(quat->GetComponent(b, c) == q[c]);
     for (int d = 0; d < 3; ++d) {
       CHECK(vel->GetComponent(b, d) == B.vcm[b][d]);
       CHECK(omega->GetComponent(b, d) == B.omega[b][d]);

@@ -54,14 +54,16 @@ void setup_bed(granary::Engine& e) {
       "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
       "fix integr all nve/sphere",
   };
-  for (const auto& l : lines) e.input->one(l);
+  for (const auto& l : lines)
+    e.input->one(l);
 }
 
 std::vector<std::string> read_lines(const std::string& file) {
   std::ifstream in(file);
   std::vector<std::string> out;
   std::string line;
-  while (std::getline(in, line)) out.push_back(line);
+  while (std::getline(in, line))
+    out.push_back(line);
   return out;
 }
 
@@ -69,7 +71,8 @@ std::vector<double> numbers(const std::string& line) {
   std::istringstream in(line);
   std::vector<double> out;
   double v;
-  while (in >> v) out.push_back(v);
+  while (in >> v)
+    out.push_back(v);
   return out;
 }
 
@@ -91,7 +94,8 @@ std::vector<Frame> parse(const std::string& file) {
     f.box = lines[k + 4];
     f.bounds = {lines[k + 5], lines[k + 6], lines[k + 7]};
     f.atoms = lines[k + 8];
-    for (int i = 0; i < n; ++i) f.rows.push_back(lines[k + 9 + i]);
+    for (int i = 0; i < n; ++i)
+      f.rows.push_back(lines[k + 9 + i]);
     frames.push_back(f);
   }
   return frames;
@@ -99,7 +103,8 @@ std::vector<Frame> parse(const std::string& file) {
 
 std::map<long long, int> index_of(granary::Engine& e) {
   std::map<long long, int> m;
-  for (int i = 0; i < e.particles->nlocal; ++i) m[e.particles->id[i]] = i;
+  for (int i = 0; i < e.particles->nlocal; ++i)
+    m[e.particles->id[i]] = i;
   return m;
 }
 
@@ -109,10 +114,12 @@ TEST_CASE("dump custom writes the LAMMPS text format with the particle state", "
   const std::string dir = fresh_dir("format");
   granary::Engine e(MPI_COMM_WORLD);
   setup_bed(e);
-  e.input->one("dump d all custom 10 " + dir + "/dump_*.txt id type x y z vx vy vz fx omegaz radius diameter mass density");
+  e.input->one("dump d all custom 10 " + dir +
+               "/dump_*.txt id type x y z vx vy vz fx omegaz radius diameter mass density");
   e.input->one("dump_modify d precision 17 pad 4");
   e.input->one("run 20");
-  for (const char* f : {"dump_0000.txt", "dump_0010.txt", "dump_0020.txt"}) CHECK(fs::exists(dir + "/" + f));
+  for (const char* f : {"dump_0000.txt", "dump_0010.txt", "dump_0020.txt"})
+    CHECK(fs::exists(dir + "/" + f));
 
   const auto frames = parse(dir + "/dump_0020.txt");
   REQUIRE(frames.size() == 1);
@@ -130,9 +137,19 @@ TEST_CASE("dump custom writes the LAMMPS text format with the particle state", "
     const auto v = numbers(row);
     REQUIRE(v.size() == 14);
     const int i = idx.at(static_cast<long long>(v[0]));
-    const std::vector<double> expect = {static_cast<double>(p.id[i]), static_cast<double>(p.type[i]),
-                                        p.x[i].x(), p.x[i].y(), p.x[i].z(), p.v[i].x(), p.v[i].y(), p.v[i].z(),
-                                        p.f[i].x(), p.omega[i].z(), p.radius[i], 2 * p.radius[i], p.rmass[i],
+    const std::vector<double> expect = {static_cast<double>(p.id[i]),
+                                        static_cast<double>(p.type[i]),
+                                        p.x[i].x(),
+                                        p.x[i].y(),
+                                        p.x[i].z(),
+                                        p.v[i].x(),
+                                        p.v[i].y(),
+                                        p.v[i].z(),
+                                        p.f[i].x(),
+                                        p.omega[i].z(),
+                                        p.radius[i],
+                                        2 * p.radius[i],
+                                        p.rmass[i],
                                         p.density[i]};
     if (v != expect) ++bad;
   }
@@ -171,10 +188,12 @@ TEST_CASE("dump custom: sort id gives ascending ids, sort -N descending values",
   e.input->one("run 5");
   for (const auto& frame : parse(dir + "/a.txt")) {
     REQUIRE(frame.rows.size() == 120);
-    for (std::size_t k = 1; k < frame.rows.size(); ++k) CHECK(numbers(frame.rows[k])[1] > numbers(frame.rows[k - 1])[1]);
+    for (std::size_t k = 1; k < frame.rows.size(); ++k)
+      CHECK(numbers(frame.rows[k])[1] > numbers(frame.rows[k - 1])[1]);
   }
   for (const auto& frame : parse(dir + "/b.txt")) {
-    for (std::size_t k = 1; k < frame.rows.size(); ++k) CHECK(numbers(frame.rows[k])[1] <= numbers(frame.rows[k - 1])[1]);
+    for (std::size_t k = 1; k < frame.rows.size(); ++k)
+      CHECK(numbers(frame.rows[k])[1] <= numbers(frame.rows[k - 1])[1]);
   }
 }
 
@@ -250,7 +269,8 @@ TEST_CASE("dump custom: dump_modify format, region, label and groups", "[dump][c
     CHECK(numbers(row)[1] == 2);
     CHECK(numbers(row)[2] <= 0.006);
   }
-  CHECK_THROWS_WITH(e.input->one("dump_modify a format line \"%d %d\""), Contains("2 conversions for 5 columns"));
+  CHECK_THROWS_WITH(e.input->one("dump_modify a format line \"%d %d\""),
+                    Contains("2 conversions for 5 columns"));
   CHECK_THROWS_WITH(e.input->one("dump_modify a format float %s"), Contains("not a number format"));
   CHECK_THROWS_WITH(e.input->one("dump_modify a sort 9"), Contains("column"));
   CHECK_THROWS_WITH(e.input->one("dump_modify a binary no"), Contains("binary"));
@@ -278,7 +298,8 @@ TEST_CASE("write_dump writes the current state once", "[dump][write_dump]") {
   e.input->one("write_dump all custom/vtk " + dir + "/now.vtp id vx vy vz");
   CHECK(fs::exists(dir + "/now.vtp"));
   CHECK_FALSE(fs::exists(dir + "/now.pvd"));
-  CHECK_THROWS_WITH(e.input->one("write_dump all nosuch " + dir + "/x.txt id"), Contains("unknown dump style"));
+  CHECK_THROWS_WITH(e.input->one("write_dump all nosuch " + dir + "/x.txt id"),
+                    Contains("unknown dump style"));
 }
 
 TEST_CASE("dump custom: unwritable paths and bad fields give clear errors", "[dump][custom][errors]") {
@@ -287,9 +308,11 @@ TEST_CASE("dump custom: unwritable paths and bad fields give clear errors", "[du
   setup_bed(e);
   const std::string missing = dir + "/no/such/dir/d_*.txt";
   CHECK_THROWS_AS(e.input->one("dump d all custom 1 " + missing + " id"), granary::InputError);
-  CHECK_THROWS_WITH(e.input->one("dump d all custom 1 " + missing + " id"), Contains(missing) && Contains("does not exist"));
+  CHECK_THROWS_WITH(e.input->one("dump d all custom 1 " + missing + " id"),
+                    Contains(missing) && Contains("does not exist"));
   CHECK_THROWS_WITH(e.input->one("write_dump all custom " + missing + " id"), Contains(missing));
-  CHECK_THROWS_WITH(e.input->one("dump d all custom 1 " + dir + "/d.txt id vq"), Contains("unknown field 'vq'"));
+  CHECK_THROWS_WITH(e.input->one("dump d all custom 1 " + dir + "/d.txt id vq"),
+                    Contains("unknown field 'vq'"));
   CHECK_THROWS_WITH(e.input->one("dump d all custom 1 " + dir + "/d.txt"), Contains("field"));
   CHECK_THROWS_WITH(e.input->one("dump d all custom 1 " + dir + "/d.txt.gz id"), Contains(".gz"));
 

@@ -66,7 +66,8 @@ void setup_bed(granary::Engine& e) {
       "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
       "fix integr all nve/sphere",
   };
-  for (const auto& l : lines) e.input->one(l);
+  for (const auto& l : lines)
+    e.input->one(l);
 }
 
 vtkSmartPointer<vtkXMLDataElement> read_xml(const std::string& file) {
@@ -112,7 +113,8 @@ TEST_CASE("dump custom/vtk: .vtu files read back as vertex cells", "[dump][vtk]"
   REQUIRE(ug->GetNumberOfCells() == 100);
   CHECK(ug->GetCellType(0) == VTK_VERTEX);
   std::map<long long, int> idx;
-  for (int i = 0; i < e.particles->nlocal; ++i) idx[e.particles->id[i]] = i;
+  for (int i = 0; i < e.particles->nlocal; ++i)
+    idx[e.particles->id[i]] = i;
   vtkDataArray* ids = ug->GetPointData()->GetArray("id");
   vtkDataArray* v = ug->GetPointData()->GetArray("v");
   REQUIRE(ids);
@@ -189,7 +191,8 @@ TEST_CASE("dump custom/vtk: the .pvd collection across runs, names and paths", "
   CHECK(a[3].second == "frames/f_015.vtp");
   CHECK(a[2].first == Approx(10e-5).epsilon(1e-14));
   CHECK(a[3].first == Approx(10e-5 + 5 * 2e-5).epsilon(1e-14));
-  for (const auto& entry : a) CHECK(fs::exists(dir + "/" + entry.second));
+  for (const auto& entry : a)
+    CHECK(fs::exists(dir + "/" + entry.second));
   CHECK_FALSE(fs::exists(dir + "/frames/f_.pvd"));
 
   const auto b = pvd_entries(dir + "/last.pvd");  // no '*': the file holds the latest frame
@@ -198,7 +201,8 @@ TEST_CASE("dump custom/vtk: the .pvd collection across runs, names and paths", "
   CHECK(b[0].first == Approx(a[3].first).epsilon(1e-14));
   CHECK_FALSE(fs::exists(dir + "/none_.pvd"));
   CHECK(fs::exists(dir + "/none_15.vtp"));
-  for (const auto& f : fs::directory_iterator(dir)) CHECK(f.path().extension() != ".tmp");
+  for (const auto& f : fs::directory_iterator(dir))
+    CHECK(f.path().extension() != ".tmp");
 }
 
 TEST_CASE("dump custom/vtk: errors name the file", "[dump][vtk][errors]") {
@@ -209,7 +213,8 @@ TEST_CASE("dump custom/vtk: errors name the file", "[dump][vtk][errors]") {
   CHECK_THROWS_AS(e.input->one("dump d all custom/vtk 1 " + missing + " id"), granary::InputError);
   CHECK_THROWS_WITH(e.input->one("dump d all custom/vtk 1 " + missing + " id"), Contains(missing));
   CHECK_THROWS_WITH(e.input->one("dump d all custom/vtk 1 " + dir + "/p_*.csv id"), Contains(".vtp"));
-  CHECK_THROWS_WITH(e.input->one("dump d all custom/vtk 1 " + dir + "/p_*.vtp id nosuch"), Contains("nosuch"));
+  CHECK_THROWS_WITH(e.input->one("dump d all custom/vtk 1 " + dir + "/p_*.vtp id nosuch"),
+                    Contains("nosuch"));
   e.input->one("dump d all custom/vtk 1 " + dir + "/p_*.vtp id");
   CHECK_THROWS_WITH(e.input->one("dump_modify d compression gzip"), Contains("zlib"));
   CHECK_THROWS_WITH(e.input->one("dump_modify d pvd " + dir + "/x.txt"), Contains(".pvd"));
@@ -241,8 +246,9 @@ TEST_CASE("ParaView opens the .pvd and renders the particles", "[dump][vtk][para
   const std::string dir = fresh_dir("paraview");
   const std::string exe = find_paraview_python(dir);
   if (exe.empty()) {
-    WARN("skipped: no pvpython or pvbatch with the paraview Python module (Debian: python3-paraview, "
-         "which conflicts with libvtk9-dev)");
+    WARN(
+        "skipped: no pvpython or pvbatch with the paraview Python module (Debian: python3-paraview, "
+        "which conflicts with libvtk9-dev)");
     return;
   }
   {
@@ -252,26 +258,28 @@ TEST_CASE("ParaView opens the .pvd and renders the particles", "[dump][vtk][para
     e.input->one("run 20");
   }
   const std::string abs = fs::absolute(dir).string();
-  std::ofstream(dir + "/render.py")
-      << "from paraview.simple import *\n"
-      << "reader = PVDReader(FileName=r'" << abs << "/particles_.pvd')\n"
-      << "reader.UpdatePipeline()\n"
-      << "times = list(reader.TimestepValues)\n"
-      << "n = reader.GetDataInformation().GetNumberOfPoints()\n"
-      << "open(r'" << abs << "/info.txt', 'w').write('%d %d\\n' % (len(times), n))\n"
-      << "view = CreateView('RenderView')\n"
-      << "view.ViewSize = [480, 360]\n"
-      << "glyph = Glyph(Input=reader, GlyphType='Sphere')\n"
-      << "glyph.ScaleArray = ['POINTS', 'radius']\n"
-      << "glyph.ScaleFactor = 2.0\n"
-      << "glyph.GlyphMode = 'All Points'\n"
-      << "display = Show(glyph, view)\n"
-      << "ColorBy(display, ('POINTS', 'v', 'Magnitude'))\n"
-      << "view.ViewTime = times[-1]\n"
-      << "ResetCamera(view)\n"
-      << "Render(view)\n"
-      << "SaveScreenshot(r'" << abs << "/particles.png', view, ImageResolution=[480, 360])\n";
-  const std::string run = exe + " --force-offscreen-rendering " + dir + "/render.py > " + dir + "/render.log 2>&1";
+  std::ofstream(dir + "/render.py") << "from paraview.simple import *\n"
+                                    << "reader = PVDReader(FileName=r'" << abs << "/particles_.pvd')\n"
+                                    << "reader.UpdatePipeline()\n"
+                                    << "times = list(reader.TimestepValues)\n"
+                                    << "n = reader.GetDataInformation().GetNumberOfPoints()\n"
+                                    << "open(r'" << abs
+                                    << "/info.txt', 'w').write('%d %d\\n' % (len(times), n))\n"
+                                    << "view = CreateView('RenderView')\n"
+                                    << "view.ViewSize = [480, 360]\n"
+                                    << "glyph = Glyph(Input=reader, GlyphType='Sphere')\n"
+                                    << "glyph.ScaleArray = ['POINTS', 'radius']\n"
+                                    << "glyph.ScaleFactor = 2.0\n"
+                                    << "glyph.GlyphMode = 'All Points'\n"
+                                    << "display = Show(glyph, view)\n"
+                                    << "ColorBy(display, ('POINTS', 'v', 'Magnitude'))\n"
+                                    << "view.ViewTime = times[-1]\n"
+                                    << "ResetCamera(view)\n"
+                                    << "Render(view)\n"
+                                    << "SaveScreenshot(r'" << abs
+                                    << "/particles.png', view, ImageResolution=[480, 360])\n";
+  const std::string run =
+      exe + " --force-offscreen-rendering " + dir + "/render.py > " + dir + "/render.log 2>&1";
   int rc = std::system(run.c_str());
   if (rc != 0 && std::system("command -v xvfb-run > /dev/null 2>&1") == 0) {
     rc = std::system(("xvfb-run -a " + run).c_str());

@@ -117,8 +117,8 @@ double hertz_time(double v) {
 
 TEST_CASE("unknown commands and styles suggest the closest name", "[errors]") {
   Sim s;
-  CHECK_THAT(input_error(s, "timestpe 1e-5"), Contains("unknown command 'timestpe'") &&
-                                                   Contains("did you mean 'timestep'?"));
+  CHECK_THAT(input_error(s, "timestpe 1e-5"),
+             Contains("unknown command 'timestpe'") && Contains("did you mean 'timestep'?"));
   CHECK_THAT(input_error(s, "pair_style grann model hertz"),
              Contains("unknown pair style 'grann'") && Contains("did you mean 'gran'?"));
   CHECK_THAT(input_error(s, "region r blok 0 1 0 1 0 1 units box"),
@@ -157,8 +157,10 @@ TEST_CASE("commands in the wrong order say what must come first", "[errors]") {
   }
   {
     Sim s;
-    s.lines({"units si", "atom_style granular", "region box block 0 1 0 1 0 1 units box", "create_box 1 box"});
-    CHECK_THAT(input_error(s, "pair_coeff * *"), Contains("pair_coeff needs a pair style: use pair_style first"));
+    s.lines(
+        {"units si", "atom_style granular", "region box block 0 1 0 1 0 1 units box", "create_box 1 box"});
+    CHECK_THAT(input_error(s, "pair_coeff * *"),
+               Contains("pair_coeff needs a pair style: use pair_style first"));
     CHECK_THAT(input_error(s, "boundary p p p"), Contains("boundary must come before the box is created"));
   }
   {
@@ -176,7 +178,8 @@ TEST_CASE("commands in the wrong order say what must come first", "[errors]") {
 
 TEST_CASE("settings with a bad value are rejected with the accepted values", "[errors]") {
   Sim s;
-  CHECK_THAT(input_error(s, "processors 2 1 1"), Contains("processors 2 1 1 does not divide the 1 MPI ranks"));
+  CHECK_THAT(input_error(s, "processors 2 1 1"),
+             Contains("processors 2 1 1 does not divide the 1 MPI ranks"));
   CHECK_THAT(input_error(s, "thermo_style custom step kee"),
              Contains("unknown thermo keyword 'kee'") && Contains("did you mean 'ke'?"));
   CHECK_THAT(input_error(s, "neigh_modify evrey 5"),
@@ -269,9 +272,10 @@ namespace {
 /// at the next neighbour-list rebuild (about every 11 steps for a skin of 1 mm).
 void shoot_out(Sim& s, const std::string& lost) {
   s.lines(granular_setup("f f f"));
-  s.lines({"create_atoms 1 single 0.002 0.005 0.005 units box", "create_atoms 1 single 0.005 0.005 0.005 units box",
-           "set type 1 diameter 0.002 density 2500", "set atom 2 vx 5.0", "fix integr all nve/sphere",
-           "timestep 1e-5", "thermo_style custom step atoms ke"});
+  s.lines({"create_atoms 1 single 0.002 0.005 0.005 units box",
+           "create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
+           "set atom 2 vx 5.0", "fix integr all nve/sphere", "timestep 1e-5",
+           "thermo_style custom step atoms ke"});
   if (!lost.empty()) s.cmd("thermo_modify lost " + lost);
 }
 }  // namespace
@@ -339,7 +343,9 @@ Program run_program(const std::string& script) {
   return p;
 }
 
-void write_file(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
 }  // namespace
 
 TEST_CASE("the program reports script errors with file and line and exits non-zero", "[errors][cli]") {
@@ -363,8 +369,10 @@ TEST_CASE("an error in an included file shows the include chain", "[errors][cli]
   const std::string main = "test_errors_outer.in", sub = "test_errors_inner.in";
   write_file(main,
              "units si\n"
-             "include " + sub + "\n"
-             "print \"not reached\"\n");
+             "include " +
+                 sub +
+                 "\n"
+                 "print \"not reached\"\n");
   write_file(sub,
              "atom_style granular\n"
              "\n"
@@ -384,10 +392,11 @@ TEST_CASE("the program stops with an error when a run fails", "[errors][cli]") {
   const std::string main = "test_errors_run.in";
   std::string script;
   auto lines = granular_setup("f f f");
-  lines.insert(lines.end(), {"create_atoms 1 single 0.002 0.005 0.005 units box",
-                             "create_atoms 1 single 0.005 0.005 0.005 units box",
-                             "set type 1 diameter 0.002 density 2500", "set atom 2 vx 5.0",
-                             "fix integr all nve/sphere", "timestep 1e-5", "run 200", "print \"not reached\""});
+  lines.insert(lines.end(),
+               {"create_atoms 1 single 0.002 0.005 0.005 units box",
+                "create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
+                "set atom 2 vx 5.0", "fix integr all nve/sphere", "timestep 1e-5", "run 200",
+                "print \"not reached\""});
   int run_line = 0;
   for (std::size_t k = 0; k < lines.size(); ++k) {
     script += lines[k] + "\n";

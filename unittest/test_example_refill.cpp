@@ -44,8 +44,8 @@ std::string read_text(const std::string& file) {
 
 // Run the program in `dir` with a clean environment; returns the exit status.
 int run_program(const std::string& dir, const std::string& args, const std::string& out) {
-  const std::string cmd = "cd \"" + dir + "\" && env -i PATH=\"$PATH\" HOME=\"$HOME\" " GRANARY_BINARY " " + args +
-                          " -log none > " + out + " 2>&1 < /dev/null";
+  const std::string cmd = "cd \"" + dir + "\" && env -i PATH=\"$PATH\" HOME=\"$HOME\" " GRANARY_BINARY " " +
+                          args + " -log none > " + out + " 2>&1 < /dev/null";
   const int rc = std::system(cmd.c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
 }
@@ -80,7 +80,8 @@ TEST_CASE("example refill: the fill/refill restart chain across program invocati
   const fs::path dir = fs::temp_directory_path() / ("granary_refill_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  for (const char* f : {"in.fill", "in.refill"}) fs::copy_file(src / f, dir / f);
+  for (const char* f : {"in.fill", "in.refill"})
+    fs::copy_file(src / f, dir / f);
 
   const double vp = M_PI / 6 * kD * kD * kD;
   const double target = kPhi * M_PI * kR * kR * kH / vp;  // 256 spheres in the fill zone
@@ -102,8 +103,10 @@ TEST_CASE("example refill: the fill/refill restart chain across program invocati
   REQUIRE(fs::exists(dir / "fill.restart"));
 
   // 2. cycles 1 and 2 from fill.restart; 3. cycle 3 from refill_2.restart
-  REQUIRE(run_program(dir.string(), "-in in.refill" + kVars + " -var first 1 -var last 2", "refill_a.out") == 0);
-  REQUIRE(run_program(dir.string(), "-in in.refill" + kVars + " -var restart_in refill_2.restart -var first 3 -var last 3",
+  REQUIRE(run_program(dir.string(), "-in in.refill" + kVars + " -var first 1 -var last 2", "refill_a.out") ==
+          0);
+  REQUIRE(run_program(dir.string(),
+                      "-in in.refill" + kVars + " -var restart_in refill_2.restart -var first 3 -var last 3",
                       "refill_b.out") == 0);
   auto chain = stages(read_text((dir / "refill_a.out").string()));
   const auto more = stages(read_text((dir / "refill_b.out").string()));

@@ -41,7 +41,8 @@ struct Scratch {
   /// take this MPI process's settings for its own).
   Result run(const std::string& args, const std::string& stdin_text = "") const {
     const std::string in = write(".stdin", stdin_text);
-    const std::string cmd = "cd '" + dir + "' && env -i PATH=\"$PATH\" HOME=\"$HOME\" timeout 120 " GRANARY_BINARY " " +
+    const std::string cmd = "cd '" + dir +
+                            "' && env -i PATH=\"$PATH\" HOME=\"$HOME\" timeout 120 " GRANARY_BINARY " " +
                             args + " < " + in + " > .stdout 2> .stderr";
     const int rc = std::system(cmd.c_str());
     Result r;
@@ -113,7 +114,8 @@ TEST_CASE("command line: -help and unknown options", "[input][cli]") {
   CHECK_THAT(r.out, Catch::Contains("-var NAME"));
   r = s.run("-inn x");
   CHECK(r.status == 1);
-  CHECK_THAT(r.err, Catch::Contains("unknown command-line option '-inn'") && Catch::Contains("did you mean '-in'"));
+  CHECK_THAT(r.err,
+             Catch::Contains("unknown command-line option '-inn'") && Catch::Contains("did you mean '-in'"));
   CHECK_THAT(r.err, Catch::Contains("Usage: granary"));
   r = s.run("-echo loud");
   CHECK(r.status == 1);

@@ -23,8 +23,8 @@ const double kPi = 3.14159265358979323846;
 
 /// Four local atoms; step 50 of a run from 0 to 100 with dt 0.1.
 struct TestResolver : granary::Resolver {
-  std::map<std::string, double> keys{{"step", 50}, {"__beginstep", 0}, {"__endstep", 100}, {"dt", 0.1},
-                                     {"vol", 8}};
+  std::map<std::string, double> keys{
+      {"step", 50}, {"__beginstep", 0}, {"__endstep", 100}, {"dt", 0.1}, {"vol", 8}};
   std::map<std::string, std::vector<double>> atoms{
       {"id", {10, 11, 12, 13}}, {"x", {1, 2, 3, 4}}, {"mass", {1, 1, 2, 2}}, {"type", {1, 2, 1, 2}}};
   Args last_group_args;
@@ -38,7 +38,8 @@ struct TestResolver : granary::Resolver {
   }
   std::vector<std::string> keyword_names() override {
     std::vector<std::string> out;
-    for (const auto& kv : keys) out.push_back(kv.first);
+    for (const auto& kv : keys)
+      out.push_back(kv.first);
     return out;
   }
   double compute_value(const std::string& id, int index) override {
@@ -123,9 +124,9 @@ TEST_CASE("operators and precedence", "[input][expression]") {
   CHECK(eval("!0") == 1);
   CHECK(eval("!3") == 0);
   CHECK(eval("!0+1") == 2);
-  CHECK(eval("1+2<4") == 1);      // + before <
-  CHECK(eval("1<2==1") == 1);     // < before ==
-  CHECK(eval("0||1&&0") == 0);    // && before ||
+  CHECK(eval("1+2<4") == 1);    // + before <
+  CHECK(eval("1<2==1") == 1);   // < before ==
+  CHECK(eval("0||1&&0") == 0);  // && before ||
   CHECK(eval("1||0&&0") == 1);
   CHECK(eval("1==1&&2==2") == 1);
   CHECK(eval("1.5e2 + .5 + 2.") == 152.5);
@@ -143,9 +144,9 @@ TEST_CASE("constants, thermo keywords and references", "[input][expression]") {
   CHECK(eval("f_wall[3]") == 103);
   CHECK(eval("x[12]") == 3);  // value of the atom with ID 12
   CHECK(eval("mass[13]*2") == 4);
-  CHECK(eval("C_pa[11]") == 2);       // per-atom compute, atom ID 11
-  CHECK(eval("C_pa[11][2]") == 22);   // column 2
-  CHECK(eval("c_ke[1+1]") == 3);      // index from a formula
+  CHECK(eval("C_pa[11]") == 2);      // per-atom compute, atom ID 11
+  CHECK(eval("C_pa[11][2]") == 22);  // column 2
+  CHECK(eval("c_ke[1+1]") == 3);     // index from a formula
 }
 
 TEST_CASE("math functions", "[input][expression]") {
@@ -196,8 +197,8 @@ TEST_CASE("random and normal are seeded and repeatable", "[input][expression]") 
   const double a1 = a.evaluate(r), a2 = a.evaluate(r);
   CHECK(a1 >= 2);
   CHECK(a1 < 3);
-  CHECK(a1 != a2);                  // a sequence
-  CHECK(b.evaluate(r) == a1);       // same seed, same sequence
+  CHECK(a1 != a2);             // a sequence
+  CHECK(b.evaluate(r) == a1);  // same seed, same sequence
   Expression n("normal(1,0.5,777)");
   double sum = 0, sum2 = 0;
   const int m = 4000;
@@ -240,7 +241,8 @@ TEST_CASE("atom-style formulas evaluate whole per-atom vectors", "[input][expres
   const auto rnd = eval_atom("random(0,1,99)");
   REQUIRE(rnd.size() == 4);
   CHECK(std::set<double>(rnd.begin(), rnd.end()).size() == 4);
-  for (double x : rnd) CHECK((x >= 0 && x < 1));
+  for (double x : rnd)
+    CHECK((x >= 0 && x < 1));
   // per-atom faults may happen on one rank only: RunError
   CHECK_THROWS_AS(eval_atom("1/(x-2)"), RunError);
   CHECK_THROWS_WITH(eval_atom("sqrt(x-3)"), Catch::Contains("sqrt()") && Catch::Contains("sqrt(x-3)"));
@@ -257,9 +259,11 @@ TEST_CASE("formula errors name the formula and suggest fixes", "[input][expressi
   CHECK_THROWS_WITH(eval("foo(1)"), Catch::Contains("unknown function 'foo()'"));
   CHECK_THROWS_WITH(eval("sqr(4)"), Catch::Contains("did you mean 'sqrt'"));
   CHECK_THROWS_WITH(eval("atan2(1)"), Catch::Contains("atan2() takes 2 argument(s), got 1"));
-  CHECK_THROWS_WITH(eval("stepp+1"), Catch::Contains("unknown name 'stepp'") && Catch::Contains("did you mean 'step'"));
+  CHECK_THROWS_WITH(eval("stepp+1"),
+                    Catch::Contains("unknown name 'stepp'") && Catch::Contains("did you mean 'step'"));
   CHECK_THROWS_WITH(eval("x+1"), Catch::Contains("per-atom property"));
-  CHECK_THROWS_WITH(eval("c_nope"), Catch::Contains("unknown compute ID 'nope'") && Catch::Contains("c_nope"));
+  CHECK_THROWS_WITH(eval("c_nope"),
+                    Catch::Contains("unknown compute ID 'nope'") && Catch::Contains("c_nope"));
   CHECK_THROWS_WITH(eval("x[99]"), Catch::Contains("no atom with ID 99"));
   CHECK_THROWS_WITH(eval("c_ke[0]"), Catch::Contains("must be 1 or larger"));
   CHECK_THROWS_WITH(eval("v_a"), Catch::Contains("unknown variable 'a'"));
@@ -279,10 +283,12 @@ TEST_CASE("deep or long formulas are refused, not crashed on", "[input][expressi
   CHECK_THROWS_WITH(Expression(deep), Catch::Contains("nested too deeply"));
   CHECK_THROWS_AS(Expression(std::string(5000, '-') + "1"), InputError);
   std::string sum = "1";
-  for (int i = 0; i < 5000; ++i) sum += "+1";
+  for (int i = 0; i < 5000; ++i)
+    sum += "+1";
   CHECK_THROWS_AS(Expression(sum), InputError);
   std::string ok = "1";
-  for (int i = 0; i < 99; ++i) ok += "+1";
+  for (int i = 0; i < 99; ++i)
+    ok += "+1";
   CHECK(eval(ok) == 100);
 }
 

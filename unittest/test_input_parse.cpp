@@ -83,7 +83,8 @@ TEST_CASE("$ substitution of variables and immediate formulas", "[input][parse]"
   CHECK(v.substitute("$(1/3)") == "0.333333333333333");
   CHECK(v.substitute("$(v_a:%d) items") == "7 items");
   // no substitution inside quotes (commands like print and if substitute later)
-  CHECK(v.substitute("print '$a' \"${name}\" \"\"\"$a\"\"\" $a") == "print '$a' \"${name}\" \"\"\"$a\"\"\" 7");
+  CHECK(v.substitute("print '$a' \"${name}\" \"\"\"$a\"\"\" $a") ==
+        "print '$a' \"${name}\" \"\"\"$a\"\"\" 7");
   // substituted text is not scanned again
   v.set({"d", "string", "'$a'"});
   CHECK(v.substitute("$d") == "'$a'");
@@ -92,8 +93,8 @@ TEST_CASE("$ substitution of variables and immediate formulas", "[input][parse]"
 TEST_CASE("$ substitution errors say what is wrong", "[input][parse]") {
   granary::Variables v;
   v.set({"name", "string", "x"});
-  CHECK_THROWS_WITH(v.substitute("${nme}"), Catch::Contains("unknown variable 'nme'") &&
-                                                 Catch::Contains("did you mean 'name'"));
+  CHECK_THROWS_WITH(v.substitute("${nme}"),
+                    Catch::Contains("unknown variable 'nme'") && Catch::Contains("did you mean 'name'"));
   CHECK_THROWS_WITH(v.substitute("${name"), Catch::Contains("missing '}'"));
   CHECK_THROWS_WITH(v.substitute("$(1+2"), Catch::Contains("missing ')'"));
   CHECK_THROWS_WITH(v.substitute("cost $ 5"), Catch::Contains("'$' must be followed"));

@@ -148,8 +148,9 @@ TEST_CASE("if / elif / else pick one branch", "[input][script]") {
   // `one` takes a single line: continuation is a file feature, so build it flat
   auto pick_flat = [&](const std::string& x) {
     q.input.one("variable x equal " + x);
-    q.input.one("if \"${x} > 10\" then \"variable r string big\" elif \"${x} > 3\" "
-                "\"variable r string mid\" \"variable r2 string also\" else \"variable r string small\"");
+    q.input.one(
+        "if \"${x} > 10\" then \"variable r string big\" elif \"${x} > 3\" "
+        "\"variable r string mid\" \"variable r2 string also\" else \"variable r string small\"");
     return q.value("r");
   };
   (void)pick;
@@ -173,9 +174,9 @@ TEST_CASE("include runs another file; its variables remain", "[input][script]") 
   Scratch s;
   Quiet q;
   s.write("in.settings", "variable radius equal 0.002\nvariable name string silo\n");
-  const std::string in = s.write("in.main",
-                                 "include " + s.path("in.settings") + "\n"
-                                 "variable d equal 2*v_radius\n");
+  const std::string in = s.write("in.main", "include " + s.path("in.settings") +
+                                                "\n"
+                                                "variable d equal 2*v_radius\n");
   q.input.file(in);
   CHECK(q.input.variables().compute_equal("d") == Approx(0.004));
   CHECK(q.value("name") == "silo");
@@ -192,7 +193,8 @@ TEST_CASE("errors name file, line, command and the include chain", "[input][scri
           "primt \"hello\"\n");
   const std::string outer = s.write("in.outer",
                                     "variable a equal 1\n"
-                                    "include " + s.path("in.inner") + "\n");
+                                    "include " +
+                                        s.path("in.inner") + "\n");
   const std::string msg = error_of(q, outer);
   CHECK_THAT(msg, Catch::StartsWith(s.path("in.inner") + ":4: primt: unknown command 'primt'"));
   CHECK_THAT(msg, Catch::Contains("did you mean 'print'"));
@@ -210,11 +212,13 @@ TEST_CASE("errors name file, line, command and the include chain", "[input][scri
                                        Catch::Contains("did you mean 'name'"));
   const std::string in_if = s.write("in.if", "if 1 then \"variable v equal 1/0\" \"print $(v_v)\"\n");
   CHECK_THAT(error_of(q, in_if), Catch::StartsWith(in_if + ":1: print: variable v: division by zero"));
-  const std::string nolabel = s.write("in.nolabel", "print a screen no\njump SELF nowhere\nprint b screen no\n");
+  const std::string nolabel =
+      s.write("in.nolabel", "print a screen no\njump SELF nowhere\nprint b screen no\n");
   CHECK_THAT(error_of(q, nolabel), Catch::StartsWith(nolabel + ":2: jump: label 'nowhere' not found"));
   CHECK_THAT(error_of(q, s.path("missing.in")), Catch::Contains("cannot open input script"));
   const std::string inc_missing = s.write("in.incmissing", "include " + s.path("nothere") + "\n");
-  CHECK_THAT(error_of(q, inc_missing), Catch::StartsWith(inc_missing + ":1: include: cannot open input script"));
+  CHECK_THAT(error_of(q, inc_missing),
+             Catch::StartsWith(inc_missing + ":1: include: cannot open input script"));
 }
 
 TEST_CASE("quit stops all files and keeps its status", "[input][script]") {
@@ -236,12 +240,17 @@ TEST_CASE("print to files; comments, continuation and triple quotes in files", "
   const std::string out = s.path("out.txt");
   const std::string in = s.write("in.print",
                                  "variable v equal 2.5   # a comment\n"
-                                 "print \"v = $v, twice $(v_v*2:%.1f) # not a comment\" file " + out + " screen no\n"
-                                 "print 'second &\n"
-                                 "   line' append " + out + " screen no\n"
-                                 "print \"\"\"\n"
-                                 "triple ${v}\n"
-                                 "\"\"\" append " + out + " screen no\n");
+                                 "print \"v = $v, twice $(v_v*2:%.1f) # not a comment\" file " +
+                                     out +
+                                     " screen no\n"
+                                     "print 'second &\n"
+                                     "   line' append " +
+                                     out +
+                                     " screen no\n"
+                                     "print \"\"\"\n"
+                                     "triple ${v}\n"
+                                     "\"\"\" append " +
+                                     out + " screen no\n");
   q.input.file(in);
   CHECK(s.read("out.txt") == "v = 2.5, twice 5.0 # not a comment\nsecond    line\n\ntriple 2.5\n\n");
   CHECK_THROWS_WITH(q.input.one("print hello world"), Catch::Contains("unknown print keyword 'world'"));
@@ -251,15 +260,15 @@ TEST_CASE("log and echo write commands and output to the log file", "[input][scr
   Scratch s;
   Quiet q;
   const std::string log = s.path("log.test");
-  const std::string in = s.write("in.log",
-                                 "log " + log + "\n"
-                                 "echo log\n"
-                                 "variable x index 4\n"
-                                 "print \"x is $x\"\n"
-                                 "echo none\n"
-                                 "print hidden_command_shown_output\n"
-                                 "log none\n"
-                                 "print not_in_log\n");
+  const std::string in = s.write("in.log", "log " + log +
+                                               "\n"
+                                               "echo log\n"
+                                               "variable x index 4\n"
+                                               "print \"x is $x\"\n"
+                                               "echo none\n"
+                                               "print hidden_command_shown_output\n"
+                                               "log none\n"
+                                               "print not_in_log\n");
   q.input.file(in);
   const std::string text = s.read("log.test");
   CHECK_THAT(text, Catch::Contains("variable x index 4\n"));

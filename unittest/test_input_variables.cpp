@@ -26,9 +26,12 @@ struct TwoAtoms : granary::Resolver {
     return true;
   }
   bool atom_vector(const std::string& name, std::vector<double>& out) override {
-    if (name == "x") out = {1, 3};
-    else if (name == "id") out = {1, 2};
-    else return false;
+    if (name == "x")
+      out = {1, 3};
+    else if (name == "id")
+      out = {1, 2};
+    else
+      return false;
     return true;
   }
   std::size_t nlocal() override { return 2; }
@@ -58,7 +61,8 @@ TEST_CASE("loop variables, with start, end and padding", "[input][variable]") {
   Variables v;
   v.set({"i", "loop", "3"});
   std::string seen;
-  do seen += v.retrieve("i");
+  do
+    seen += v.retrieve("i");
   while (!v.next({"i"}));
   CHECK(seen == "123");
   v.set({"j", "loop", "8", "10", "pad"});
@@ -105,7 +109,7 @@ TEST_CASE("string, equal, format, internal and getenv styles", "[input][variable
   CHECK(v.retrieve("e") == "9");
   v.set({"third", "equal", "1/3"});
   CHECK(v.retrieve("third") == "0.333333333333333");  // %.15g
-  v.set({"spaced", "equal", "1", "+", "2"});         // unquoted words are joined
+  v.set({"spaced", "equal", "1", "+", "2"});          // unquoted words are joined
   CHECK(v.compute_equal("spaced") == 3);
   v.set({"f", "format", "third", "%.3f"});
   CHECK(v.retrieve("f") == "0.333");
@@ -121,11 +125,13 @@ TEST_CASE("string, equal, format, internal and getenv styles", "[input][variable
   v.set({"num", "string", "2*3"});
   CHECK(v.compute_equal("num") == 6);  // a string holding a formula
   v.set({"word", "string", "abc"});
-  CHECK_THROWS_WITH(v.compute_equal("word"), Catch::Contains("variable word") && Catch::Contains("not a number"));
+  CHECK_THROWS_WITH(v.compute_equal("word"),
+                    Catch::Contains("variable word") && Catch::Contains("not a number"));
   CHECK_THROWS_WITH(v.set({"bad", "format", "third", "%s"}), Catch::Contains("not a number format"));
   CHECK_THROWS_WITH(v.set({"bad", "string", "a", "b"}), Catch::Contains("quotes"));
   CHECK_THROWS_WITH(v.set({"bad", "internal", "x"}), Catch::Contains("needs a number"));
-  CHECK_THROWS_WITH(v.set({"bad", "equal", "1+"}), Catch::Contains("variable bad") && Catch::Contains("syntax error"));
+  CHECK_THROWS_WITH(v.set({"bad", "equal", "1+"}),
+                    Catch::Contains("variable bad") && Catch::Contains("syntax error"));
 }
 
 TEST_CASE("file-style variables read one value per line", "[input][variable]") {
@@ -151,7 +157,7 @@ TEST_CASE("redefinition, delete and command-line variables", "[input][variable]"
   Variables v;
   v.set({"a", "index", "1"});
   CHECK_THROWS_WITH(v.set({"a", "equal", "2"}), Catch::Contains("already exists with style index") &&
-                                                   Catch::Contains("variable a delete"));
+                                                    Catch::Contains("variable a delete"));
   v.set({"a", "delete"});
   CHECK_FALSE(v.find("a"));
   v.set({"a", "delete"});  // deleting a missing variable is fine
@@ -182,12 +188,16 @@ TEST_CASE("variables refer to each other; cycles and unknown names are errors", 
   CHECK(v.compute_equal("b") == 27);
   v.set({"p", "equal", "v_q+1"});
   v.set({"q", "equal", "v_p+1"});
-  CHECK_THROWS_WITH(v.compute_equal("p"), Catch::Contains("refers to itself") && Catch::Contains("p -> q -> p"));
+  CHECK_THROWS_WITH(v.compute_equal("p"),
+                    Catch::Contains("refers to itself") && Catch::Contains("p -> q -> p"));
   v.set({"c", "equal", "v_aa"});
-  CHECK_THROWS_WITH(v.compute_equal("c"), Catch::Contains("unknown variable 'aa'") && Catch::Contains("did you mean 'a'"));
-  CHECK_THROWS_WITH(v.compute_equal("bb"), Catch::Contains("unknown variable 'bb'") && Catch::Contains("did you mean 'b'"));
+  CHECK_THROWS_WITH(v.compute_equal("c"),
+                    Catch::Contains("unknown variable 'aa'") && Catch::Contains("did you mean 'a'"));
+  CHECK_THROWS_WITH(v.compute_equal("bb"),
+                    Catch::Contains("unknown variable 'bb'") && Catch::Contains("did you mean 'b'"));
   v.set({"z", "equal", "1/(v_a-3)"});
-  CHECK_THROWS_WITH(v.compute_equal("z"), Catch::Contains("variable z") && Catch::Contains("division by zero") &&
+  CHECK_THROWS_WITH(v.compute_equal("z"), Catch::Contains("variable z") &&
+                                              Catch::Contains("division by zero") &&
                                               Catch::Contains("1/(v_a-3)"));
   CHECK(v.evaluate("v_a*v_b") == 81);
 }

@@ -28,10 +28,10 @@
 #include "fix/modify.h"
 #include "particles/particles.h"
 
+using Catch::Matchers::Contains;
 using granary::Engine;
 using granary::InputError;
 using granary::Vec3;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -51,19 +51,21 @@ std::vector<Part> gather(Engine& e) {
   const auto& p = *e.particles;
   std::vector<double> mine;
   for (int i = 0; i < p.nlocal; ++i) {
-    mine.insert(mine.end(), {static_cast<double>(p.id[i]), static_cast<double>(p.type[i]), p.x[i][0], p.x[i][1],
-                             p.x[i][2], p.v[i][0], p.v[i][1], p.v[i][2], p.radius[i], p.rmass[i]});
+    mine.insert(mine.end(), {static_cast<double>(p.id[i]), static_cast<double>(p.type[i]), p.x[i][0],
+                             p.x[i][1], p.x[i][2], p.v[i][0], p.v[i][1], p.v[i][2], p.radius[i], p.rmass[i]});
   }
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
   std::vector<Part> out;
   for (std::size_t k = 0; k + 9 < all.size(); k += 10) {
-    out.push_back({static_cast<long long>(all[k]), static_cast<int>(all[k + 1]), Vec3(all[k + 2], all[k + 3], all[k + 4]),
-                   Vec3(all[k + 5], all[k + 6], all[k + 7]), all[k + 8], all[k + 9]});
+    out.push_back({static_cast<long long>(all[k]), static_cast<int>(all[k + 1]),
+                   Vec3(all[k + 2], all[k + 3], all[k + 4]), Vec3(all[k + 5], all[k + 6], all[k + 7]),
+                   all[k + 8], all[k + 9]});
   }
   std::sort(out.begin(), out.end(), [](const Part& a, const Part& b) { return a.id < b.id; });
   return out;
@@ -83,7 +85,9 @@ double min_gap(const std::vector<Part>& ps, double px = 0.0, double py = 0.0) {
   return worst;
 }
 
-double sphere_volume(double r) { return 4.0 / 3.0 * M_PI * r * r * r; }
+double sphere_volume(double r) {
+  return 4.0 / 3.0 * M_PI * r * r * r;
+}
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -148,7 +152,8 @@ TEST_CASE("insert/pack reaches the volume fraction without overlaps, all inside 
   CHECK(min_gap(ps) >= -1e-15);
   // the mass fractions of the two templates are those asked for (exact distribution)
   double m1 = 0.0;
-  for (const auto& p : ps) m1 += p.type == 1 ? p.m : 0.0;
+  for (const auto& p : ps)
+    m1 += p.type == 1 ? p.m : 0.0;
   CHECK(m1 / mass == Approx(0.3).margin(0.02));
   // ids are 1..N
   CHECK(ps.front().id == 1);
@@ -187,9 +192,10 @@ TEST_CASE("insert/pack counts the particles already in the region", "[insert]") 
           "run 1", "unfix ins1"});
   REQUIRE(gather(s.e).size() == 40);
   // a second fill counts the 40 particles there and avoids them
-  s.cmds({"fix ins2 all insert/pack seed 4713 distributiontemplate pdd1 insert_every once region ins "
-          "particles_in_region 100",
-          "run 1"});
+  s.cmds(
+      {"fix ins2 all insert/pack seed 4713 distributiontemplate pdd1 insert_every once region ins "
+       "particles_in_region 100",
+       "run 1"});
   auto ps = gather(s.e);
   CHECK(ps.size() == 100);
   CHECK(s.e.fix_value("ins2", 1) == 60.0);
@@ -199,12 +205,14 @@ TEST_CASE("insert/pack counts the particles already in the region", "[insert]") 
 
   // mass target: the mass in the region is within one particle mass of it
   const double m1 = 2500.0 * sphere_volume(0.005);
-  s.cmds({"fix ins3 all insert/pack seed 4717 distributiontemplate pdd1 insert_every once region ins "
-          "mass_in_region 0.3",
-          "run 1"});
+  s.cmds(
+      {"fix ins3 all insert/pack seed 4717 distributiontemplate pdd1 insert_every once region ins "
+       "mass_in_region 0.3",
+       "run 1"});
   ps = gather(s.e);
   double mass = 0.0;
-  for (const auto& p : ps) mass += p.m;
+  for (const auto& p : ps)
+    mass += p.m;
   CHECK(std::fabs(mass - 0.3) < m1);
   CHECK(ps.size() > 100);
   CHECK(min_gap(ps) >= -1e-15);
@@ -219,7 +227,8 @@ TEST_CASE("insert/pack warns with the number placed when the region is too small
     s.cmds(kBox);
     s.cmds({"fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
             "region tiny block 0.0 0.03 0.0 0.03 0.0 0.03 units box",
-            "fix ins all insert/pack seed 4711 distributiontemplate pdd1 insert_every once all_in yes region tiny "
+            "fix ins all insert/pack seed 4711 distributiontemplate pdd1 insert_every once all_in yes region "
+            "tiny "
             "particles_in_region 100",
             "run 1"});
     const auto ps = gather(s.e);
@@ -232,7 +241,8 @@ TEST_CASE("insert/pack warns with the number placed when the region is too small
   const std::string text = read_file(log);
   CHECK_THAT(text, Contains("WARNING"));
   CHECK_THAT(text, Contains("placed only " + std::to_string(placed) + " of the 100 particles"));
-  CHECK_THAT(text, Contains("INFO: fix ins (insert/pack) inserted " + std::to_string(placed) + " particles (target 100)"));
+  CHECK_THAT(text, Contains("INFO: fix ins (insert/pack) inserted " + std::to_string(placed) +
+                            " particles (target 100)"));
   std::remove(log.c_str());
 }
 
@@ -304,7 +314,8 @@ TEST_CASE("particledistribution/discrete: mass, number and volume fractions", "[
     const auto batch = d->draw_batch(1001, true);
     REQUIRE(batch.size() == 1001);
     long long ca = 0;
-    for (const auto& b : batch) ca += b.particle.type == 1;
+    for (const auto& b : batch)
+      ca += b.particle.type == 1;
     CHECK(std::fabs(static_cast<double>(ca) - 1001 * p[0]) < 1.0);
     CHECK(batch.front().particle.radii[0] == 0.002);  // the larger template first
     s.cmd("unfix d");
@@ -350,14 +361,16 @@ TEST_CASE("particletemplate/sphere with a uniform radius", "[insert]") {
 TEST_CASE("insert/rate/region inserts at the given rate up to its total", "[insert]") {
   Sim s;
   s.cmds(kBox);
-  s.cmds({"timestep 0.0001", "fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
-          "region ins block -0.04 0.04 -0.04 0.04 0.08 0.14 units box",
-          "fix grav all gravity 9.81 vector 0 0 -1", "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
-          "fix integr all nve/sphere",
-          // 2460 particles/s * 5 steps * 1e-4 s = 1.23 particles per batch
-          "fix ins all insert/rate/region seed 5003 distributiontemplate pdd1 nparticles 30 particlerate 2460 "
-          "insert_every 5 vel constant 0 0 -1 region ins",
-          "run 100"});
+  s.cmds(
+      {"timestep 0.0001", "fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
+       "region ins block -0.04 0.04 -0.04 0.04 0.08 0.14 units box",
+       "fix grav all gravity 9.81 vector 0 0 -1",
+       "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
+       "fix integr all nve/sphere",
+       // 2460 particles/s * 5 steps * 1e-4 s = 1.23 particles per batch
+       "fix ins all insert/rate/region seed 5003 distributiontemplate pdd1 nparticles 30 particlerate 2460 "
+       "insert_every 5 vel constant 0 0 -1 region ins",
+       "run 100"});
   // batches at steps 1, 6, ..., 96: 20 batches, floor(20 * 1.23) = 24 particles
   auto ps = gather(s.e);
   CHECK(ps.size() == 24);
@@ -366,7 +379,8 @@ TEST_CASE("insert/rate/region inserts at the given rate up to its total", "[inse
   ps = gather(s.e);
   CHECK(ps.size() == 30);  // stopped at nparticles
   CHECK(s.e.fix_value("ins", 1) == 30.0);
-  for (const auto& p : ps) CHECK(p.v[2] < -0.9);  // moving down, none lost
+  for (const auto& p : ps)
+    CHECK(p.v[2] < -0.9);       // moving down, none lost
   CHECK(min_gap(ps) >= -1e-4);  // barely touching if at all while falling apart
 
   // massrate: the same batches when the rate is given as mass
@@ -390,24 +404,38 @@ namespace {
 /// above it. Returns the bed particles (ids 1..N) at the end.
 std::vector<Part> bed_with_feed(bool feed) {
   Sim s;
-  s.cmds({"units si", "atom_style granular", "boundary p p f", "newton off",
-          "region box block 0 0.02 0 0.02 0 0.08 units box", "create_box 1 box", "neighbor 0.0006 bin",
-          "neigh_modify delay 0", "fix m1 all property/global youngsModulus peratomtype 5.e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
-          "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 2e-5",
-          "fix pts all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant 0.001",
-          "fix pdd all particledistribution/discrete 32452843 1 pts 1.0",
-          "region bed block 0 0.02 0 0.02 0.0 0.008 units box", "fix grav all gravity 9.81 vector 0 0 -1",
-          "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
-          "fix integr all nve/sphere",
-          "fix ins all insert/pack seed 32452867 distributiontemplate pdd insert_every once vel constant 0 0 -0.5 "
-          "region bed volumefraction_region 0.3",
-          "run 400", "unfix ins", "region top block 0 0.02 0 0.02 0.06 0.075 units box"});
+  s.cmds(
+      {"units si",
+       "atom_style granular",
+       "boundary p p f",
+       "newton off",
+       "region box block 0 0.02 0 0.02 0 0.08 units box",
+       "create_box 1 box",
+       "neighbor 0.0006 bin",
+       "neigh_modify delay 0",
+       "fix m1 all property/global youngsModulus peratomtype 5.e6",
+       "fix m2 all property/global poissonsRatio peratomtype 0.45",
+       "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3",
+       "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+       "pair_style gran model hertz tangential history",
+       "pair_coeff * *",
+       "timestep 2e-5",
+       "fix pts all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant 0.001",
+       "fix pdd all particledistribution/discrete 32452843 1 pts 1.0",
+       "region bed block 0 0.02 0 0.02 0.0 0.008 units box",
+       "fix grav all gravity 9.81 vector 0 0 -1",
+       "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
+       "fix integr all nve/sphere",
+       "fix ins all insert/pack seed 32452867 distributiontemplate pdd insert_every once vel constant 0 0 "
+       "-0.5 "
+       "region bed volumefraction_region 0.3",
+       "run 400",
+       "unfix ins",
+       "region top block 0 0.02 0 0.02 0.06 0.075 units box"});
   if (feed) {
-    s.cmd("fix feed all insert/rate/region seed 15485927 distributiontemplate pdd nparticles INF "
-          "particlerate 20000 insert_every 10 vel constant 0 0 -0.5 region top");
+    s.cmd(
+        "fix feed all insert/rate/region seed 15485927 distributiontemplate pdd nparticles INF "
+        "particlerate 20000 insert_every 10 vel constant 0 0 -0.5 region top");
   }
   s.cmd("run 100");
   auto ps = gather(s.e);
@@ -443,8 +471,7 @@ TEST_CASE("insert/pack tops the region up every N steps", "[insert]") {
   Sim s;
   s.cmds(kBox);
   s.cmds({"timestep 0.0001", "fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
-          "region ins block -0.04 0.04 -0.04 0.04 0.10 0.14 units box",
-          "fix integr all nve/sphere",
+          "region ins block -0.04 0.04 -0.04 0.04 0.10 0.14 units box", "fix integr all nve/sphere",
           "fix ins all insert/pack seed 5003 distributiontemplate pdd1 insert_every 50 vel constant 0 0 -2 "
           "region ins particles_in_region 20",
           "run 120"});
@@ -454,27 +481,33 @@ TEST_CASE("insert/pack tops the region up every N steps", "[insert]") {
   CHECK(ps.size() > 20);
   CHECK(s.e.fix_value("ins", 1) == static_cast<double>(ps.size()));
   int in_region = 0;
-  for (const auto& p : ps) in_region += p.x[2] >= 0.10;
+  for (const auto& p : ps)
+    in_region += p.x[2] >= 0.10;
   CHECK(in_region <= 20);
 }
 
 namespace {
 
 std::vector<std::string> feed_physics() {
-  return {"neighbor 0.0005 bin", "neigh_modify delay 0",
+  return {"neighbor 0.0005 bin",
+          "neigh_modify delay 0",
           "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
           "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
           "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
           "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
-          "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 2e-5",
+          "pair_style gran model hertz tangential history",
+          "pair_coeff * *",
+          "timestep 2e-5",
           "fix grav all gravity 9.81 vector 0 0 -1",
           "fix floor all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
           "fix integr all nve/sphere",
-          "fix a all particletemplate/sphere 10007 atom_type 1 density constant 2500 radius uniform 0.0008 0.0012",
+          "fix a all particletemplate/sphere 10007 atom_type 1 density constant 2500 radius uniform 0.0008 "
+          "0.0012",
           "fix b all particletemplate/sphere 10009 atom_type 2 density constant 2500 radius constant 0.0015",
           "fix pdd all particledistribution/discrete 15485863 2 a 0.5 b 0.5",
           "region top block 0 0.02 0 0.02 0.02 0.035 units box",
-          "fix feed all insert/rate/region seed 15485927 distributiontemplate pdd nparticles 150 particlerate 14000 "
+          "fix feed all insert/rate/region seed 15485927 distributiontemplate pdd nparticles 150 "
+          "particlerate 14000 "
           "insert_every 20 vel uniform 0 0 -0.5 0.1 0.1 0.1 region top"};
 }
 
@@ -484,8 +517,8 @@ TEST_CASE("insertion continues across a restart as without it", "[insert]") {
   std::vector<Part> straight, restarted;
   {
     Sim s;
-    s.cmds({"units si", "atom_style granular", "boundary p p f", "region box block 0 0.02 0 0.02 0 0.04 units box",
-            "create_box 2 box"});
+    s.cmds({"units si", "atom_style granular", "boundary p p f",
+            "region box block 0 0.02 0 0.02 0 0.04 units box", "create_box 2 box"});
     s.cmds(feed_physics());
     s.cmds({"run 300", "write_restart insertion.restart", "run 300"});
     straight = gather(s.e);
@@ -516,21 +549,27 @@ TEST_CASE("insertion input errors", "[insert]") {
   s.cmds(kBox);
   s.cmds({"fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
           "region ins block -0.04 0.04 -0.04 0.04 0.08 0.14 units box"});
-  REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/pack distributiontemplate pdd1 region ins particles_in_region 5"),
-                      Contains("seed"));
-  REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdx region ins particles_in_region 5"),
-                      Contains("pdx is not defined"));
-  REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdd1 region ins particles_in_region 5 "
-                            "mass_in_region 2"),
-                      Contains("exactly one"));
-  REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdd1 region ins volumefraction_region 5"),
-                      Contains("between 0 and 1"));
-  REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdd1 region ins particles_in_region 5 "
-                            "overlap_check yes"),
-                      Contains("overlapcheck"));
-  REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/rate/region seed 5 distributiontemplate pdd1 region ins nparticles 5 "
-                            "particlerate 10"),
-                      Contains("insert_every"));
+  REQUIRE_THROWS_WITH(
+      s.cmd("fix ins all insert/pack distributiontemplate pdd1 region ins particles_in_region 5"),
+      Contains("seed"));
+  REQUIRE_THROWS_WITH(
+      s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdx region ins particles_in_region 5"),
+      Contains("pdx is not defined"));
+  REQUIRE_THROWS_WITH(
+      s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdd1 region ins particles_in_region 5 "
+            "mass_in_region 2"),
+      Contains("exactly one"));
+  REQUIRE_THROWS_WITH(
+      s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdd1 region ins volumefraction_region 5"),
+      Contains("between 0 and 1"));
+  REQUIRE_THROWS_WITH(
+      s.cmd("fix ins all insert/pack seed 5 distributiontemplate pdd1 region ins particles_in_region 5 "
+            "overlap_check yes"),
+      Contains("overlapcheck"));
+  REQUIRE_THROWS_WITH(
+      s.cmd("fix ins all insert/rate/region seed 5 distributiontemplate pdd1 region ins nparticles 5 "
+            "particlerate 10"),
+      Contains("insert_every"));
   REQUIRE_THROWS_WITH(s.cmd("fix ins all insert/rate/region seed 5 distributiontemplate pdd1 region ins "
                             "particlerate 10 insert_every 10"),
                       Contains("nparticles"));

@@ -47,7 +47,9 @@ namespace {
 constexpr double kLo[3] = {-0.011, -0.011, 0.001};
 constexpr double kHi[3] = {0.011, 0.011, 0.023};
 
-double region_volume() { return (kHi[0] - kLo[0]) * (kHi[1] - kLo[1]) * (kHi[2] - kLo[2]); }
+double region_volume() {
+  return (kHi[0] - kLo[0]) * (kHi[1] - kLo[1]) * (kHi[2] - kLo[2]);
+}
 
 std::vector<std::string> scene() {
   char region[200];
@@ -71,7 +73,8 @@ std::vector<std::string> scene() {
           std::string("fix cyl all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
                       "nspheres 50 ntry 1000000 spheres file ") +
               GRANARY_SOURCE_DIR + "/potentials/cylinder_ellipse_50.clump scale 1.0 type 1",
-          "fix glass all particletemplate/sphere 15485867 atom_type 2 density constant 2500 radius constant 0.001",
+          "fix glass all particletemplate/sphere 15485867 atom_type 2 density constant 2500 radius constant "
+          "0.001",
           "fix integr all multisphere",
           "fix nve all nve/sphere",
           region};
@@ -102,7 +105,8 @@ std::vector<Ball> all_balls(Engine& e, const granary::Bodies& b) {
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
   for (std::size_t k = 0; k + 3 < all.size(); k += 4) {
@@ -129,9 +133,11 @@ double min_gap(const std::vector<Ball>& balls) {
     groups.back().idx.push_back(static_cast<int>(i));
   }
   for (auto& g : groups) {
-    for (int i : g.idx) g.c += balls[i].x;
+    for (int i : g.idx)
+      g.c += balls[i].x;
     g.c /= static_cast<double>(g.idx.size());
-    for (int i : g.idx) g.R = std::max(g.R, (balls[i].x - g.c).norm() + balls[i].r);
+    for (int i : g.idx)
+      g.R = std::max(g.R, (balls[i].x - g.c).norm() + balls[i].r);
   }
   double worst = 1e300;
   for (std::size_t a = 0; a < groups.size(); ++a) {
@@ -170,13 +176,15 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
           "[insert][multisphere]") {
   Engine e(MPI_COMM_WORLD);
   e.logger->set_screen(false);
-  for (const auto& l : scene()) e.input->one(l);
+  for (const auto& l : scene())
+    e.input->one(l);
   const double phi = 0.25;
   e.input->one("fix pdd all particledistribution/discrete 32452843 1 cyl 1.0");
-  e.input->one("fix ins all insert/pack seed 32452867 distributiontemplate pdd maxattempt 1000 insert_every once "
-               "overlapcheck yes all_in yes orientation random vel constant 0. 0. 0. region ins "
-               "volumefraction_region " +
-               std::to_string(phi));
+  e.input->one(
+      "fix ins all insert/pack seed 32452867 distributiontemplate pdd maxattempt 1000 insert_every once "
+      "overlapcheck yes all_in yes orientation random vel constant 0. 0. 0. region ins "
+      "volumefraction_region " +
+      std::to_string(phi));
   e.input->one("run 1");
   const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
   REQUIRE(b.size() > 100);
@@ -189,7 +197,8 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
     CHECK(b.nspheres[k] == 50);
     CHECK(b.vcm[k].norm() == 0.0);
   }
-  for (double r : b.radii) spheres_vol += 4.0 / 3.0 * M_PI * r * r * r;
+  for (double r : b.radii)
+    spheres_vol += 4.0 / 3.0 * M_PI * r * r * r;
   const double vclump = b.volume[0];
   CHECK(vclump == Approx(15.086e-9).epsilon(0.01));  // potentials/README.md: 15.09 mm^3
   CHECK(spheres_vol > 1.5 * vol);  // the sub-spheres overlap: their summed volume would be wrong
@@ -211,69 +220,78 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
 
   // orientations: |cos| of the long axis with each coordinate axis averages 1/2
   Vec3 mean_cos(0, 0, 0);
-  for (int k = 0; k < b.size(); ++k) mean_cos += b.rotation(k).col(0).cwiseAbs();
+  for (int k = 0; k < b.size(); ++k)
+    mean_cos += b.rotation(k).col(0).cwiseAbs();
   mean_cos /= static_cast<double>(b.size());
   INFO("mean |cos| of the long axis with x, y, z: " << mean_cos.transpose());
   CHECK(std::fabs(mean_cos[2] - 0.5) < 0.1);
   CHECK(std::fabs(mean_cos[0] - 0.5) < 0.1);
   CHECK(std::fabs(mean_cos[1] - 0.5) < 0.1);
   if (e.rank == 0) {
-    std::printf("clumps: %d inserted, volume fraction %.4f (target %.2f), smallest gap %.3g m, mean |cos| with z %.3f\n",
-                b.size(), measured, phi, gap, mean_cos[2]);
+    std::printf(
+        "clumps: %d inserted, volume fraction %.4f (target %.2f), smallest gap %.3g m, mean |cos| with z "
+        "%.3f\n",
+        b.size(), measured, phi, gap, mean_cos[2]);
   }
 }
 
 TEST_CASE("insert/pack of cylinder clumps and glass spheres by volume fractions", "[insert][multisphere]") {
   for (const double phi : {0.05, 0.1}) {  // solid volume fraction of the glass spheres
-  for (const std::string mode : {"exact", "uncorrelated"}) {
-    SECTION(mode + ", phi " + std::to_string(phi)) {
-      Engine e(MPI_COMM_WORLD);
-      e.logger->set_screen(false);
-      for (const auto& l : scene()) e.input->one(l);
-      e.input->one("fix pdd all particledistribution/discrete 32452843 2 cyl " + std::to_string(1.0 - phi) +
-                   " glass " + std::to_string(phi) + " fractions volume");
-      e.input->one("fix ins all insert/pack seed 32452867 distributiontemplate pdd maxattempt 200 insert_every once "
-                   "overlapcheck yes all_in yes random_distribute " +
-                   mode + " vel constant 0. 0. 0. region ins volumefraction_region 0.2");
-      e.input->one("run 1");
-      const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
-      const auto balls = all_balls(e, b);
-      double vclumps = 0.0, vspheres = 0.0;
-      long long nspheres = 0;
-      for (int k = 0; k < b.size(); ++k) vclumps += b.volume[k];
-      for (const auto& ball : balls) {
-        if (ball.body >= 0) continue;
-        vspheres += 4.0 / 3.0 * M_PI * ball.r * ball.r * ball.r;
-        ++nspheres;
-      }
-      const long long n = b.size() + nspheres;
-      REQUIRE(b.size() > 50);
-      REQUIRE(nspheres > 20);
-      CHECK(e.fix_value("ins", 1) == static_cast<double>(n));
-      const double vc = b.volume[0], vs = 4.0 / 3.0 * M_PI * 1e-9;
-      const double measured = vspheres / (vspheres + vclumps);
-      // number probability of a sphere and the binomial spread of the sphere volume share
-      const double p = (phi / vs) / (phi / vs + (1.0 - phi) / vc);
-      const double mean_v = p * vs + (1 - p) * vc;
-      const double sigma = std::sqrt(n * p * (1 - p)) * vc * vs / (n * mean_v * mean_v);
-      const double tol = mode == "exact" ? (vs + vc) / (n * mean_v) : 4.0 * sigma;
-      INFO(mode << ": " << b.size() << " clumps, " << nspheres << " spheres, sphere share of the solid volume "
-                << measured << " (target " << phi << ", tolerance " << tol << ")");
-      CHECK(std::fabs(measured - phi) <= tol);
-      // total solid volume: within two clump volumes (exact); uncorrelated draws add the binomial
-      // spread of the composition, sqrt(n p (1 - p)) (vc - vs), taken four times
-      const double vol_tol = 2.0 * vc + (mode == "exact" ? 0.0 : 4.0 * std::sqrt(n * p * (1 - p)) * (vc - vs));
-      CHECK(std::fabs((vspheres + vclumps) - 0.2 * region_volume()) <= vol_tol);
-      const double gap = min_gap(balls);
-      INFO("smallest gap " << gap << " m");
-      CHECK(gap >= -1e-12);
-      CHECK(worst_outside(balls) <= 1e-12);
-      if (e.rank == 0) {
-        std::printf("mixture (%s): %d clumps, %lld spheres, sphere share %.4f (target %.2f, tolerance %.4f), "
-                    "smallest gap %.3g m\n",
-                    mode.c_str(), b.size(), nspheres, measured, phi, tol, gap);
+    for (const std::string mode : {"exact", "uncorrelated"}) {
+      SECTION(mode + ", phi " + std::to_string(phi)) {
+        Engine e(MPI_COMM_WORLD);
+        e.logger->set_screen(false);
+        for (const auto& l : scene())
+          e.input->one(l);
+        e.input->one("fix pdd all particledistribution/discrete 32452843 2 cyl " + std::to_string(1.0 - phi) +
+                     " glass " + std::to_string(phi) + " fractions volume");
+        e.input->one(
+            "fix ins all insert/pack seed 32452867 distributiontemplate pdd maxattempt 200 insert_every once "
+            "overlapcheck yes all_in yes random_distribute " +
+            mode + " vel constant 0. 0. 0. region ins volumefraction_region 0.2");
+        e.input->one("run 1");
+        const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+        const auto balls = all_balls(e, b);
+        double vclumps = 0.0, vspheres = 0.0;
+        long long nspheres = 0;
+        for (int k = 0; k < b.size(); ++k)
+          vclumps += b.volume[k];
+        for (const auto& ball : balls) {
+          if (ball.body >= 0) continue;
+          vspheres += 4.0 / 3.0 * M_PI * ball.r * ball.r * ball.r;
+          ++nspheres;
+        }
+        const long long n = b.size() + nspheres;
+        REQUIRE(b.size() > 50);
+        REQUIRE(nspheres > 20);
+        CHECK(e.fix_value("ins", 1) == static_cast<double>(n));
+        const double vc = b.volume[0], vs = 4.0 / 3.0 * M_PI * 1e-9;
+        const double measured = vspheres / (vspheres + vclumps);
+        // number probability of a sphere and the binomial spread of the sphere volume share
+        const double p = (phi / vs) / (phi / vs + (1.0 - phi) / vc);
+        const double mean_v = p * vs + (1 - p) * vc;
+        const double sigma = std::sqrt(n * p * (1 - p)) * vc * vs / (n * mean_v * mean_v);
+        const double tol = mode == "exact" ? (vs + vc) / (n * mean_v) : 4.0 * sigma;
+        INFO(mode << ": " << b.size() << " clumps, " << nspheres
+                  << " spheres, sphere share of the solid volume " << measured << " (target " << phi
+                  << ", tolerance " << tol << ")");
+        CHECK(std::fabs(measured - phi) <= tol);
+        // total solid volume: within two clump volumes (exact); uncorrelated draws add the binomial
+        // spread of the composition, sqrt(n p (1 - p)) (vc - vs), taken four times
+        const double vol_tol =
+            2.0 * vc + (mode == "exact" ? 0.0 : 4.0 * std::sqrt(n * p * (1 - p)) * (vc - vs));
+        CHECK(std::fabs((vspheres + vclumps) - 0.2 * region_volume()) <= vol_tol);
+        const double gap = min_gap(balls);
+        INFO("smallest gap " << gap << " m");
+        CHECK(gap >= -1e-12);
+        CHECK(worst_outside(balls) <= 1e-12);
+        if (e.rank == 0) {
+          std::printf(
+              "mixture (%s): %d clumps, %lld spheres, sphere share %.4f (target %.2f, tolerance %.4f), "
+              "smallest gap %.3g m\n",
+              mode.c_str(), b.size(), nspheres, measured, phi, tol, gap);
+        }
       }
     }
-  }
   }
 }

@@ -128,8 +128,9 @@ void compare_pour(const std::string& name) {
   const double rest_ref = first_rest_step(ref, ref[first_impact].step);
   const double rest_run = first_rest_step(run, ref[first_impact].step);
   CHECK(rest_run == Approx(rest_ref).epsilon(0.30));
-  std::printf("%s: mean KE of the flowing phase %.4g J (LIGGGHTS %.4g J); at rest from step %.0f (LIGGGHTS %.0f)\n",
-              name.c_str(), mean_run / n, mean_ref / n, rest_run, rest_ref);
+  std::printf(
+      "%s: mean KE of the flowing phase %.4g J (LIGGGHTS %.4g J); at rest from step %.0f (LIGGGHTS %.0f)\n",
+      name.c_str(), mean_run / n, mean_ref / n, rest_run, rest_ref);
 }
 
 }  // namespace
@@ -165,7 +166,9 @@ void compare_exact(const std::string& name) {
   }
 }
 
-TEST_CASE("two spheres colliding on a floor match LIGGGHTS to the printed digits") { compare_exact("two_spheres"); }
+TEST_CASE("two spheres colliding on a floor match LIGGGHTS to the printed digits") {
+  compare_exact("two_spheres");
+}
 
 TEST_CASE("three spheres, one touched by two, match LIGGGHTS to the printed digits") {
   compare_exact("three_spheres");
@@ -179,9 +182,13 @@ TEST_CASE("two bcc layers landing on each other match LIGGGHTS to the printed di
   compare_exact("bcc_layers");
 }
 
-TEST_CASE("a pour into a box matches LIGGGHTS") { compare_pour("pour_small"); }
+TEST_CASE("a pour into a box matches LIGGGHTS") {
+  compare_pour("pour_small");
+}
 
-TEST_CASE("a pour into a cylinder matches LIGGGHTS") { compare_pour("cylinder_small"); }
+TEST_CASE("a pour into a cylinder matches LIGGGHTS") {
+  compare_pour("cylinder_small");
+}
 
 TEST_CASE("the stored LIGGGHTS output is what LIGGGHTS prints") {
   if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {

@@ -70,7 +70,8 @@ std::string shell(const std::string& cmd) {
   if (!p) return out;
   char buf[4096];
   std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0)
+    out.append(buf, n);
   pclose(p);
   return out;
 }
@@ -147,7 +148,8 @@ std::map<long, Spheres> read_dump(const std::string& path) {
     } else if (line.rfind("ITEM:", 0) == 0) {
       if (line.rfind("ITEM: NUMBER", 0) == 0) std::getline(in, line);
       if (line.rfind("ITEM: BOX", 0) == 0) {
-        for (int k = 0; k < 3; ++k) std::getline(in, line);
+        for (int k = 0; k < 3; ++k)
+          std::getline(in, line);
       }
     } else {
       std::istringstream s(line);
@@ -176,7 +178,8 @@ std::map<long, double> read_thermo(const std::string& path) {
 
 Eigen::Vector3d centroid(const Spheres& s) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& kv : s) c += kv.second;
+  for (const auto& kv : s)
+    c += kv.second;
   return c / static_cast<double>(s.size());
 }
 
@@ -184,7 +187,8 @@ Eigen::Vector3d centroid(const Spheres& s) {
 double rotation_angle(const Spheres& a, const Spheres& b) {
   const Eigen::Vector3d ca = centroid(a), cb = centroid(b);
   Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-  for (const auto& kv : a) h += (kv.second - ca) * (b.at(kv.first) - cb).transpose();
+  for (const auto& kv : a)
+    h += (kv.second - ca) * (b.at(kv.first) - cb).transpose();
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
   if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) d(2, 2) = -1;
@@ -195,8 +199,10 @@ double rotation_angle(const Spheres& a, const Spheres& b) {
 /// Apex of the first rebound: the first local maximum of z after its first local minimum.
 double first_rebound_apex(const std::vector<double>& z) {
   std::size_t i = 1;
-  while (i + 1 < z.size() && !(z[i] <= z[i - 1] && z[i] < z[i + 1])) ++i;
-  while (i + 1 < z.size() && !(z[i] >= z[i - 1] && z[i] > z[i + 1])) ++i;
+  while (i + 1 < z.size() && !(z[i] <= z[i - 1] && z[i] < z[i + 1]))
+    ++i;
+  while (i + 1 < z.size() && !(z[i] >= z[i - 1] && z[i] > z[i + 1]))
+    ++i;
   return z[i];
 }
 
@@ -210,7 +216,8 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   }
   const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
   const std::string input = find_tutorial_file(listing, "multisphere_stone_restitution/in.multisphere");
-  const std::string stone = find_tutorial_file(listing, "multisphere_stone_restitution/data/stone1.multisphere");
+  const std::string stone =
+      find_tutorial_file(listing, "multisphere_stone_restitution/data/stone1.multisphere");
   if (input.empty() || stone.empty()) {
     WARN("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found: test skipped");
     return;
@@ -226,13 +233,15 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   // ---- LIGGGHTS, live
   {
     std::ofstream in(dir + "/in.drop");
-    for (const auto& l : scene()) in << l << "\n";
+    for (const auto& l : scene())
+      in << l << "\n";
     in << "communicate single vel yes\n";
     in << template_line("stone1.multisphere") << "\n";
     in << "fix pdd1 all particledistribution/discrete 15485867 1 pts1 1.0\n";
     in << "region bc block -0.0005 0.0005 -0.0005 0.0005 0.0995 0.1005 units box\n";
     in << "fix ins all insert/pack seed 32452843 distributiontemplate pdd1 vel constant 0. 0. " << kV0
-       << " orientation template insert_every once overlapcheck no all_in no region bc particles_in_region 1\n";
+       << " orientation template insert_every once overlapcheck no all_in no region bc particles_in_region "
+          "1\n";
     in << "fix integr all multisphere\n";
     in << "compute ke all ke/multisphere\n";
     in << "thermo_style custom step atoms c_ke\n";
@@ -250,7 +259,8 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   const std::string cmd = "cd '" + dir + "' && liggghts -in in.drop -log log.drop > screen.drop 2>&1";
   REQUIRE(std::system(cmd.c_str()) == 0);
   auto frames = read_dump(dir + "/dump.stone");
-  for (const auto& kv : read_dump(dir + "/dump.start")) frames[kv.first] = kv.second;
+  for (const auto& kv : read_dump(dir + "/dump.start"))
+    frames[kv.first] = kv.second;
   const auto lke = read_thermo(dir + "/log.drop");
   REQUIRE(frames.count(1) == 1);
   REQUIRE(frames.at(1).size() == 50);
@@ -260,7 +270,8 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   // ---- Granary, from LIGGGHTS' state at step 1
   granary::Engine e(MPI_COMM_SELF);
   e.logger->set_screen(false);
-  for (const auto& line : scene()) e.input->one(line);
+  for (const auto& line : scene())
+    e.input->one(line);
   e.input->one(template_line(dir + "/stone1.multisphere"));
   e.input->one("fix integr all multisphere");
   e.input->one("compute ke all ke/multisphere");
@@ -269,12 +280,13 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   // LIGGGHTS' stone mass (its Monte Carlo estimate): 0.0460093 kg
   CHECK(tmpl->particle().mass == Approx(0.0460093).epsilon(1e-3));
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& c : tmpl->input_centres()) mean += c;
+  for (const auto& c : tmpl->input_centres())
+    mean += c;
   mean /= static_cast<double>(tmpl->input_centres().size());
   const Eigen::Vector3d x0 = centroid(frames.at(1)) - mean + tmpl->centre();
   char line[300];
-  std::snprintf(line, sizeof line, "create_clump pts1 %.12g %.12g %.12g frame file vel 0 0 %.12g", x0[0], x0[1],
-                x0[2], kV0 - 0.5 * 9.81 * kDt);
+  std::snprintf(line, sizeof line, "create_clump pts1 %.12g %.12g %.12g frame file vel 0 0 %.12g", x0[0],
+                x0[1], x0[2], kV0 - 0.5 * 9.81 * kDt);
   e.input->one(line);
   e.input->one("reset_timestep 1");
   const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
@@ -293,13 +305,15 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   {
     const Spheres g = granary_spheres(), l = frames.at(1);
     double worst = 0.0;
-    for (const auto& kv : l) worst = std::max(worst, (g.at(kv.first) - kv.second).norm());
+    for (const auto& kv : l)
+      worst = std::max(worst, (g.at(kv.first) - kv.second).norm());
     INFO("start positions differ by " << worst << " m");
     CHECK(worst < 2e-5);
   }
 
   double ke_impact = 0.0;  // largest LIGGGHTS ke: just before the first impact
-  for (const auto& kv : lke) ke_impact = std::max(ke_impact, kv.second);
+  for (const auto& kv : lke)
+    ke_impact = std::max(ke_impact, kv.second);
   double worst_x = 0.0, worst_angle = 0.0, worst_ke = 0.0, worst_ke_abs = 0.0;
   std::vector<double> zg, zl;
   for (long step = kEvery; step <= kSteps; step += kEvery) {
@@ -335,8 +349,10 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   CHECK(apex_l < z_start);  // it did rebound, below its start
   CHECK(std::fabs(apex_g - apex_l) < 1e-4);
   std::printf(
-      "stone drop vs LIGGGHTS over %d steps: centroid %.3g m, orientation %.3g rad, kinetic energy %.3g%% (every 1000 steps, "
-      "above 1%% of its peak), %.3g%% of its peak (every 100 steps), first rebound apex %.6g m (LIGGGHTS %.6g m), start %.6g m\n",
+      "stone drop vs LIGGGHTS over %d steps: centroid %.3g m, orientation %.3g rad, kinetic energy %.3g%% "
+      "(every 1000 steps, "
+      "above 1%% of its peak), %.3g%% of its peak (every 100 steps), first rebound apex %.6g m (LIGGGHTS "
+      "%.6g m), start %.6g m\n",
       kSteps, worst_x, worst_angle, 100 * worst_ke, 100 * worst_ke_abs, apex_g, apex_l, z_start);
   std::system(("rm -rf '" + dir + "'").c_str());
 }

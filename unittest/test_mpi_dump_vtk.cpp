@@ -93,7 +93,8 @@ void setup_bed(granary::Engine& e, bool spread = true) {
       "compute pa all property/atom vx radius",
       "variable vz2 atom vz*2",
   };
-  for (const auto& l : lines) e.input->one(l);
+  for (const auto& l : lines)
+    e.input->one(l);
 }
 
 // Particle state gathered on every rank: id -> values.
@@ -107,7 +108,8 @@ State gather_state(granary::Engine& e) {
     mine.push_back(static_cast<double>(p.id[i]));
     mine.push_back(p.type[i]);
     for (const auto* a : {&p.x, &p.v, &p.f, &p.omega})
-      for (int d = 0; d < 3; ++d) mine.push_back((*a)[i][d]);
+      for (int d = 0; d < 3; ++d)
+        mine.push_back((*a)[i][d]);
     mine.push_back(p.radius[i]);
     mine.push_back(p.rmass[i]);
     mine.push_back(p.density[i]);
@@ -115,12 +117,15 @@ State gather_state(granary::Engine& e) {
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(world_size()), displs(world_size(), 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  for (int r = 1; r < world_size(); ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < world_size(); ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(displs.back() + counts.back());
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 MPI_COMM_WORLD);
   State s;
   for (std::size_t k = 0; k < all.size(); k += kNumCols + 1) {
-    s[static_cast<long long>(all[k])] = std::vector<double>(all.begin() + k + 1, all.begin() + k + 1 + kNumCols);
+    s[static_cast<long long>(all[k])] =
+        std::vector<double>(all.begin() + k + 1, all.begin() + k + 1 + kNumCols);
   }
   return s;
 }
@@ -186,8 +191,9 @@ void check_points(vtkPolyData* pd, const State& s, bool exact, std::set<long lon
       ok = ok && same(x[d], q[kX + d]) && same(v->GetComponent(k, d), q[kVx + d]) &&
            same(f->GetComponent(k, d), q[kFx + d]) && same(w->GetComponent(k, d), q[kWx + d]);
     }
-    ok = ok && same(r->GetTuple1(k), q[kR]) && same(m->GetTuple1(k), q[kM]) && same(rho->GetTuple1(k), q[kRho]) &&
-         same(dia->GetTuple1(k), 2.0 * q[kR]) && same(cpa->GetTuple1(k), q[kVx]) && same(vz2->GetTuple1(k), 2.0 * q[kVz]);
+    ok = ok && same(r->GetTuple1(k), q[kR]) && same(m->GetTuple1(k), q[kM]) &&
+         same(rho->GetTuple1(k), q[kRho]) && same(dia->GetTuple1(k), 2.0 * q[kR]) &&
+         same(cpa->GetTuple1(k), q[kVx]) && same(vz2->GetTuple1(k), 2.0 * q[kVz]);
     if (!ok) ++bad;
   }
   CHECK(missing == 0);
@@ -195,7 +201,8 @@ void check_points(vtkPolyData* pd, const State& s, bool exact, std::set<long lon
 }
 
 const char* kFields =
-    "id type x y z vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz radius diameter mass density c_pa[1] v_vz2";
+    "id type x y z vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz radius diameter mass density c_pa[1] "
+    "v_vz2";
 
 // Run the bed with a dump every 20 steps to step 60 and check the files.
 void run_and_check(const std::string& dir, const std::vector<std::string>& modify, bool exact,
@@ -204,7 +211,8 @@ void run_and_check(const std::string& dir, const std::vector<std::string>& modif
   e.logger->set_screen(false);
   setup_bed(e, spread);
   e.input->one("dump d all custom/vtk 20 " + dir + "/particles_*.vtp " + kFields);
-  for (const auto& m : modify) e.input->one("dump_modify d " + m);
+  for (const auto& m : modify)
+    e.input->one("dump_modify d " + m);
   e.input->one("run 60");
   const State s = gather_state(e);
   REQUIRE(s.size() == 210);
@@ -295,12 +303,14 @@ TEST_CASE("dump custom/vtk: binary, zlib-compressed round trip", "[dump][vtk][mp
 
 TEST_CASE("dump custom/vtk: binary without compression", "[dump][vtk][mpi]") {
   const std::string dir = fresh_dir("uncompressed");
-  run_and_check(dir, {"compression none"}, true, "format=\"appended\"", "compressor=", false);  // empty pieces
+  run_and_check(dir, {"compression none"}, true, "format=\"appended\"",
+                "compressor=", false);  // empty pieces
 }
 
 TEST_CASE("dump custom/vtk: ascii round trip", "[dump][vtk][mpi]") {
   const std::string dir = fresh_dir("ascii");
-  run_and_check(dir, {"binary no"}, true, "format=\"ascii\"", "format=\"appended\"");  // VTK writes round-trip digits
+  run_and_check(dir, {"binary no"}, true, "format=\"ascii\"",
+                "format=\"appended\"");  // VTK writes round-trip digits
 }
 
 TEST_CASE("dump custom/vtk: legacy .vtk is gathered into one file", "[dump][vtk][mpi]") {
@@ -312,8 +322,10 @@ TEST_CASE("dump custom/vtk: legacy .vtk is gathered into one file", "[dump][vtk]
   e.input->one("run 50");
   const State s = gather_state(e);
   if (world_rank() == 0) {
-    for (int step : {0, 25, 50}) CHECK(fs::exists(dir + "/legacy_" + std::to_string(step) + ".vtk"));
-    CHECK(std::count_if(fs::directory_iterator(dir), fs::directory_iterator(), [](const fs::directory_entry&) { return true; }) == 3);
+    for (int step : {0, 25, 50})
+      CHECK(fs::exists(dir + "/legacy_" + std::to_string(step) + ".vtk"));
+    CHECK(std::count_if(fs::directory_iterator(dir), fs::directory_iterator(),
+                        [](const fs::directory_entry&) { return true; }) == 3);
     auto reader = vtkSmartPointer<vtkPolyDataReader>::New();
     reader->SetFileName((dir + "/legacy_50.vtk").c_str());
     reader->Update();
@@ -346,12 +358,14 @@ TEST_CASE("dump custom: frames gathered from every rank, sorted by id", "[dump][
     std::getline(in, line);  // ITEM: NUMBER OF ATOMS
     std::getline(in, line);
     const int n = std::stoi(line);
-    for (int k = 0; k < 4; ++k) std::getline(in, line);  // BOX BOUNDS + 3 lines
+    for (int k = 0; k < 4; ++k)
+      std::getline(in, line);  // BOX BOUNDS + 3 lines
     std::getline(in, line);
     CHECK(line == "ITEM: ATOMS id type x y z vx vy vz");
     last.assign(n, std::vector<double>(8));
     for (int i = 0; i < n; ++i)
-      for (int c = 0; c < 8; ++c) in >> last[i][c];
+      for (int c = 0; c < 8; ++c)
+        in >> last[i][c];
     std::getline(in, line);
   }
   CHECK(frames == 2);

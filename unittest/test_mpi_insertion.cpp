@@ -32,11 +32,13 @@ using Snapshot = std::map<long long, granary::Vec3>;
 Snapshot snapshot(granary::Engine& e) {
   const auto& p = *e.particles;
   std::vector<double> mine;
-  for (int i = 0; i < p.nlocal; ++i) mine.insert(mine.end(), {static_cast<double>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2]});
+  for (int i = 0; i < p.nlocal; ++i)
+    mine.insert(mine.end(), {static_cast<double>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2]});
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
   Snapshot s;
@@ -74,7 +76,8 @@ Result run_scene(MPI_Comm comm) {
       "pair_coeff * *",
       "timestep 2e-5",
       "fix pts1 all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant 0.001",
-      "fix pts2 all particletemplate/sphere 15485867 atom_type 2 density constant 2500 radius constant 0.0015",
+      "fix pts2 all particletemplate/sphere 15485867 atom_type 2 density constant 2500 radius constant "
+      "0.0015",
       "fix pdd all particledistribution/discrete 32452843 2 pts1 0.5 pts2 0.5",
       "region bed block 0 0.03 0 0.03 0.0 0.01 units box",
       "fix grav all gravity 9.81 vector 0.0 0.0 -1.0",
@@ -84,18 +87,21 @@ Result run_scene(MPI_Comm comm) {
       "overlapcheck yes vel constant 0 0 -0.5 region bed volumefraction_region 0.3",
       "run 1",
   };
-  for (const auto& line : setup) e.input->one(line);
+  for (const auto& line : setup)
+    e.input->one(line);
   Result r;
   r.packed = snapshot(e);
   const std::vector<std::string> more = {
       "unfix ins",
       "run 600",
       "region top block 0 0.03 0 0.03 0.05 0.07 units box",
-      "fix feed all insert/rate/region seed 15485927 distributiontemplate pdd nparticles 120 particlerate 18400 "
+      "fix feed all insert/rate/region seed 15485927 distributiontemplate pdd nparticles 120 particlerate "
+      "18400 "
       "insert_every 25 overlapcheck yes vel constant 0 0 -0.5 region top",
       "run 52",
   };
-  for (const auto& line : more) e.input->one(line);
+  for (const auto& line : more)
+    e.input->one(line);
   r.settled = snapshot(e);
   long long local[2] = {0, 0}, all[2];
   if (auto* h = e.force->pair->history()) {
@@ -141,14 +147,15 @@ TEST_CASE("insertion gives the same particles on every rank count") {
     REQUIRE(it != par.settled.end());
     worst = std::max(worst, (it->second - kv.second).norm());
   }
-  INFO("largest position difference " << worst << " m, " << ref.packed.size() << " packed, "
-                                        << ref.contacts << " contacts");
+  INFO("largest position difference " << worst << " m, " << ref.packed.size() << " packed, " << ref.contacts
+                                      << " contacts");
   CHECK(worst < 1e-9);
   INFO(par.ghost_contacts << " contacts with ghosts");
-  CHECK(ref.contacts > 100);  // the bed is in contact, with tangential history
+  CHECK(ref.contacts > 100);       // the bed is in contact, with tangential history
   CHECK(par.ghost_contacts > 10);  // across periodic and subdomain boundaries
   // the last batch was placed at the last step: bit for bit
-  for (auto it = ref.settled.rbegin(); it != ref.settled.rend() && it->first > ref.settled.rbegin()->first - 9; ++it) {
+  for (auto it = ref.settled.rbegin();
+       it != ref.settled.rend() && it->first > ref.settled.rbegin()->first - 9; ++it) {
     CHECK(par.settled.at(it->first) == it->second);
   }
 }

@@ -35,7 +35,7 @@ struct Body {
 };
 
 struct Snapshot {
-  std::map<long long, Body> bodies;                                 // body id -> body
+  std::map<long long, Body> bodies;                               // body id -> body
   std::map<long long, std::pair<granary::Vec3, double>> spheres;  // free sphere id -> (x, r)
   long long natoms = 0;
   int split_bodies = 0;  // clumps whose sub-spheres are owned by more than one rank
@@ -61,7 +61,8 @@ std::vector<std::string> scene() {
           std::string("fix cyl all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
                       "nspheres 50 ntry 1000000 spheres file ") +
               GRANARY_SOURCE_DIR + "/potentials/cylinder_ellipse_50.clump scale 1.0 type 1",
-          "fix glass all particletemplate/sphere 15485867 atom_type 2 density constant 2500 radius constant 0.001",
+          "fix glass all particletemplate/sphere 15485867 atom_type 2 density constant 2500 radius constant "
+          "0.001",
           "fix pdd all particledistribution/discrete 32452843 2 cyl 0.9 glass 0.1 fractions volume",
           "fix integr all multisphere",
           "fix nve all nve/sphere",
@@ -74,10 +75,12 @@ std::vector<std::string> scene() {
 Snapshot insert(MPI_Comm comm) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  for (const auto& l : scene()) e.input->one(l);
+  for (const auto& l : scene())
+    e.input->one(l);
   Snapshot s;
   const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
-  for (int k = 0; k < b.size(); ++k) s.bodies[b.tag[k]] = {b.first_id[k], b.xcm[k], b.quat[k]};
+  for (int k = 0; k < b.size(); ++k)
+    s.bodies[b.tag[k]] = {b.first_id[k], b.xcm[k], b.quat[k]};
   // free spheres and, per body, a bit for "this rank owns one of its sub-spheres"
   const auto& p = *e.particles;
   std::vector<double> mine;
@@ -90,15 +93,18 @@ Snapshot insert(MPI_Comm comm) {
     mine.insert(mine.end(), {static_cast<double>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2], p.radius[i]});
   }
   MPI_Allreduce(owns.data(), owners.data(), b.size(), MPI_INT, MPI_SUM, comm);
-  for (int o : owners) s.split_bodies += o > 1;
+  for (int o : owners)
+    s.split_bodies += o > 1;
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
   for (std::size_t k = 0; k + 4 < all.size(); k += 5) {
-    s.spheres[static_cast<long long>(all[k])] = {granary::Vec3(all[k + 1], all[k + 2], all[k + 3]), all[k + 4]};
+    s.spheres[static_cast<long long>(all[k])] = {granary::Vec3(all[k + 1], all[k + 2], all[k + 3]),
+                                                 all[k + 4]};
   }
   long long nlocal = p.nlocal;
   MPI_Allreduce(&nlocal, &s.natoms, 1, MPI_LONG_LONG, MPI_SUM, comm);
@@ -107,7 +113,8 @@ Snapshot insert(MPI_Comm comm) {
 
 }  // namespace
 
-TEST_CASE("insert/pack of clumps and spheres gives the same bodies on every rank count", "[insert][multisphere]") {
+TEST_CASE("insert/pack of clumps and spheres gives the same bodies on every rank count",
+          "[insert][multisphere]") {
   const Snapshot ref = insert(MPI_COMM_SELF);
   const Snapshot par = insert(MPI_COMM_WORLD);
   REQUIRE(ref.bodies.size() > 50);
@@ -131,7 +138,8 @@ TEST_CASE("insert/pack of clumps and spheres gives the same bodies on every rank
     dx = std::max(dx, (it->second.first - kv.second.first).norm());
     CHECK(it->second.second == kv.second.second);
   }
-  INFO("largest difference: position " << dx << " m, quaternion " << dq << "; split clumps " << par.split_bodies);
+  INFO("largest difference: position " << dx << " m, quaternion " << dq << "; split clumps "
+                                       << par.split_bodies);
   CHECK(id_mismatch == 0);
   CHECK(dx == 0.0);
   CHECK(dq == 0.0);
@@ -141,7 +149,8 @@ TEST_CASE("insert/pack of clumps and spheres gives the same bodies on every rank
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank == 0) {
-    std::printf("%d ranks: %zu clumps, %zu spheres, %d clumps split across ranks, largest difference %.3g m\n",
-                nprocs, par.bodies.size(), par.spheres.size(), par.split_bodies, dx);
+    std::printf(
+        "%d ranks: %zu clumps, %zu spheres, %d clumps split across ranks, largest difference %.3g m\n",
+        nprocs, par.bodies.size(), par.spheres.size(), par.split_bodies, dx);
   }
 }

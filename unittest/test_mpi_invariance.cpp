@@ -60,7 +60,8 @@ std::vector<std::string> bed_script(const std::string& newton, int steps) {
       "set type 2 diameter 0.0015 density 2500",
       "velocity all set 0.0 0.0 -0.5",
       "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
-      "fix zwall all wall/gran model hertz tangential history rolling_friction cdt primitive type 1 zplane 0.0",
+      "fix zwall all wall/gran model hertz tangential history rolling_friction cdt primitive type 1 zplane "
+      "0.0",
       "fix xwall1 all wall/gran model hertz tangential history primitive type 1 xplane 0.0",
       "fix xwall2 all wall/gran model hertz tangential history primitive type 1 xplane 0.04",
       "fix ywall1 all wall/gran model hertz tangential history primitive type 1 yplane 0.0",
@@ -76,21 +77,24 @@ std::vector<std::string> bed_script(const std::string& newton, int steps) {
 Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  for (const auto& line : bed_script(newton, steps)) e.input->one(line);
+  for (const auto& line : bed_script(newton, steps))
+    e.input->one(line);
   Snapshot s;
   const auto& p = *e.particles;
   // gather positions by id
   std::vector<double> mine;
   for (int i = 0; i < p.nlocal; ++i) {
     mine.push_back(static_cast<double>(p.id[i]));
-    for (int d = 0; d < 3; ++d) mine.push_back(p.x[i][d]);
+    for (int d = 0; d < 3; ++d)
+      mine.push_back(p.x[i][d]);
   }
   int nprocs = 1;
   MPI_Comm_size(comm, &nprocs);
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(nprocs), displs(nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(displs.back() + counts.back());
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
   for (std::size_t k = 0; k + 3 < all.size() + 1; k += 4) {
@@ -102,7 +106,8 @@ Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps) {
   s.rke = e.compute_value("rke", 0);
   long long local_contacts = 0;
   if (auto* h = e.force->pair->history()) {
-    for (auto t : h->touch_) local_contacts += t;
+    for (auto t : h->touch_)
+      local_contacts += t;
   }
   MPI_Allreduce(&local_contacts, &s.contacts, 1, MPI_LONG_LONG, MPI_SUM, comm);
   MPI_Allreduce(&e.comm->migrated_particles, &s.migrated_particles, 1, MPI_LONG_LONG, MPI_SUM, comm);

@@ -82,11 +82,12 @@ std::vector<std::string> scene(const std::string& newton) {
         const double x = 0.005 + 0.009 * i, y = 0.004 + 0.0075 * j, z = 0.005 + 0.009 * k;
         const double a = 0.37 * n, b = 0.91 * n;
         char line[400];
-        std::snprintf(line, sizeof line,
-                      "create_clump %s %.6f %.6f %.6f quat %.6f %.6f %.6f %.6f vel %.3f %.3f %.3f omega %.2f %.2f %.2f",
-                      n % 2 ? "tri" : "dumb", x, y, z, std::cos(a), std::sin(a) * std::cos(b),
-                      std::sin(a) * std::sin(b), 0.3, 0.8 * std::sin(1.3 * n), 0.8 * std::cos(1.7 * n),
-                      -0.3 * (n % 3), 20.0 * std::sin(n), 15.0 * std::cos(2.0 * n), 10.0);
+        std::snprintf(
+            line, sizeof line,
+            "create_clump %s %.6f %.6f %.6f quat %.6f %.6f %.6f %.6f vel %.3f %.3f %.3f omega %.2f %.2f %.2f",
+            n % 2 ? "tri" : "dumb", x, y, z, std::cos(a), std::sin(a) * std::cos(b),
+            std::sin(a) * std::sin(b), 0.3, 0.8 * std::sin(1.3 * n), 0.8 * std::cos(1.7 * n), -0.3 * (n % 3),
+            20.0 * std::sin(n), 15.0 * std::cos(2.0 * n), 10.0);
         s.push_back(line);
       }
     }
@@ -97,13 +98,15 @@ std::vector<std::string> scene(const std::string& newton) {
 Snapshot run_scene(MPI_Comm comm, const std::string& newton) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  for (const auto& line : scene(newton)) e.input->one(line);
+  for (const auto& line : scene(newton))
+    e.input->one(line);
   Snapshot s;
   // 6000 steps in 12 runs; sphere-sphere contacts are counted at the end of each
   auto touching = [&]() {
     long long local = 0, all = 0;
     if (auto* h = e.force->pair->history())
-      for (auto t : h->touch_) local += t;
+      for (auto t : h->touch_)
+        local += t;
     MPI_Allreduce(&local, &all, 1, MPI_LONG_LONG, MPI_SUM, comm);
     return all;
   };
@@ -132,7 +135,8 @@ Snapshot run_scene(MPI_Comm comm, const std::string& newton) {
   for (int i = 0; i < p.nlocal; ++i)
     if (p.body[i] >= 0) mine[b.find(p.body[i])] = 1;
   MPI_Allreduce(mine.data(), owners.data(), b.size(), MPI_INT, MPI_SUM, comm);
-  for (int o : owners) s.split_bodies += o > 1;
+  for (int o : owners)
+    s.split_bodies += o > 1;
   MPI_Allreduce(&e.comm->migrated_particles, &s.migrated, 1, MPI_LONG_LONG, MPI_SUM, comm);
   return s;
 }

@@ -22,13 +22,15 @@ std::map<long long, std::vector<double>> gather(granary::Engine& e, MPI_Comm com
   for (int i = 0; i < p.nlocal; ++i) {
     mine.push_back(static_cast<double>(p.id[i]));
     for (const auto* a : {&p.x, &p.v})
-      for (int d = 0; d < 3; ++d) mine.push_back((*a)[i][d]);
+      for (int d = 0; d < 3; ++d)
+        mine.push_back((*a)[i][d]);
   }
   int nprocs = 1, n = static_cast<int>(mine.size());
   MPI_Comm_size(comm, &nprocs);
   std::vector<int> counts(nprocs), displs(nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(displs.back() + counts.back());
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
   std::map<long long, std::vector<double>> out;
@@ -41,7 +43,8 @@ double worst_relative(const std::map<long long, std::vector<double>>& a,
                       const std::map<long long, std::vector<double>>& b) {
   double worst = 0.0, scale = 0.0;
   for (const auto& kv : a)
-    for (double v : kv.second) scale = std::max(scale, std::fabs(v));
+    for (double v : kv.second)
+      scale = std::max(scale, std::fabs(v));
   for (const auto& kv : a) {
     const auto& other = b.at(kv.first);
     for (std::size_t k = 0; k < kv.second.size(); ++k)
@@ -62,28 +65,32 @@ TEST_CASE("a restart written on N ranks continues on 1 and on N ranks") {
   {
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::fresh()) e.input->one(l);
+    for (const auto& l : restart_scene::fresh())
+      e.input->one(l);
     e.input->one("run 1200");
     straight = gather(e, MPI_COMM_SELF);
   }
   {
     granary::Engine e(MPI_COMM_WORLD);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::fresh()) e.input->one(l);
+    for (const auto& l : restart_scene::fresh())
+      e.input->one(l);
     e.input->one("run 600");
     e.input->one("write_restart " + file);
   }
   {
     granary::Engine e(MPI_COMM_WORLD);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::restarted(file)) e.input->one(l);
+    for (const auto& l : restart_scene::restarted(file))
+      e.input->one(l);
     e.input->one("run 600");
     on_world = gather(e, MPI_COMM_WORLD);
   }
   {
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::restarted(file)) e.input->one(l);
+    for (const auto& l : restart_scene::restarted(file))
+      e.input->one(l);
     e.input->one("run 600");
     on_self = gather(e, MPI_COMM_SELF);
   }
@@ -91,7 +98,8 @@ TEST_CASE("a restart written on N ranks continues on 1 and on N ranks") {
   REQUIRE(on_world.size() == straight.size());
   REQUIRE(on_self.size() == straight.size());
   const double d_world = worst_relative(straight, on_world), d_self = worst_relative(straight, on_self);
-  INFO("largest relative difference: read on " << nprocs << " rank(s) " << d_world << ", on 1 rank " << d_self);
+  INFO("largest relative difference: read on " << nprocs << " rank(s) " << d_world << ", on 1 rank "
+                                               << d_self);
   CHECK(d_world < 1e-10);
   CHECK(d_self < 1e-10);
   if (nprocs == 1) CHECK(d_self == 0.0);

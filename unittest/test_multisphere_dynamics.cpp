@@ -52,28 +52,33 @@ std::vector<std::string> setup(double e = 0.5, double mu = 0.5, const std::strin
 // Three spheres of different sizes: three distinct principal moments
 // (about 2.2e-10, 4.0e-10 and 4.6e-10 kg m^2).
 const char* kTriple =
-    "fix tri all particletemplate/multisphere 15485863 atom_type 1 density constant 2500 nspheres 3 ntry 1000000 "
+    "fix tri all particletemplate/multisphere 15485863 atom_type 1 density constant 2500 nspheres 3 ntry "
+    "1000000 "
     "spheres 0 0 0 0.002 0.003 0 0 0.0015 0 0.0025 0 0.001 type 1";
 // Two equal spheres 2 mm apart (a dumbbell, long axis = body x).
 const char* kDumbbell =
-    "fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 ntry 1000000 "
+    "fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 ntry "
+    "1000000 "
     "spheres -0.001 0 0 0.001 0.001 0 0 0.001 type 1";
 
 Vec3 total_angular_momentum(const Bodies& b) {
   Vec3 l(0, 0, 0);
-  for (int k = 0; k < b.size(); ++k) l += b.angmom[k] + b.mass[k] * b.xcm[k].cross(b.vcm[k]);
+  for (int k = 0; k < b.size(); ++k)
+    l += b.angmom[k] + b.mass[k] * b.xcm[k].cross(b.vcm[k]);
   return l;
 }
 
 Vec3 total_momentum(const Bodies& b) {
   Vec3 p(0, 0, 0);
-  for (int k = 0; k < b.size(); ++k) p += b.mass[k] * b.vcm[k];
+  for (int k = 0; k < b.size(); ++k)
+    p += b.mass[k] * b.vcm[k];
   return p;
 }
 
 double rotational_energy(const Bodies& b) {
   double e = 0.0;
-  for (int k = 0; k < b.size(); ++k) e += b.kinetic_rotational(k);
+  for (int k = 0; k < b.size(); ++k)
+    e += b.kinetic_rotational(k);
   return e;
 }
 
@@ -250,11 +255,11 @@ TEST_CASE("multisphere: a restarted run continues the clumps bit for bit", "[mul
             "fix ms all multisphere", "fix nve all nve/sphere"});
   };
   auto scene = [&](Sim& s) {
-    s.cmds({"units si", "atom_style granular", "boundary f f f", "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05",
-            "create_box 1 box"});
+    s.cmds({"units si", "atom_style granular", "boundary f f f",
+            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05", "create_box 1 box"});
     physics(s);
-    s.cmds({kTriple, "create_clump tri 0 0 -0.0465 omega 20 30 -10 vel 0.1 0 -0.3", "create_atoms 1 single 0.004 0 -0.048",
-            "set atom 4 diameter 0.002 density 2500"});
+    s.cmds({kTriple, "create_clump tri 0 0 -0.0465 omega 20 30 -10 vel 0.1 0 -0.3",
+            "create_atoms 1 single 0.004 0 -0.048", "set atom 4 diameter 0.002 density 2500"});
   };
   Vec3 x_straight, l_straight;
   double ke_straight = 0.0;
@@ -312,8 +317,9 @@ TEST_CASE("multisphere: clumps inserted by fix insert/pack are taken over", "[mu
     CHECK(sum[k] == Approx(b.mass[k]).epsilon(1e-12));
     // in free fall since the insertion at step 1 (which gets only the second
     // half kick): v = -0.1 - g 199.5 dt, no rotation (inserted without spin)
-    INFO("clump " << b.tag[k] << " (" << b.nspheres[k] << " spheres): v " << b.vcm[k].transpose() << ", omega "
-                  << b.omega[k].transpose() << ", force " << b.fcm[k].transpose() << ", torque " << b.torque[k].transpose());
+    INFO("clump " << b.tag[k] << " (" << b.nspheres[k] << " spheres): v " << b.vcm[k].transpose()
+                  << ", omega " << b.omega[k].transpose() << ", force " << b.fcm[k].transpose() << ", torque "
+                  << b.torque[k].transpose());
     CHECK(b.vcm[k][2] == Approx(-0.1 - 9.81 * 199.5 * 1e-5).epsilon(1e-9));
     CHECK(b.omega[k].norm() < 1e-9);
   }

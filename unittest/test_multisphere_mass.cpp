@@ -25,14 +25,16 @@
 #include "fix/modify.h"
 
 using granary::MassProperties;
-using granary::Vec3;
 using granary::sphere_union_properties;
+using granary::Vec3;
 
 namespace {
 
 constexpr long long kTry = 1000000;
 
-double sphere_volume(double r) { return 4.0 / 3.0 * M_PI * r * r * r; }
+double sphere_volume(double r) {
+  return 4.0 / 3.0 * M_PI * r * r * r;
+}
 
 /// Union of two spheres on the x axis (r1 at 0, r2 at d) as a solid of
 /// revolution: volume, centroid x, axial moment and transverse moment about
@@ -52,7 +54,8 @@ Revolution revolution(double r1, double r2, double d) {
     const int n = 200000;
     const double h = (b - a) / n;
     double s = f(a) + f(b);
-    for (int k = 1; k < n; ++k) s += f(a + k * h) * (k % 2 ? 4.0 : 2.0);
+    for (int k = 1; k < n; ++k)
+      s += f(a + k * h) * (k % 2 ? 4.0 : 2.0);
     return s * h / 3.0;
   };
   auto both = [&](auto f) { return simpson(f, lo, kink) + simpson(f, kink, hi); };
@@ -84,7 +87,8 @@ TEST_CASE("mass properties: one sphere", "[multisphere]") {
   CHECK((m.centre - Vec3(0.1, -0.2, 0.3)).norm() < 5.0 * m.relative_volume_error() * r + 1e-12);
   // I = 2/5 V r^2 about every axis (unit density); trace error reported
   const double i0 = 0.4 * v * r * r;
-  for (int d = 0; d < 3; ++d) check_within(m.inertia(d, d), i0, m.inertia_error, "moment");
+  for (int d = 0; d < 3; ++d)
+    check_within(m.inertia(d, d), i0, m.inertia_error, "moment");
   CHECK(std::fabs(m.inertia(0, 1)) < 5.0 * m.inertia_error);
 }
 
@@ -123,7 +127,8 @@ TEST_CASE("mass properties: two overlapping spheres (lens)", "[multisphere]") {
   check_within(m.inertia(2, 2), ref.iyy, m.inertia_error, "transverse moment");
   // the stated error bound holds and the estimate is deterministic
   CHECK(std::fabs(m.volume - v) <= m.volume_bound);
-  const MassProperties again = sphere_union_properties({Vec3(0, 0, 0), Vec3(d, 0, 0)}, {r1, r2}, kTry, 86028121);
+  const MassProperties again =
+      sphere_union_properties({Vec3(0, 0, 0), Vec3(d, 0, 0)}, {r1, r2}, kTry, 86028121);
   CHECK(again.volume == m.volume);
 }
 
@@ -134,8 +139,9 @@ TEST_CASE("particletemplate/multisphere: principal frame, mass and file input", 
                            "region box block -1 1 -1 1 -1 1", "create_box 2 box"})
     e.input->one(line);
   // a dumbbell along y, inline form: the long axis becomes body axis x
-  e.input->one("fix t1 all particletemplate/multisphere 15485863 atom_type 2 density constant 2500 nspheres 2 "
-               "ntry 1000000 spheres 0 0.001 0 0.001 0 -0.001 0 0.001 type 1");
+  e.input->one(
+      "fix t1 all particletemplate/multisphere 15485863 atom_type 2 density constant 2500 nspheres 2 "
+      "ntry 1000000 spheres 0 0.001 0 0.001 0 -0.001 0 0.001 type 1");
   auto* t1 = dynamic_cast<granary::FixParticleTemplateMultisphere*>(e.modify->find_fix("t1"));
   REQUIRE(t1);
   const auto p = t1->draw();
@@ -163,16 +169,20 @@ TEST_CASE("particletemplate/multisphere: principal frame, mass and file input", 
     f << "# x y z r\n0 0 0 1.0\n\n1.5 0 0 0.5  # second sphere\n";
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  e.input->one("fix t2 all particletemplate/multisphere 15485867 atom_type 1 density constant 1000 nspheres 2 "
-               "ntry 100000 spheres file " + path + " scale 0.001 type 1");
+  e.input->one(
+      "fix t2 all particletemplate/multisphere 15485867 atom_type 1 density constant 1000 nspheres 2 "
+      "ntry 100000 spheres file " +
+      path + " scale 0.001 type 1");
   auto* t2 = dynamic_cast<granary::FixParticleTemplateMultisphere*>(e.modify->find_fix("t2"));
   REQUIRE(t2);
   CHECK(t2->draw().radii[1] == Approx(0.0005));
   // the spheres touch at x = 1 mm: the volume is the sum of the two
   CHECK(t2->draw().volume == Approx(sphere_volume(0.001) + sphere_volume(0.0005)).epsilon(1e-3));
-  CHECK_THROWS_AS(e.input->one("fix t3 all particletemplate/multisphere 15485867 atom_type 1 density constant 1000 "
-                               "nspheres 3 ntry 100000 spheres file " + path + " type 1"),
-                  granary::InputError);
+  CHECK_THROWS_AS(
+      e.input->one("fix t3 all particletemplate/multisphere 15485867 atom_type 1 density constant 1000 "
+                   "nspheres 3 ntry 100000 spheres file " +
+                   path + " type 1"),
+      granary::InputError);
   CHECK_THROWS_AS(e.input->one("fix t4 all particletemplate/multisphere 15485867 atom_type 1 nspheres 1 "
                                "spheres 0 0 0 -1 type 1"),
                   granary::InputError);
@@ -189,7 +199,8 @@ TEST_CASE("potentials: the cylinder clumps have the volumes their headers state"
                            "region box block -1 1 -1 1 -1 1", "create_box 1 box"})
     e.input->one(line);
   for (int n : {10, 20, 50, 100}) {
-    const std::string path = std::string(GRANARY_SOURCE_DIR) + "/potentials/cylinder_ellipse_" + std::to_string(n) + ".clump";
+    const std::string path =
+        std::string(GRANARY_SOURCE_DIR) + "/potentials/cylinder_ellipse_" + std::to_string(n) + ".clump";
     std::ifstream in(path);
     REQUIRE(in.good());
     double stated = -1.0;
@@ -199,9 +210,12 @@ TEST_CASE("potentials: the cylinder clumps have the volumes their headers state"
       if (at != std::string::npos) std::istringstream(line.substr(at + 19)) >> stated;
     }
     REQUIRE(stated > 0.0);
-    e.input->one("fix c" + std::to_string(n) + " all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
-                 "nspheres " + std::to_string(n) + " ntry 200000 spheres file " + path + " type 1");
-    auto* t = dynamic_cast<granary::FixParticleTemplateMultisphere*>(e.modify->find_fix("c" + std::to_string(n)));
+    e.input->one("fix c" + std::to_string(n) +
+                 " all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
+                 "nspheres " +
+                 std::to_string(n) + " ntry 200000 spheres file " + path + " type 1");
+    auto* t =
+        dynamic_cast<granary::FixParticleTemplateMultisphere*>(e.modify->find_fix("c" + std::to_string(n)));
     REQUIRE(t);
     INFO(n << " spheres: header " << stated << " mm^3, integrated " << t->draw().volume * 1e9 << " mm^3");
     CHECK(t->draw().volume * 1e9 == Approx(stated).epsilon(0.01));

@@ -31,9 +31,9 @@ namespace {
 using granary::Vec3;
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadius = 0.001;   // [m]
-constexpr double kDensity = 2500;   // [kg/m3]
-constexpr double kYoung = 5.0e6;    // [Pa]
+constexpr double kRadius = 0.001;  // [m]
+constexpr double kDensity = 2500;  // [kg/m3]
+constexpr double kYoung = 5.0e6;   // [Pa]
 constexpr double kPoisson = 0.3;
 
 /// A number written so that it reads back exactly.
@@ -47,7 +47,8 @@ std::string num(double v) {
 /// n copies of one value, blank-separated.
 std::string repeat(double v, int n) {
   std::string out;
-  for (int k = 0; k < n; ++k) out += (k ? " " : "") + num(v);
+  for (int k = 0; k < n; ++k)
+    out += (k ? " " : "") + num(v);
   return out;
 }
 
@@ -94,11 +95,17 @@ std::vector<std::string> header(const std::string& boundary, const std::string& 
           "neigh_modify delay 0"};
 }
 
-void append(std::vector<std::string>& a, const std::vector<std::string>& b) { a.insert(a.end(), b.begin(), b.end()); }
+void append(std::vector<std::string>& a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+}
 
 // Effective Young's modulus of two equal materials, Y* = Y/(2(1-nu^2)).
-double y_eff() { return kYoung / (2.0 * (1.0 - kPoisson * kPoisson)); }
-double bead_mass() { return kDensity * 4.0 / 3.0 * kPi * kRadius * kRadius * kRadius; }
+double y_eff() {
+  return kYoung / (2.0 * (1.0 - kPoisson * kPoisson));
+}
+double bead_mass() {
+  return kDensity * 4.0 / 3.0 * kPi * kRadius * kRadius * kRadius;
+}
 
 // ---------------------------------------------------------------- restitution
 
@@ -270,7 +277,8 @@ TEST_CASE("elastic frictionless beads in a closed box conserve energy", "[physic
     script.push_back("set atom " + std::to_string(id) + " vx " + num(rng.next() - 0.5) + " vy " +
                      num(rng.next() - 0.5) + " vz " + num(rng.next() - 0.5));
   }
-  const char* planes[6] = {"xplane 0", "xplane 0.012", "yplane 0", "yplane 0.012", "zplane 0", "zplane 0.012"};
+  const char* planes[6] = {"xplane 0",     "xplane 0.012", "yplane 0",
+                           "yplane 0.012", "zplane 0",     "zplane 0.012"};
   for (int k = 0; k < 6; ++k) {
     script.push_back("fix w" + std::to_string(k) +
                      " all wall/gran model hertz tangential history primitive type 1 " + planes[k]);
@@ -283,7 +291,8 @@ TEST_CASE("elastic frictionless beads in a closed box conserve energy", "[physic
 
   // Hertz elastic energy 8/15 Y* sqrt(R*) delta^2.5 of every open contact.
   const double ys = y_eff();
-  auto contacts = [&](std::set<std::pair<long long, long long>>& pairs, std::set<std::pair<long long, int>>& walls) {
+  auto contacts = [&](std::set<std::pair<long long, long long>>& pairs,
+                      std::set<std::pair<long long, int>>& walls) {
     double pe = 0.0;
     pairs.clear();
     walls.clear();
@@ -325,8 +334,10 @@ TEST_CASE("elastic frictionless beads in a closed box conserve energy", "[physic
   for (int done = 0; done < steps; done += chunk) {
     s.e.update->run(chunk, false, false);
     pe = contacts(pairs, walls);
-    for (const auto& c : pairs) pair_collisions += pairs_before.count(c) == 0;
-    for (const auto& c : walls) wall_collisions += walls_before.count(c) == 0;
+    for (const auto& c : pairs)
+      pair_collisions += pairs_before.count(c) == 0;
+    for (const auto& c : walls)
+      wall_collisions += walls_before.count(c) == 0;
     std::swap(pairs, pairs_before);
     std::swap(walls, walls_before);
   }
@@ -390,8 +401,9 @@ TEST_CASE("oblique impact with friction and rolling friction conserves momentum 
   REQUIRE(p.nlocal == 2);
   // the collision happened: both beads changed velocity and spin
   const Vec3 w1 = s.omega(1);
-  INFO("P0 = " << P0.transpose() << ", relative change " << (P1 - P0).norm() / P0.norm() << "; L0 = "
-               << L0.transpose() << ", relative change " << (L1 - L0).norm() / L0.norm() << "; w1 = " << w1.transpose());
+  INFO("P0 = " << P0.transpose() << ", relative change " << (P1 - P0).norm() / P0.norm()
+               << "; L0 = " << L0.transpose() << ", relative change " << (L1 - L0).norm() / L0.norm()
+               << "; w1 = " << w1.transpose());
   CHECK((s.v(1) - Vec3(0.8, 0.1, 0.05)).norm() > 0.1);
   CHECK((w1 - Vec3(40, -120, 300)).norm() > 10);
   CHECK((P1 - P0).norm() < 1e-12 * P0.norm());
@@ -543,7 +555,8 @@ PileState pile(const std::string& newton, const PileSetup& setup) {
                      "set type 1 diameter 0.002 density 2500",
                      "velocity all set 0.0 0.0 " + num(setup.vz),
                      "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
-                     "fix zwall all wall/gran model hertz tangential history" + rolling + " primitive type 1 zplane 0.0",
+                     "fix zwall all wall/gran model hertz tangential history" + rolling +
+                         " primitive type 1 zplane 0.0",
                      "fix integr all nve/sphere",
                      "run " + std::to_string(setup.steps),
                  });
@@ -573,12 +586,13 @@ void compare_piles(const PileState& a, const PileState& b) {
   double dx = 0.0, dw = 0.0;
   for (std::size_t k = 1; k < a.x.size(); ++k) {
     Vec3 d = a.x[k] - b.x[k];
-    for (int dim = 0; dim < 2; ++dim) d[dim] -= 0.008 * std::round(d[dim] / 0.008);
+    for (int dim = 0; dim < 2; ++dim)
+      d[dim] -= 0.008 * std::round(d[dim] / 0.008);
     dx = std::max(dx, d.norm());
     dw = std::max(dw, (a.omega[k] - b.omega[k]).norm());
   }
-  INFO("largest position difference " << dx << " m, spin difference " << dw << " rad/s, contacts " << a.contacts
-                                      << " / " << b.contacts);
+  INFO("largest position difference " << dx << " m, spin difference " << dw << " rad/s, contacts "
+                                      << a.contacts << " / " << b.contacts);
   CHECK(dx < 1e-10);
   CHECK(dw < 1e-4);
 }

@@ -35,7 +35,8 @@ Rebound impact(double incidence_deg, const std::string& tangential) {
   e.logger->set_screen(false);
   const double th = incidence_deg * M_PI / 180.0;
   char vel[128];
-  std::snprintf(vel, sizeof vel, "velocity all set %.17g 0.0 %.17g", kSpeed * std::sin(th), -kSpeed * std::cos(th));
+  std::snprintf(vel, sizeof vel, "velocity all set %.17g 0.0 %.17g", kSpeed * std::sin(th),
+                -kSpeed * std::cos(th));
   const std::vector<std::string> script = {
       "units si",
       "atom_style granular",
@@ -58,7 +59,8 @@ Rebound impact(double incidence_deg, const std::string& tangential) {
       "fix integr all nve/sphere",
       "run 1500",
   };
-  for (const auto& line : script) e.input->one(line);
+  for (const auto& line : script)
+    e.input->one(line);
   const auto& p = *e.particles;
   REQUIRE(p.nlocal == 1);
   REQUIRE(p.v[0][2] > 0.0);  // it has rebounded

@@ -29,7 +29,8 @@ State state_of(granary::Engine& e) {
   for (int i = 0; i < p.nlocal; ++i) {
     std::vector<double> v;
     for (const auto* a : {&p.x, &p.v, &p.omega})
-      for (int d = 0; d < 3; ++d) v.push_back((*a)[i][d]);
+      for (int d = 0; d < 3; ++d)
+        v.push_back((*a)[i][d]);
     s.particles[p.id[i]] = v;
   }
   s.step = e.update->ntimestep;
@@ -38,7 +39,8 @@ State state_of(granary::Engine& e) {
 }
 
 void run_lines(granary::Engine& e, const std::vector<std::string>& lines) {
-  for (const auto& l : lines) e.input->one(l);
+  for (const auto& l : lines)
+    e.input->one(l);
 }
 
 std::string read_file(const std::string& path) {
@@ -82,7 +84,8 @@ TEST_CASE("a restarted run continues bit for bit on one rank") {
   int differing = 0;
   for (const auto& kv : straight.particles) {
     const auto& other = restarted.particles.at(kv.first);
-    for (std::size_t k = 0; k < kv.second.size(); ++k) differing += kv.second[k] != other[k];
+    for (std::size_t k = 0; k < kv.second.size(); ++k)
+      differing += kv.second[k] != other[k];
   }
   CHECK(differing == 0);  // identical to the bit
 }

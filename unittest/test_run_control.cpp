@@ -105,13 +105,16 @@ std::vector<std::vector<double>> thermo_rows(const std::string& text, std::size_
     std::istringstream ws(line);
     std::vector<std::string> words;
     std::string w;
-    while (ws >> w) words.push_back(w);
+    while (ws >> w)
+      words.push_back(w);
     if (words.size() != columns) continue;
     bool all = true;
-    for (const auto& x : words) all = all && is_number(x);
+    for (const auto& x : words)
+      all = all && is_number(x);
     if (!all) continue;
     std::vector<double> row;
-    for (const auto& x : words) row.push_back(std::strtod(x.c_str(), nullptr));
+    for (const auto& x : words)
+      row.push_back(std::strtod(x.c_str(), nullptr));
     rows.push_back(row);
   }
   return rows;
@@ -150,7 +153,7 @@ TEST_CASE("run N upto runs to step N", "[run]") {
   s.cmd("run 250 upto");
   CHECK(s.e.update->ntimestep == 250);
   CHECK(s.e.update->firststep == 100);  // that run made 150 steps
-  s.cmd("run 250 upto");                 // nothing left to do
+  s.cmd("run 250 upto");                // nothing left to do
   CHECK(s.e.update->ntimestep == 250);
   REQUIRE_THROWS_WITH(s.cmd("run 200 upto"), Contains("already passed"));
   CHECK(s.e.update->ntimestep == 250);
@@ -231,7 +234,7 @@ TEST_CASE("thermo N controls the number of output lines in the log", "[run][ther
     CHECK(rows.front()[0] == 0);
     CHECK(rows.back()[0] == c.steps);
     for (const auto& r : rows) {
-      CHECK(r[1] == 1);                                // atoms
+      CHECK(r[1] == 1);                                  // atoms
       CHECK(r[3] == Approx(r[0] * 1e-5).margin(1e-12));  // time = step dt
     }
   }
@@ -314,9 +317,9 @@ TEST_CASE("neigh_modify every, delay and check control the list rebuilds", "[run
     s.cmd("atom_modify sort 0 0.0");
     CHECK(builds(s, "every 1 delay 0 check no", 100) == 1 + 100);
     CHECK(builds(s, "every 10 delay 0 check no", 100) == 1 + 10);
-    CHECK(builds(s, "every 1 delay 20 check no", 100) == 1 + 5);   // steps 20, 40, ..., 100
-    CHECK(builds(s, "every 5 delay 12 check no", 100) == 1 + 6);   // every 15 steps
-    CHECK(builds(s, "every 1 delay 0 check yes", 100) == 1);       // nothing moves
+    CHECK(builds(s, "every 1 delay 20 check no", 100) == 1 + 5);  // steps 20, 40, ..., 100
+    CHECK(builds(s, "every 5 delay 12 check no", 100) == 1 + 6);  // every 15 steps
+    CHECK(builds(s, "every 1 delay 0 check yes", 100) == 1);      // nothing moves
     CHECK(builds(s, "every 1 delay 0 check no once yes", 100) == 1);
   }
   SECTION("a moving bead") {
@@ -343,9 +346,9 @@ TEST_CASE("neigh_modify exclude type removes contacts between those types", "[ru
     Sim s;
     s.lines(setup(2));
     s.lines({"create_atoms 1 single -0.0015 0 0 units box", "create_atoms 2 single 0.0015 0 0 units box",
-             "create_atoms 1 single -0.0015 0.01 0 units box", "create_atoms 1 single 0.0015 0.01 0 units box",
-             "set group all diameter 0.002 density 2500", "set atom 1 vx 0.5", "set atom 2 vx -0.5",
-             "set atom 3 vx 0.5", "set atom 4 vx -0.5"});
+             "create_atoms 1 single -0.0015 0.01 0 units box",
+             "create_atoms 1 single 0.0015 0.01 0 units box", "set group all diameter 0.002 density 2500",
+             "set atom 1 vx 0.5", "set atom 2 vx -0.5", "set atom 3 vx 0.5", "set atom 4 vx -0.5"});
     if (exclude) s.cmd("neigh_modify exclude type 1 2");
     s.cmd("run 1500");  // 15 ms: about 5 mm of travel each
     const auto& p = s.p();

@@ -16,9 +16,9 @@
 #include "fix/modify.h"
 #include "particles/particles.h"
 
+using Catch::Matchers::Contains;
 using granary::Engine;
 using granary::InputError;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -43,9 +43,15 @@ const std::vector<Particle> kParticles = {
     {{8, 1, 2}, 0.6, 500, {-1, -1, -1}, {0, 5, 0}},
 };
 
-double mass(const Particle& p) { return 4.0 / 3.0 * M_PI * std::pow(0.5 * p.d, 3) * p.rho; }
-double v2(const Particle& p) { return p.v[0] * p.v[0] + p.v[1] * p.v[1] + p.v[2] * p.v[2]; }
-double w2(const Particle& p) { return p.w[0] * p.w[0] + p.w[1] * p.w[1] + p.w[2] * p.w[2]; }
+double mass(const Particle& p) {
+  return 4.0 / 3.0 * M_PI * std::pow(0.5 * p.d, 3) * p.rho;
+}
+double v2(const Particle& p) {
+  return p.v[0] * p.v[0] + p.v[1] * p.v[1] + p.v[2] * p.v[2];
+}
+double w2(const Particle& p) {
+  return p.w[0] * p.w[0] + p.w[1] * p.w[1] + p.w[2] * p.w[2];
+}
 
 void setup(Sim& s) {
   s.cmds({"units si", "atom_style granular", "boundary f f f", "region box block 0 10 0 10 0 10",
@@ -55,8 +61,8 @@ void setup(Sim& s) {
     char line[512];
     std::snprintf(line, sizeof line, "create_atoms 1 single %g %g %g", p.x[0], p.x[1], p.x[2]);
     s.cmd(line);
-    std::snprintf(line, sizeof line, "set atom %d diameter %g density %g vx %g vy %g vz %g omega %g %g %g", id,
-                  p.d, p.rho, p.v[0], p.v[1], p.v[2], p.w[0], p.w[1], p.w[2]);
+    std::snprintf(line, sizeof line, "set atom %d diameter %g density %g vx %g vy %g vz %g omega %g %g %g",
+                  id, p.d, p.rho, p.v[0], p.v[1], p.v[2], p.w[0], p.w[1], p.w[2]);
     s.cmd(line);
     ++id;
   }
@@ -69,7 +75,8 @@ void setup(Sim& s) {
 TEST_CASE("compute ke and erotate/sphere", "[compute]") {
   Sim s;
   setup(s);
-  s.cmds({"compute ke all ke", "compute rot all erotate/sphere", "compute ke2 two ke", "compute rot2 two erotate/sphere"});
+  s.cmds({"compute ke all ke", "compute rot all erotate/sphere", "compute ke2 two ke",
+          "compute rot2 two erotate/sphere"});
   double ke = 0, rot = 0, ke2 = 0, rot2 = 0;
   for (std::size_t k = 0; k < kParticles.size(); ++k) {
     const auto& p = kParticles[k];
@@ -96,10 +103,12 @@ TEST_CASE("compute reduce sum, min, max, ave and friends", "[compute]") {
   setup(s);
   s.cmds({"compute sum all reduce sum vx mass x", "compute mn all reduce min x vy radius",
           "compute mx all reduce max y vx omegaz", "compute av all reduce ave z vx",
-          "compute sq all reduce sumsq vy", "compute aq all reduce avesq vx", "compute sa all reduce sumabs vz",
-          "compute aa all reduce aveabs vy", "compute one two reduce sum vy"});
+          "compute sq all reduce sumsq vy", "compute aq all reduce avesq vx",
+          "compute sa all reduce sumabs vz", "compute aa all reduce aveabs vy",
+          "compute one two reduce sum vy"});
   double msum = 0;
-  for (const auto& p : kParticles) msum += mass(p);
+  for (const auto& p : kParticles)
+    msum += mass(p);
   CHECK(s.value("sum", 1) == Approx(3.0));
   CHECK(s.value("sum", 2) == Approx(msum).epsilon(1e-12));
   CHECK(s.value("sum", 3) == Approx(16.0));
@@ -132,7 +141,8 @@ TEST_CASE("compute reduce over computes, variables and with replace", "[compute]
           "compute all3 all reduce max c_pa[*]", "compute who all reduce max vx id replace 2 1",
           "compute low all reduce min vy x replace 2 1", "compute ke all ke"});
   double msum = 0;
-  for (const auto& p : kParticles) msum += mass(p);
+  for (const auto& p : kParticles)
+    msum += mass(p);
   CHECK(s.value("r", 1) == Approx(msum).epsilon(1e-12));
   CHECK(s.value("r", 2) == Approx(1.0));
   CHECK(s.value("r", 3) == Approx(s.value("ke")).epsilon(1e-12));
@@ -158,7 +168,8 @@ TEST_CASE("compute reduce over computes, variables and with replace", "[compute]
 TEST_CASE("compute property/atom gives per-atom vectors and arrays", "[compute]") {
   Sim s;
   setup(s);
-  s.cmds({"compute pa two property/atom id type diameter x vy omegaz", "compute one all property/atom density"});
+  s.cmds(
+      {"compute pa two property/atom id type diameter x vy omegaz", "compute one all property/atom density"});
   auto* pa = s.e.modify->find_compute("pa");
   CHECK(pa->peratom_flag);
   CHECK(pa->peratom_cols == 6);
@@ -194,9 +205,10 @@ TEST_CASE("compute property/atom gives per-atom vectors and arrays", "[compute]"
 TEST_CASE("compute count/region and reduce/region", "[compute]") {
   Sim s;
   setup(s);
-  s.cmds({"region left block 0 4.5 0 10 0 10", "region ball sphere 5 5 5 1", "compute n all count/region left",
-          "compute n2 two count/region left", "compute nb all count/region ball",
-          "compute rr all reduce/region left sum vy mass", "compute rm all reduce/region left max x"});
+  s.cmds({"region left block 0 4.5 0 10 0 10", "region ball sphere 5 5 5 1",
+          "compute n all count/region left", "compute n2 two count/region left",
+          "compute nb all count/region ball", "compute rr all reduce/region left sum vy mass",
+          "compute rm all reduce/region left max x"});
   CHECK(s.value("n") == 2.0);
   CHECK(s.value("n2") == 1.0);
   CHECK(s.value("nb") == 1.0);

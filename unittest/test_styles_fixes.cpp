@@ -17,10 +17,10 @@
 #include "fix/modify.h"
 #include "particles/particles.h"
 
+using Catch::Matchers::Contains;
 using granary::Engine;
 using granary::InputError;
 using granary::Vec3;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -46,17 +46,18 @@ void state(Engine& e, long long id, Vec3& x, Vec3& v) {
   v = Vec3(all[3], all[4], all[5]);
 }
 
-const std::vector<std::string> kBox = {"units si", "atom_style granular", "boundary f f f",
-                                       "region box block -0.2 0.2 -0.2 0.2 -0.2 0.2", "create_box 2 box",
-                                       "timestep 1e-4"};
+const std::vector<std::string> kBox = {"units si",         "atom_style granular",
+                                       "boundary f f f",   "region box block -0.2 0.2 -0.2 0.2 -0.2 0.2",
+                                       "create_box 2 box", "timestep 1e-4"};
 
 }  // namespace
 
 TEST_CASE("fix gravity: free fall follows x0 + v0 t - g t^2 / 2", "[fix]") {
   Sim s;
   s.cmds(kBox);
-  s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 2 single 0.1 0 0", "set type 1 diameter 0.01 density 2000",
-          "set type 2 diameter 0.02 density 1000", "velocity all set 0.1 0 1",
+  s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 2 single 0.1 0 0",
+          "set type 1 diameter 0.01 density 2000", "set type 2 diameter 0.02 density 1000",
+          "velocity all set 0.1 0 1",
           "fix g all gravity 9.81 vector 0 0 -2",  // the direction is normalised
           "fix i all nve/sphere", "run 1000"});
   const double t = 0.1, g = 9.81;
@@ -73,7 +74,8 @@ TEST_CASE("fix gravity: free fall follows x0 + v0 t - g t^2 / 2", "[fix]") {
   // the scalar is the potential energy -sum m g.x
   const auto& p = *s.e.particles;
   double pe = 0.0;
-  for (int i = 0; i < p.nlocal; ++i) pe += p.rmass[i] * g * p.x[i][2];
+  for (int i = 0; i < p.nlocal; ++i)
+    pe += p.rmass[i] * g * p.x[i][2];
   double pe_all = 0.0;
   MPI_Allreduce(&pe, &pe_all, 1, MPI_DOUBLE, MPI_SUM, s.e.world);
   CHECK(s.e.fix_value("g", 0) == Approx(pe_all).epsilon(1e-12));
@@ -89,7 +91,8 @@ TEST_CASE("fix gravity: spherical and chute directions, variables, errors", "[fi
     s.cmd("run 0");
     Vec3 f(0, 0, 0);
     const auto& p = *s.e.particles;
-    for (int i = 0; i < p.nlocal; ++i) f = p.f[i];
+    for (int i = 0; i < p.nlocal; ++i)
+      f = p.f[i];
     double all[3];
     MPI_Allreduce(f.data(), all, 3, MPI_DOUBLE, MPI_SUM, s.e.world);
     s.cmd("unfix g");
@@ -98,7 +101,8 @@ TEST_CASE("fix gravity: spherical and chute directions, variables, errors", "[fi
   CHECK(force_after_setup("fix g all gravity 9.81 spherical 0 180").isApprox(Vec3(0, 0, -9.81 * m)));
   CHECK(force_after_setup("fix g all gravity 9.81 spherical 90 90").isApprox(Vec3(0, 9.81 * m, 0)));
   const double a = 30.0 * M_PI / 180.0;
-  CHECK(force_after_setup("fix g all gravity 2 chute 30").isApprox(Vec3(2 * m * std::sin(a), 0, -2 * m * std::cos(a))));
+  CHECK(force_after_setup("fix g all gravity 2 chute 30")
+            .isApprox(Vec3(2 * m * std::sin(a), 0, -2 * m * std::cos(a))));
   s.cmd("variable gm equal 3.5");
   CHECK(force_after_setup("fix g all gravity v_gm vector 1 0 0").isApprox(Vec3(3.5 * m, 0, 0)));
 
@@ -111,9 +115,10 @@ TEST_CASE("fix gravity: spherical and chute directions, variables, errors", "[fi
 TEST_CASE("fix freeze keeps its particles in place", "[fix]") {
   Sim s;
   s.cmds(kBox);
-  s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 2 single 0.1 0 0", "set type * diameter 0.01 density 2000",
-          "velocity all set 0.5 0.5 0.5", "set atom 1 omega 1 2 3", "group frozen type 1",
-          "fix g all gravity 9.81 vector 0 0 -1", "fix f frozen freeze", "fix i all nve/sphere", "run 200"});
+  s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 2 single 0.1 0 0",
+          "set type * diameter 0.01 density 2000", "velocity all set 0.5 0.5 0.5", "set atom 1 omega 1 2 3",
+          "group frozen type 1", "fix g all gravity 9.81 vector 0 0 -1", "fix f frozen freeze",
+          "fix i all nve/sphere", "run 200"});
   Vec3 x, v;
   state(s.e, 1, x, v);
   CHECK(x == Vec3(0, 0, 0));
@@ -135,12 +140,13 @@ TEST_CASE("fix viscous: exponential decay at rate gamma / m", "[fix]") {
   Sim s;
   s.cmds(kBox);
   const double m = 4.0 / 3.0 * M_PI * 1.25e-7 * 2000;  // d = 0.01, rho = 2000
-  const double tau = 0.01;                              // m / gamma
+  const double tau = 0.01;                             // m / gamma
   const double gamma = m / tau;
   char line[256];
   std::snprintf(line, sizeof line, "fix visc all viscous %.17g scale 2 2.0", gamma);
-  s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 2 single 0.1 0 0", "set type * diameter 0.01 density 2000",
-          "velocity all set 1 -2 0.5", line, "fix i all nve/sphere", "timestep 1e-5", "run 1000"});
+  s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 2 single 0.1 0 0",
+          "set type * diameter 0.01 density 2000", "velocity all set 1 -2 0.5", line, "fix i all nve/sphere",
+          "timestep 1e-5", "run 1000"});
   const double t = 0.01;
   Vec3 x, v;
   state(s.e, 1, x, v);
@@ -149,7 +155,7 @@ TEST_CASE("fix viscous: exponential decay at rate gamma / m", "[fix]") {
   CHECK(v[1] == Approx(-2.0 * f1).epsilon(0.01));
   CHECK(v[2] == Approx(0.5 * f1).epsilon(0.01));
   CHECK(x[0] == Approx(tau * (1 - f1)).epsilon(0.01));  // x = v0 tau (1 - exp(-t/tau))
-  state(s.e, 2, x, v);  // type 2: twice the damping
+  state(s.e, 2, x, v);                                  // type 2: twice the damping
   const double f2 = std::exp(-2 * t / tau);
   CHECK(v[0] == Approx(1.0 * f2).epsilon(0.01));
   CHECK(v[1] == Approx(-2.0 * f2).epsilon(0.01));
@@ -165,7 +171,8 @@ TEST_CASE("fix property/global: values, lookups and count checks", "[fix]") {
   s.cmds({"fix m1 all property/global youngsModulus peratomtype 5e6 6e6",
           "fix m2 all property/global coefficientRestitution peratomtypepair 2 0.1 0.2 0.3 0.4",
           "fix m3 all property/global characteristicVelocity scalar 2.5",
-          "fix m4 all property/global table matrix 3 1 2 3 4 5 6", "fix m5 all property/global list vector 7 8 9"});
+          "fix m4 all property/global table matrix 3 1 2 3 4 5 6",
+          "fix m5 all property/global list vector 7 8 9"});
   using granary::FixPropertyGlobal;
   const auto& modify = *s.e.modify;
   auto* ym = FixPropertyGlobal::find(modify, "youngsModulus");
@@ -187,7 +194,8 @@ TEST_CASE("fix property/global: values, lookups and count checks", "[fix]") {
   CHECK(FixPropertyGlobal::find(modify, "poissonsRatio") == nullptr);
   CHECK_THROWS_WITH(FixPropertyGlobal::require(modify, "poissonsRatio", "pair gran"),
                     Contains("fix ID all property/global poissonsRatio peratomtype"));
-  CHECK_THROWS_WITH(FixPropertyGlobal::require(modify, "youngModulus", "pair gran"), Contains("youngsModulus"));
+  CHECK_THROWS_WITH(FixPropertyGlobal::require(modify, "youngModulus", "pair gran"),
+                    Contains("youngsModulus"));
   // a later definition of the same property wins
   s.cmd("fix m6 all property/global youngsModulus peratomtype 1e7 1e7");
   CHECK(FixPropertyGlobal::find(modify, "youngsModulus")->per_type(1) == 1e7);

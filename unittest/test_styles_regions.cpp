@@ -20,10 +20,10 @@
 #include "domain/region.h"
 #include "particles/particles.h"
 
+using Catch::Matchers::Contains;
 using granary::Engine;
 using granary::InputError;
 using granary::Vec3;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -39,12 +39,14 @@ std::map<long long, Vec3> gather_positions(Engine& e) {
   std::vector<double> mine;
   for (int i = 0; i < p.nlocal; ++i) {
     mine.push_back(static_cast<double>(p.id[i]));
-    for (int d = 0; d < 3; ++d) mine.push_back(p.x[i][d]);
+    for (int d = 0; d < 3; ++d)
+      mine.push_back(p.x[i][d]);
   }
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
   MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
   std::map<long long, Vec3> out;
@@ -285,14 +287,16 @@ TEST_CASE("create_atoms region, single and errors", "[particles]") {
 TEST_CASE("create_atoms random respects the region and the overlap distance", "[particles]") {
   Sim s;
   s.cmds(kBox);
-  s.cmds({"region ball sphere 0.5 0.5 0.5 0.3", "create_atoms 1 random 100 4711 ball overlap 0.08 maxtry 1000"});
+  s.cmds(
+      {"region ball sphere 0.5 0.5 0.5 0.3", "create_atoms 1 random 100 4711 ball overlap 0.08 maxtry 1000"});
   CHECK(s.e.particles->natoms == 100);
   const auto x = gather_positions(s.e);
   REQUIRE(x.size() == 100);
   double dmin = 1e9;
   for (auto a = x.begin(); a != x.end(); ++a) {
     CHECK((a->second - Vec3(0.5, 0.5, 0.5)).norm() <= 0.3);
-    for (auto b = std::next(a); b != x.end(); ++b) dmin = std::min(dmin, (a->second - b->second).norm());
+    for (auto b = std::next(a); b != x.end(); ++b)
+      dmin = std::min(dmin, (a->second - b->second).norm());
   }
   CHECK(dmin >= 0.08);
   CHECK(x.begin()->first == 1);
@@ -301,7 +305,8 @@ TEST_CASE("create_atoms random respects the region and the overlap distance", "[
   // same seed, same points; new ids follow the old ones
   Sim t;
   t.cmds(kBox);
-  t.cmds({"region ball sphere 0.5 0.5 0.5 0.3", "create_atoms 1 random 100 4711 ball overlap 0.08 maxtry 1000"});
+  t.cmds(
+      {"region ball sphere 0.5 0.5 0.5 0.3", "create_atoms 1 random 100 4711 ball overlap 0.08 maxtry 1000"});
   CHECK(gather_positions(t.e) == x);
   t.cmd("create_atoms 2 random 10 99 NULL");
   const auto y = gather_positions(t.e);
@@ -375,7 +380,8 @@ TEST_CASE("group styles on a lattice", "[group]") {
 TEST_CASE("at most 32 groups", "[group]") {
   Sim s;
   s.cmds(kBox);
-  for (int k = 1; k < granary::Groups::kMaxGroups; ++k) s.cmd("group g" + std::to_string(k) + " empty");
+  for (int k = 1; k < granary::Groups::kMaxGroups; ++k)
+    s.cmd("group g" + std::to_string(k) + " empty");
   CHECK_THROWS_WITH(s.cmd("group one_more empty"), Contains("32"));
   s.cmd("group g5 delete");
   s.cmd("group one_more empty");
@@ -409,7 +415,8 @@ TEST_CASE("set keywords follow LIGGGHTS for diameter, density and mass", "[parti
   s.cmd("set type 1 type 3");
   const auto& p = *s.e.particles;
   s.cmd("set group all omegax 7");
-  for (int i = 0; i < p.nlocal; ++i) CHECK(p.omega[i] == Vec3(7, 5, 6));
+  for (int i = 0; i < p.nlocal; ++i)
+    CHECK(p.omega[i] == Vec3(7, 5, 6));
   s.cmd("set group all omega 4 5 6");
   for (int i = 0; i < p.nlocal; ++i) {
     CHECK(p.v[i] == Vec3(1, 2, 3));
@@ -418,9 +425,11 @@ TEST_CASE("set keywords follow LIGGGHTS for diameter, density and mass", "[parti
     CHECK(p.type[i] == 3);
   }
   s.cmds({"variable d atom 0.1*id", "set atom * diameter v_d"});
-  for (int i = 0; i < p.nlocal; ++i) CHECK(p.radius[i] == Approx(0.05 * p.id[i]));
+  for (int i = 0; i < p.nlocal; ++i)
+    CHECK(p.radius[i] == Approx(0.05 * p.id[i]));
   s.cmds({"variable vz equal 4.0", "velocity all set NULL v_vz NULL sum yes"});
-  for (int i = 0; i < p.nlocal; ++i) CHECK(p.v[i] == Vec3(1, 6, 3));
+  for (int i = 0; i < p.nlocal; ++i)
+    CHECK(p.v[i] == Vec3(1, 6, 3));
   s.cmd("variable bad atom 1-id");
   CHECK_THROWS_WITH(s.cmd("set atom * diameter v_bad"), Contains("invalid"));
   CHECK_THROWS_WITH(s.cmd("set atom * diameter v_none"), Contains("none"));
@@ -451,12 +460,15 @@ TEST_CASE("velocity set, ramp and zero", "[particles]") {
   s.cmd("velocity all set 0.3 0 0");
   auto& p = *s.e.particles;
   const Vec3 c = g.xcm(0);
-  for (int i = 0; i < p.nlocal; ++i) p.v[i] += Vec3(0, 0, 2).cross(p.x[i] - c);
+  for (int i = 0; i < p.nlocal; ++i)
+    p.v[i] += Vec3(0, 0, 2).cross(p.x[i] - c);
   s.cmd("velocity all zero angular");
-  for (int i = 0; i < p.nlocal; ++i) CHECK((p.v[i] - Vec3(0.3, 0, 0)).norm() < 1e-12);
+  for (int i = 0; i < p.nlocal; ++i)
+    CHECK((p.v[i] - Vec3(0.3, 0, 0)).norm() < 1e-12);
 
   s.cmd("velocity all setAngular 0 0 5");
-  for (int i = 0; i < p.nlocal; ++i) CHECK(p.omega[i] == Vec3(0, 0, 5));
+  for (int i = 0; i < p.nlocal; ++i)
+    CHECK(p.omega[i] == Vec3(0, 0, 5));
   CHECK_THROWS_WITH(s.cmd("velocity all create 300 4711"), Contains("not supported"));
   CHECK_THROWS_WITH(s.cmd("velocity all set 1 2"), Contains("3 values"));
   CHECK_THROWS_WITH(s.cmd("velocity all zero spin"), Contains("linear or angular"));
@@ -473,7 +485,8 @@ TEST_CASE("delete_atoms group and region, with and without compress", "[particle
     REQUIRE(x.size() == 500);
     CHECK(x.begin()->first == 1);
     CHECK(x.rbegin()->first == 500);
-    for (const auto& kv : x) CHECK(kv.second[0] > 0.45);
+    for (const auto& kv : x)
+      CHECK(kv.second[0] > 0.45);
   }
   SECTION("compress no keeps the ids") {
     Sim s;
@@ -482,7 +495,8 @@ TEST_CASE("delete_atoms group and region, with and without compress", "[particle
             "delete_atoms region ball compress no"});
     const auto x = gather_positions(s.e);
     CHECK(x.rbegin()->first == 1000);
-    for (const auto& kv : x) CHECK((kv.second - Vec3(0.5, 0.5, 0.5)).norm() > 0.25);
+    for (const auto& kv : x)
+      CHECK((kv.second - Vec3(0.5, 0.5, 0.5)).norm() > 0.25);
     s.cmd("create_atoms 2 single 0.5 0.5 0.5");  // next id after the largest
     CHECK(gather_positions(s.e).rbegin()->first == 1001);
     CHECK_THROWS_WITH(s.cmd("delete_atoms region nowhere"), Contains("nowhere"));

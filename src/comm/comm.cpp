@@ -18,18 +18,19 @@
 namespace granary {
 
 namespace {
-int nb(int p) { return p < 0 ? MPI_PROC_NULL : p; }
+int nb(int p) {
+  return p < 0 ? MPI_PROC_NULL : p;
+}
 
 // Exchange counts then doubles with one partner each way.
-void sendrecv_doubles(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
-                      int recvproc, MPI_Comm world) {
+void sendrecv_doubles(const std::vector<double>& send, int sendproc, std::vector<double>& recv, int recvproc,
+                      MPI_Comm world) {
   int nsend = static_cast<int>(send.size()), nrecv = 0;
-  MPI_Sendrecv(&nsend, 1, MPI_INT, sendproc, 1, &nrecv, 1, MPI_INT, recvproc, 1, world,
-               MPI_STATUS_IGNORE);
+  MPI_Sendrecv(&nsend, 1, MPI_INT, sendproc, 1, &nrecv, 1, MPI_INT, recvproc, 1, world, MPI_STATUS_IGNORE);
   if (recvproc == MPI_PROC_NULL) nrecv = 0;
   recv.resize(nrecv);
-  MPI_Sendrecv(send.data(), sendproc == MPI_PROC_NULL ? 0 : nsend, MPI_DOUBLE, sendproc, 2,
-               recv.data(), nrecv, MPI_DOUBLE, recvproc, 2, world, MPI_STATUS_IGNORE);
+  MPI_Sendrecv(send.data(), sendproc == MPI_PROC_NULL ? 0 : nsend, MPI_DOUBLE, sendproc, 2, recv.data(),
+               nrecv, MPI_DOUBLE, recvproc, 2, world, MPI_STATUS_IGNORE);
 }
 }  // namespace
 
@@ -43,10 +44,11 @@ void Comm::processors_command(const Args& args) {
     if (user_grid[d] < 0) throw InputError("processor counts must be positive or *");
   }
   int known = 1;
-  for (int d = 0; d < 3; ++d) known *= user_grid[d] > 0 ? user_grid[d] : 1;
+  for (int d = 0; d < 3; ++d)
+    known *= user_grid[d] > 0 ? user_grid[d] : 1;
   if (engine_.nprocs % known != 0) {
-    throw InputError("processors " + join(args) + " does not divide the " +
-                     std::to_string(engine_.nprocs) + " MPI ranks");
+    throw InputError("processors " + join(args) + " does not divide the " + std::to_string(engine_.nprocs) +
+                     " MPI ranks");
   }
 }
 
@@ -62,8 +64,9 @@ void Comm::modify_command(const Args& args) {
     if ((w == "vel") && k + 1 < args.size()) {
       ghost_velocity = parse_bool(args[++k], "vel");
       if (!ghost_velocity) {
-        throw InputError("comm_modify vel no: granular contacts need the velocities and spins of "
-                         "ghost particles; use vel yes (the default)");
+        throw InputError(
+            "comm_modify vel no: granular contacts need the velocities and spins of "
+            "ghost particles; use vel yes (the default)");
       }
     } else if ((w == "cutoff") && k + 1 < args.size()) {
       cutghost_user = parse_double(args[++k], "cutoff");
@@ -113,7 +116,8 @@ void Comm::choose_grid() {
       procneigh[d][s] = loc[0] + procgrid[0] * (loc[1] + procgrid[1] * loc[2]);
     }
     split[d].resize(procgrid[d] + 1);
-    for (int k = 0; k <= procgrid[d]; ++k) split[d][k] = static_cast<double>(k) / procgrid[d];
+    for (int k = 0; k <= procgrid[d]; ++k)
+      split[d][k] = static_cast<double>(k) / procgrid[d];
   }
   grid_set_ = true;
 }
@@ -122,8 +126,8 @@ void Comm::set_subdomain() {
   Domain& dom = *engine_.domain;
   for (int d = 0; d < 3; ++d) {
     dom.sublo[d] = dom.boxlo[d] + split[d][myloc[d]] * dom.prd[d];
-    dom.subhi[d] = myloc[d] == procgrid[d] - 1 ? dom.boxhi[d]
-                                                : dom.boxlo[d] + split[d][myloc[d] + 1] * dom.prd[d];
+    dom.subhi[d] =
+        myloc[d] == procgrid[d] - 1 ? dom.boxhi[d] : dom.boxlo[d] + split[d][myloc[d] + 1] * dom.prd[d];
   }
 }
 
@@ -159,7 +163,8 @@ void Comm::exchange(ContactHistory* history) {
   Particles& p = *engine_.particles;
   Domain& dom = *engine_.domain;
   p.clear_ghosts();
-  for (int i = 0; i < p.nlocal; ++i) dom.remap(p.x[i], p.image[i]);
+  for (int i = 0; i < p.nlocal; ++i)
+    dom.remap(p.x[i], p.image[i]);
 
   // Particles outside a fixed ('f') boundary are lost; the caller acts on the count.
   nlost = 0;
@@ -176,8 +181,8 @@ void Comm::exchange(ContactHistory* history) {
     if (nlost == 0) {
       char buf[256];
       std::snprintf(buf, sizeof buf, "particle %lld at (%g, %g, %g) with velocity (%g, %g, %g)",
-                    static_cast<long long>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2], p.v[i][0],
-                    p.v[i][1], p.v[i][2]);
+                    static_cast<long long>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2], p.v[i][0], p.v[i][1],
+                    p.v[i][2]);
       first_lost = buf;
     }
     ++nlost;
@@ -193,10 +198,14 @@ void Comm::exchange(ContactHistory* history) {
       int i = 0;
       while (i < p.nlocal) {
         int side = -1;
-        if (p.x[i][d] < dom.sublo[d] && myloc[d] > 0) side = 0;
-        else if (p.x[i][d] >= dom.subhi[d] && myloc[d] < procgrid[d] - 1) side = 1;
-        else if (dom.periodic[d] && p.x[i][d] < dom.sublo[d]) side = 0;
-        else if (dom.periodic[d] && p.x[i][d] >= dom.subhi[d]) side = 1;
+        if (p.x[i][d] < dom.sublo[d] && myloc[d] > 0)
+          side = 0;
+        else if (p.x[i][d] >= dom.subhi[d] && myloc[d] < procgrid[d] - 1)
+          side = 1;
+        else if (dom.periodic[d] && p.x[i][d] < dom.sublo[d])
+          side = 0;
+        else if (dom.periodic[d] && p.x[i][d] >= dom.subhi[d])
+          side = 1;
         if (side < 0) {
           ++i;
           continue;
@@ -261,7 +270,8 @@ void Comm::borders() {
       sendrecv_doubles(sendbuf_, s.sendproc, recv, s.recvproc, engine_.world);
       s.firstrecv = p.size();
       std::size_t m = 0;
-      while (m < recv.size()) m += p.unpack_border(&recv[m]);
+      while (m < recv.size())
+        m += p.unpack_border(&recv[m]);
       s.nrecv = p.size() - s.firstrecv;
       swaps_.push_back(std::move(s));
     }
@@ -286,20 +296,26 @@ void Comm::forward_comm() {
     sendbuf_.clear();
     sendbuf_.reserve(s.sendlist.size() * per);
     for (int i : s.sendlist) {
-      for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.x[i][d] + s.shift[d]);
+      for (int d = 0; d < 3; ++d)
+        sendbuf_.push_back(p.x[i][d] + s.shift[d]);
       if (ghost_velocity) {
-        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.v[i][d]);
-        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.omega[i][d]);
+        for (int d = 0; d < 3; ++d)
+          sendbuf_.push_back(p.v[i][d]);
+        for (int d = 0; d < 3; ++d)
+          sendbuf_.push_back(p.omega[i][d]);
       }
     }
     exchange_known(sendbuf_, s.sendproc, recvbuf_, static_cast<std::size_t>(s.nrecv) * per, s.recvproc);
     std::size_t m = 0;
     for (int k = 0; k < s.nrecv && m < recvbuf_.size(); ++k) {
       const int j = s.firstrecv + k;
-      for (int d = 0; d < 3; ++d) p.x[j][d] = recvbuf_[m++];
+      for (int d = 0; d < 3; ++d)
+        p.x[j][d] = recvbuf_[m++];
       if (ghost_velocity) {
-        for (int d = 0; d < 3; ++d) p.v[j][d] = recvbuf_[m++];
-        for (int d = 0; d < 3; ++d) p.omega[j][d] = recvbuf_[m++];
+        for (int d = 0; d < 3; ++d)
+          p.v[j][d] = recvbuf_[m++];
+        for (int d = 0; d < 3; ++d)
+          p.omega[j][d] = recvbuf_[m++];
       }
     }
   }
@@ -314,8 +330,10 @@ void Comm::reverse_comm() {
     if (s.recvproc != MPI_PROC_NULL) {
       for (int k = 0; k < s.nrecv; ++k) {
         const int j = s.firstrecv + k;
-        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.f[j][d]);
-        for (int d = 0; d < 3; ++d) sendbuf_.push_back(p.torque[j][d]);
+        for (int d = 0; d < 3; ++d)
+          sendbuf_.push_back(p.f[j][d]);
+        for (int d = 0; d < 3; ++d)
+          sendbuf_.push_back(p.torque[j][d]);
       }
     }
     // back along the swap: to whom we received from, from whom we sent to
@@ -323,8 +341,10 @@ void Comm::reverse_comm() {
     std::size_t m = 0;
     for (int i : s.sendlist) {
       if (m >= recvbuf_.size()) break;
-      for (int d = 0; d < 3; ++d) p.f[i][d] += recvbuf_[m++];
-      for (int d = 0; d < 3; ++d) p.torque[i][d] += recvbuf_[m++];
+      for (int d = 0; d < 3; ++d)
+        p.f[i][d] += recvbuf_[m++];
+      for (int d = 0; d < 3; ++d)
+        p.torque[i][d] += recvbuf_[m++];
     }
   }
 }
@@ -348,13 +368,18 @@ void Comm::reverse_comm_field(std::vector<double>& data, int ncomp) {
     sendrecv_doubles(sendbuf_, s.recvproc, recvbuf_, s.sendproc, engine_.world);
     std::size_t m = 0;
     for (int i : s.sendlist)
-      for (int c = 0; c < ncomp; ++c) data[static_cast<std::size_t>(i) * ncomp + c] += recvbuf_[m++];
+      for (int c = 0; c < ncomp; ++c)
+        data[static_cast<std::size_t>(i) * ncomp + c] += recvbuf_[m++];
   }
 }
 
 // `processors`, `communicate` and `comm_modify` commands.
-void cmd_processors(Engine& e, const Args& a) { e.comm->processors_command(a); }
-void cmd_comm_modify(Engine& e, const Args& a) { e.comm->modify_command(a); }
+void cmd_processors(Engine& e, const Args& a) {
+  e.comm->processors_command(a);
+}
+void cmd_comm_modify(Engine& e, const Args& a) {
+  e.comm->modify_command(a);
+}
 GRANARY_COMMAND("processors", cmd_processors);
 GRANARY_COMMAND("communicate", cmd_comm_modify);
 GRANARY_COMMAND("comm_modify", cmd_comm_modify);

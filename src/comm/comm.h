@@ -30,14 +30,14 @@ class Comm {
   std::array<int, 3> procgrid{{1, 1, 1}};
   std::array<int, 3> myloc{{0, 0, 0}};
   std::array<std::array<int, 2>, 3> procneigh{};  // rank of the lower/upper neighbour per dim
-  std::array<std::vector<double>, 3> split;          // procgrid[d]+1 fractions in [0, 1]
-  bool ghost_velocity = true;  // `communicate single vel yes`
+  std::array<std::vector<double>, 3> split;       // procgrid[d]+1 fractions in [0, 1]
+  bool ghost_velocity = true;                     // `communicate single vel yes`
   double cutghost_user = 0.0;
   double cutghost = 0.0;
   long long migrated_particles = 0;  // particles this rank sent away, since the engine started
   long long migrated_contacts = 0;   // contact-history entries that travelled with them
-  int nlost = 0;           // particles this rank removed at the last exchange (outside 'f' bounds)
-  std::string first_lost;  // description of the first of them
+  int nlost = 0;                     // particles this rank removed at the last exchange (outside 'f' bounds)
+  std::string first_lost;            // description of the first of them
 
   void processors_command(const Args& args);
   void modify_command(const Args& args);  // comm_modify / communicate
@@ -63,10 +63,10 @@ class Comm {
 
  private:
   struct Swap {
-    int dim = 0, dir = 0;          // dir 0: send to lower neighbour, 1: upper
+    int dim = 0, dir = 0;  // dir 0: send to lower neighbour, 1: upper
     int sendproc = -1, recvproc = -1;
     bool active = false;
-    Vec3 shift{0, 0, 0};           // periodic shift applied to sent positions
+    Vec3 shift{0, 0, 0};  // periodic shift applied to sent positions
     std::vector<int> sendlist;
     int firstrecv = 0, nrecv = 0;
   };

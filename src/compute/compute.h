@@ -28,7 +28,7 @@ class Compute {
   bool scalar_flag = false;
   int size_vector = 0;
   bool peratom_flag = false;
-  int peratom_cols = 0;  // 0: a per-atom vector
+  int peratom_cols = 0;    // 0: a per-atom vector
   bool extensive = false;  // scalar grows with the number of particles (thermo_modify norm)
 
   std::vector<double> vector;

@@ -25,7 +25,8 @@ class ComputeERotateMultisphere : public Compute {
     if (!ms) throw InputError("compute " + id + " erotate/multisphere needs fix multisphere");
     const Bodies& b = ms->bodies();
     double e = 0.0;
-    for (int k = 0; k < b.size(); ++k) e += b.kinetic_rotational(k);
+    for (int k = 0; k < b.size(); ++k)
+      e += b.kinetic_rotational(k);
     scalar = e;
     return scalar;
   }

@@ -26,7 +26,8 @@ class ComputeKeMultisphere : public Compute {
     if (!ms) throw InputError("compute " + id + " ke/multisphere needs fix multisphere");
     const Bodies& b = ms->bodies();
     double ke = 0.0;
-    for (int k = 0; k < b.size(); ++k) ke += b.kinetic_translational(k);
+    for (int k = 0; k < b.size(); ++k)
+      ke += b.kinetic_translational(k);
     scalar = ke;
     return scalar;
   }

@@ -28,8 +28,8 @@ namespace {
 
 const std::map<std::string, int>& property_sizes() {
   static const std::map<std::string, int> sizes = {
-      {"xcm", 3},     {"vcm", 3},     {"omega", 3},     {"quat", 4},    {"angmom", 3},
-      {"fcm", 3},     {"torque", 3},  {"inertia", 3},   {"masstotal", 1}, {"density", 1},
+      {"xcm", 3},      {"vcm", 3},      {"omega", 3},         {"quat", 4},      {"angmom", 3},
+      {"fcm", 3},      {"torque", 3},   {"inertia", 3},       {"masstotal", 1}, {"density", 1},
       {"atomtype", 1}, {"nspheres", 1}, {"id_multisphere", 1}};
   return sizes;
 }
@@ -40,13 +40,15 @@ class ComputeMultisphere : public Compute, public BodyOutput {
     const std::string usage = "compute ID group-ID multisphere [property NAME ...]";
     if (args.size() > 3) {
       if (args[3] != "property" || args.size() == 4) throw InputError("usage: " + usage);
-      for (std::size_t k = 4; k < args.size(); ++k) props_.push_back(args[k] == "mass" ? "masstotal" : args[k]);
+      for (std::size_t k = 4; k < args.size(); ++k)
+        props_.push_back(args[k] == "mass" ? "masstotal" : args[k]);
     } else {
       props_ = {"xcm", "vcm", "omega", "quat"};
     }
     ncols_ = 0;
     std::vector<std::string> known;
-    for (const auto& kv : property_sizes()) known.push_back(kv.first);
+    for (const auto& kv : property_sizes())
+      known.push_back(kv.first);
     for (const auto& name : props_) {
       auto it = property_sizes().find(name);
       if (it == property_sizes().end()) {
@@ -73,22 +75,27 @@ class ComputeMultisphere : public Compute, public BodyOutput {
     const FixMultisphere* ms = fix();
     const int n = ms->bodies().size();
     vector.assign(static_cast<std::size_t>(ncols_) * std::max(1, n), 0.0);
-    for (int b = 0; b < n; ++b) values(*ms, b, &vector[static_cast<std::size_t>(b) * ncols_]);
+    for (int b = 0; b < n; ++b)
+      values(*ms, b, &vector[static_cast<std::size_t>(b) * ncols_]);
   }
 
   void compute_peratom() override {
     const FixMultisphere* ms = fix();
     const Particles& p = *engine_.particles;
     std::vector<double> row(ncols_);
-    if (ncols_ == 1) vector_atom.assign(p.nlocal, 0.0);
-    else array_atom.assign(ncols_, std::vector<double>(p.nlocal, 0.0));
+    if (ncols_ == 1)
+      vector_atom.assign(p.nlocal, 0.0);
+    else
+      array_atom.assign(ncols_, std::vector<double>(p.nlocal, 0.0));
     for (int i = 0; i < p.nlocal; ++i) {
       const int b = p.body[i] >= 0 ? ms->bodies().find(p.body[i]) : -1;
       if (b < 0) continue;
       values(*ms, b, row.data());
-      if (ncols_ == 1) vector_atom[i] = row[0];
+      if (ncols_ == 1)
+        vector_atom[i] = row[0];
       else
-        for (int c = 0; c < ncols_; ++c) array_atom[c][i] = row[c];
+        for (int c = 0; c < ncols_; ++c)
+          array_atom[c][i] = row[c];
     }
   }
 
@@ -103,26 +110,39 @@ class ComputeMultisphere : public Compute, public BodyOutput {
     const Bodies& B = ms.bodies();
     int c = 0;
     auto put3 = [&](const Vec3& v) {
-      for (int d = 0; d < 3; ++d) out[c++] = v[d];
+      for (int d = 0; d < 3; ++d)
+        out[c++] = v[d];
     };
     for (const auto& name : props_) {
-      if (name == "xcm") put3(ms.wrapped_centre(b));
-      else if (name == "vcm") put3(B.vcm[b]);
-      else if (name == "omega") put3(B.omega[b]);
-      else if (name == "angmom") put3(B.angmom[b]);
-      else if (name == "fcm") put3(B.fcm[b]);
-      else if (name == "torque") put3(B.torque[b]);
-      else if (name == "inertia") put3(B.inertia[b]);
+      if (name == "xcm")
+        put3(ms.wrapped_centre(b));
+      else if (name == "vcm")
+        put3(B.vcm[b]);
+      else if (name == "omega")
+        put3(B.omega[b]);
+      else if (name == "angmom")
+        put3(B.angmom[b]);
+      else if (name == "fcm")
+        put3(B.fcm[b]);
+      else if (name == "torque")
+        put3(B.torque[b]);
+      else if (name == "inertia")
+        put3(B.inertia[b]);
       else if (name == "quat") {
         out[c++] = B.quat[b].w();
         out[c++] = B.quat[b].x();
         out[c++] = B.quat[b].y();
         out[c++] = B.quat[b].z();
-      } else if (name == "masstotal") out[c++] = B.mass[b];
-      else if (name == "density") out[c++] = B.density[b];
-      else if (name == "atomtype") out[c++] = B.type[b];
-      else if (name == "nspheres") out[c++] = B.nspheres[b];
-      else if (name == "id_multisphere") out[c++] = static_cast<double>(B.tag[b]);
+      } else if (name == "masstotal")
+        out[c++] = B.mass[b];
+      else if (name == "density")
+        out[c++] = B.density[b];
+      else if (name == "atomtype")
+        out[c++] = B.type[b];
+      else if (name == "nspheres")
+        out[c++] = B.nspheres[b];
+      else if (name == "id_multisphere")
+        out[c++] = static_cast<double>(B.tag[b]);
     }
   }
 

@@ -30,11 +30,13 @@ class ComputeOrientation : public Compute {
   ComputeOrientation(Engine& engine, const Args& args) : Compute(engine, args) {
     const std::string usage = "compute ID group-ID orientation axis AX AY AZ [region R] [bins N]";
     if (args.size() < 7 || (args[3] != "axis" && args[3] != "AXIS")) throw InputError("usage: " + usage);
-    for (int d = 0; d < 3; ++d) axis_[d] = parse_double(args[4 + d], "compute orientation axis");
+    for (int d = 0; d < 3; ++d)
+      axis_[d] = parse_double(args[4 + d], "compute orientation axis");
     if (!(axis_.norm() > 0.0)) throw InputError("compute " + id + " orientation: the axis must not be zero");
     axis_.normalize();
     for (std::size_t k = 7; k < args.size(); k += 2) {
-      if (k + 1 >= args.size()) throw InputError("compute orientation keyword '" + args[k] + "' needs a value");
+      if (k + 1 >= args.size())
+        throw InputError("compute orientation keyword '" + args[k] + "' needs a value");
       if (args[k] == "region") {
         region_id_ = args[k + 1];
         engine.domain->region_or_error(region_id_, "compute " + id + " orientation");
@@ -66,7 +68,8 @@ class ComputeOrientation : public Compute {
     const FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
     if (!ms) throw InputError("compute " + id + " orientation needs fix multisphere");
     const Region* region =
-        region_id_.empty() ? nullptr : engine_.domain->region_or_error(region_id_, "compute " + id + " orientation");
+        region_id_.empty() ? nullptr
+                           : engine_.domain->region_or_error(region_id_, "compute " + id + " orientation");
     const Bodies& B = ms->bodies();
     vector.assign(4 + nbins_, 0.0);
     double count = 0.0;
@@ -85,8 +88,10 @@ class ComputeOrientation : public Compute {
     }
     vector[3] = count;
     if (count > 0) {
-      for (int k = 0; k < 3; ++k) vector[k] /= count;
-      for (int k = 0; k < nbins_; ++k) vector[4 + k] /= count;
+      for (int k = 0; k < 3; ++k)
+        vector[k] /= count;
+      for (int k = 0; k < nbins_; ++k)
+        vector[4 + k] /= count;
     }
   }
 

@@ -28,9 +28,9 @@ class ComputePropertyAtom : public Compute {
       if (own(name) >= 0) continue;
       if (!engine.atom_vector(name, probe)) {
         const std::vector<std::string> known = {
-            "id", "type", "mass", "radius", "diameter", "density", "x", "y", "z", "xu", "yu", "zu",
-            "ix", "iy", "iz", "vx", "vy", "vz", "fx", "fy", "fz", "omegax", "omegay", "omegaz",
-            "tqx", "tqy", "tqz"};
+            "id", "type", "mass", "radius", "diameter", "density", "x",   "y",   "z",
+            "xu", "yu",   "zu",   "ix",     "iy",       "iz",      "vx",  "vy",  "vz",
+            "fx", "fy",   "fz",   "omegax", "omegay",   "omegaz",  "tqx", "tqy", "tqz"};
         const std::string hint = did_you_mean(name, known);
         throw InputError("unknown property '" + name + "' in compute " + id + " property/atom" +
                          (hint.empty() ? "" : "; " + hint) + "; usage: " + kUsage);
@@ -45,7 +45,8 @@ class ComputePropertyAtom : public Compute {
       fill(names_[0], vector_atom);
     } else {
       array_atom.resize(names_.size());
-      for (std::size_t c = 0; c < names_.size(); ++c) fill(names_[c], array_atom[c]);
+      for (std::size_t c = 0; c < names_.size(); ++c)
+        fill(names_[c], array_atom[c]);
     }
   }
 

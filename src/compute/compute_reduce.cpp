@@ -41,35 +41,50 @@ ComputeReduce::ComputeReduce(Engine& engine, const Args& args, bool region_style
 void ComputeReduce::parse(const Args& args, std::size_t first) {
   const std::string usage = "compute ID group-ID " + style + (region_id_.empty() ? "" : " REGION") +
                             " sum|min|max|ave|sumsq|avesq|sumabs|aveabs input ... [replace V1 V2]";
-  if (args.size() < first + 2) throw InputError("compute " + style + " needs a mode and at least one input; usage: " + usage);
+  if (args.size() < first + 2)
+    throw InputError("compute " + style + " needs a mode and at least one input; usage: " + usage);
   const std::string& m = args[first];
-  if (m == "sum") mode_ = Mode::Sum;
-  else if (m == "min") mode_ = Mode::Min;
-  else if (m == "max") mode_ = Mode::Max;
-  else if (m == "ave") mode_ = Mode::Ave;
-  else if (m == "sumsq") mode_ = Mode::SumSq;
-  else if (m == "avesq") mode_ = Mode::AveSq;
-  else if (m == "sumabs") mode_ = Mode::SumAbs;
-  else if (m == "aveabs") mode_ = Mode::AveAbs;
+  if (m == "sum")
+    mode_ = Mode::Sum;
+  else if (m == "min")
+    mode_ = Mode::Min;
+  else if (m == "max")
+    mode_ = Mode::Max;
+  else if (m == "ave")
+    mode_ = Mode::Ave;
+  else if (m == "sumsq")
+    mode_ = Mode::SumSq;
+  else if (m == "avesq")
+    mode_ = Mode::AveSq;
+  else if (m == "sumabs")
+    mode_ = Mode::SumAbs;
+  else if (m == "aveabs")
+    mode_ = Mode::AveAbs;
   else {
-    const std::string hint = did_you_mean(m, {"sum", "min", "max", "ave", "sumsq", "avesq", "sumabs", "aveabs"});
+    const std::string hint =
+        did_you_mean(m, {"sum", "min", "max", "ave", "sumsq", "avesq", "sumabs", "aveabs"});
     throw InputError("unknown compute " + style + " mode '" + m + "'" + (hint.empty() ? "" : "; " + hint) +
                      "; usage: " + usage);
   }
   std::size_t k = first + 1;
-  for (; k < args.size() && args[k] != "replace"; ++k) add_input(args[k]);
+  for (; k < args.size() && args[k] != "replace"; ++k)
+    add_input(args[k]);
   if (inputs_.empty()) throw InputError("compute " + style + " needs at least one input; usage: " + usage);
   replace_.assign(inputs_.size(), -1);
   while (k < args.size()) {
-    if (args[k] != "replace") throw InputError("unknown compute " + style + " keyword '" + args[k] + "'; usage: " + usage);
+    if (args[k] != "replace")
+      throw InputError("unknown compute " + style + " keyword '" + args[k] + "'; usage: " + usage);
     if (k + 2 >= args.size()) throw InputError("compute " + style + " replace needs two input numbers V1 V2");
-    if (mode_ != Mode::Min && mode_ != Mode::Max) throw InputError("compute " + style + " replace works only with min or max");
+    if (mode_ != Mode::Min && mode_ != Mode::Max)
+      throw InputError("compute " + style + " replace works only with min or max");
     const long long a = parse_int(args[k + 1], "replace V1"), b = parse_int(args[k + 2], "replace V2");
     const long long n = static_cast<long long>(inputs_.size());
     if (a < 1 || a > n || b < 1 || b > n || a == b) {
-      throw InputError("compute " + style + " replace needs two different input numbers in 1.." + std::to_string(n));
+      throw InputError("compute " + style + " replace needs two different input numbers in 1.." +
+                       std::to_string(n));
     }
-    if (replace_[b - 1] >= 0) throw InputError("compute " + style + " replace: input " + std::to_string(b) + " is replaced itself");
+    if (replace_[b - 1] >= 0)
+      throw InputError("compute " + style + " replace: input " + std::to_string(b) + " is replaced itself");
     replace_[a - 1] = static_cast<int>(b - 1);
     k += 3;
   }
@@ -95,7 +110,8 @@ void ComputeReduce::add_input(const std::string& word) {
     const auto open = rest.find('[');
     bool all_columns = false;
     if (open != std::string::npos) {
-      if (rest.back() != ']') throw InputError("bad input '" + word + "' in compute " + id + "; write c_ID[i]");
+      if (rest.back() != ']')
+        throw InputError("bad input '" + word + "' in compute " + id + "; write c_ID[i]");
       const std::string idx = rest.substr(open + 1, rest.size() - open - 2);
       rest = rest.substr(0, open);
       if (idx == "*") {
@@ -142,17 +158,20 @@ void ComputeReduce::check_input(const Input& in) const {
     case Input::Atom: {
       std::vector<double> probe;
       if (!engine_.atom_vector(in.name, probe)) {
-        throw InputError("unknown input '" + in.text + "' in " + where +
-                         "; use a particle property (x, vx, fx, omegax, radius, mass, ...), c_ID, f_ID or v_name");
+        throw InputError(
+            "unknown input '" + in.text + "' in " + where +
+            "; use a particle property (x, vx, fx, omegax, radius, mass, ...), c_ID, f_ID or v_name");
       }
       break;
     }
     case Input::ComputeValue: {
       const Compute* c = engine_.modify->compute_or_error(in.name, where);
       if (c == this) throw InputError(where + " cannot reduce its own values");
-      if (!c->peratom_flag) throw InputError("compute " + in.name + " in " + where + " does not give per-atom values");
+      if (!c->peratom_flag)
+        throw InputError("compute " + in.name + " in " + where + " does not give per-atom values");
       if (in.col == 0 && c->peratom_cols != 0) {
-        throw InputError("compute " + in.name + " gives a per-atom array; write c_" + in.name + "[i] in " + where);
+        throw InputError("compute " + in.name + " gives a per-atom array; write c_" + in.name + "[i] in " +
+                         where);
       }
       if (in.col > 0 && in.col > c->peratom_cols) {
         throw InputError("'" + in.text + "' in " + where + ": compute " + in.name + " has " +
@@ -162,9 +181,11 @@ void ComputeReduce::check_input(const Input& in) const {
     }
     case Input::FixValue: {
       const Fix* f = engine_.modify->fix_or_error(in.name, where);
-      if (!f->peratom_flag) throw InputError("fix " + in.name + " in " + where + " does not give per-atom values");
+      if (!f->peratom_flag)
+        throw InputError("fix " + in.name + " in " + where + " does not give per-atom values");
       if (in.col == 0 && f->peratom_cols != 0) {
-        throw InputError("fix " + in.name + " gives a per-atom array; write f_" + in.name + "[i] in " + where);
+        throw InputError("fix " + in.name + " gives a per-atom array; write f_" + in.name + "[i] in " +
+                         where);
       }
       if (in.col > 0 && in.col > f->peratom_cols) {
         throw InputError("'" + in.text + "' in " + where + ": fix " + in.name + " has " +
@@ -174,15 +195,16 @@ void ComputeReduce::check_input(const Input& in) const {
     }
     case Input::Variable:
       if (!engine_.input->variables().find(in.name)) {
-        throw InputError("unknown variable '" + in.name + "' in " + where + "; define it with variable " + in.name +
-                         " atom ...");
+        throw InputError("unknown variable '" + in.name + "' in " + where + "; define it with variable " +
+                         in.name + " atom ...");
       }
       break;
   }
 }
 
 void ComputeReduce::init() {
-  for (const Input& in : inputs_) check_input(in);
+  for (const Input& in : inputs_)
+    check_input(in);
   region();
 }
 
@@ -193,10 +215,18 @@ const Region* ComputeReduce::region() const {
 
 void ComputeReduce::values(const Input& in, std::vector<double>& out) {
   switch (in.kind) {
-    case Input::Atom: engine_.atom_vector(in.name, out); break;
-    case Input::ComputeValue: engine_.compute_peratom(in.name, in.col, out); break;
-    case Input::FixValue: engine_.fix_peratom(in.name, in.col, out); break;
-    case Input::Variable: engine_.input->variables().compute_atom(in.name, out); break;
+    case Input::Atom:
+      engine_.atom_vector(in.name, out);
+      break;
+    case Input::ComputeValue:
+      engine_.compute_peratom(in.name, in.col, out);
+      break;
+    case Input::FixValue:
+      engine_.fix_peratom(in.name, in.col, out);
+      break;
+    case Input::Variable:
+      engine_.input->variables().compute_atom(in.name, out);
+      break;
   }
   out.resize(engine_.particles->nlocal, 0.0);
 }
@@ -211,7 +241,8 @@ void ComputeReduce::reduce_all(std::vector<double>& out) {
 
   const std::size_t m = inputs_.size();
   std::vector<std::vector<double>> vals(m);
-  for (std::size_t k = 0; k < m; ++k) values(inputs_[k], vals[k]);
+  for (std::size_t k = 0; k < m; ++k)
+    values(inputs_[k], vals[k]);
   out.assign(m, 0.0);
 
   if (mode_ == Mode::Min || mode_ == Mode::Max) {
@@ -235,7 +266,8 @@ void ComputeReduce::reduce_all(std::vector<double>& out) {
     }
     MPI_Allreduce(local.data(), global.data(), static_cast<int>(m), MPI_DOUBLE_INT,
                   is_min ? MPI_MINLOC : MPI_MAXLOC, engine_.world);
-    for (std::size_t k = 0; k < m; ++k) out[k] = global[k].value;
+    for (std::size_t k = 0; k < m; ++k)
+      out[k] = global[k].value;
     // replace: the value of input k at the particle where input replace_[k] is extreme
     for (std::size_t k = 0; k < m; ++k) {
       const int j = replace_[k];
@@ -255,9 +287,12 @@ void ComputeReduce::reduce_all(std::vector<double>& out) {
     double s = 0.0;
     for (int i : chosen) {
       const double v = vals[k][i];
-      if (mode_ == Mode::SumSq || mode_ == Mode::AveSq) s += v * v;
-      else if (mode_ == Mode::SumAbs || mode_ == Mode::AveAbs) s += std::fabs(v);
-      else s += v;
+      if (mode_ == Mode::SumSq || mode_ == Mode::AveSq)
+        s += v * v;
+      else if (mode_ == Mode::SumAbs || mode_ == Mode::AveAbs)
+        s += std::fabs(v);
+      else
+        s += v;
     }
     local[k] = s;
   }
@@ -277,7 +312,9 @@ double ComputeReduce::compute_scalar() {
   return scalar;
 }
 
-void ComputeReduce::compute_vector() { reduce_all(vector); }
+void ComputeReduce::compute_vector() {
+  reduce_all(vector);
+}
 
 GRANARY_COMPUTE_STYLE("reduce", ComputeReduce);
 

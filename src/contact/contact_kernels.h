@@ -39,8 +39,7 @@ struct Coefficients {
 
 /// Normal sub-model: stiffness and damping for the current overlap.
 template <NormalModel N>
-inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c,
-                                        const PairMaterial& m) {
+inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c, const PairMaterial& m) {
   Coefficients k;
   if constexpr (N == NormalModel::Hertz) {
     // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
@@ -57,8 +56,8 @@ inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactStat
     //   kn = 16/15 sqrt(R*) Y* (15 m* V^2 / (16 sqrt(R*) Y*))^(1/5).
     const double sqrt_r = std::sqrt(c.r_eff);
     const double v = m.char_velocity;
-    k.kn = (16.0 / 15.0) * sqrt_r * m.Y_eff *
-           std::pow(15.0 * c.m_eff * v * v / (16.0 * sqrt_r * m.Y_eff), 0.2);
+    k.kn =
+        (16.0 / 15.0) * sqrt_r * m.Y_eff * std::pow(15.0 * c.m_eff * v * v / (16.0 * sqrt_r * m.Y_eff), 0.2);
     k.kt = spec.kt_to_kn_user ? (2.0 / 7.0) * k.kn : k.kn;
     // sqrt(4 m* kn / (1 + (pi/ln e)^2)) written so that e = 1 gives exactly 0.
     k.gamma_n = -2.0 * m.beta * std::sqrt(c.m_eff * k.kn);
@@ -82,8 +81,8 @@ constexpr int rolling_history_size() {
 /// tangential relative velocity of the contact point, `fn` the total normal
 /// force, `shear` the slot's history block (only read for History).
 template <TangentialModel T>
-inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const Coefficients& k,
-                             double fn, const Vec3& vt, double* shear) {
+inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const Coefficients& k, double fn,
+                             const Vec3& vt, double* shear) {
   const double ft_max = m.friction * std::abs(fn);
   if constexpr (T == TangentialModel::NoHistory) {
     // Pure viscous friction, limited by Coulomb: -min(gamma_t |vt|, mu |Fn|) vt/|vt|.
@@ -122,8 +121,8 @@ inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const
 constexpr double kRollingSpinTolerance = 1e-10;
 
 template <RollingModel R>
-inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const Coefficients& k,
-                           double fn, double fn_elastic, double* hist) {
+inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const Coefficients& k, double fn,
+                           double fn_elastic, double* hist) {
   if constexpr (R == RollingModel::None) {
     (void)c, (void)m, (void)k, (void)fn, (void)fn_elastic, (void)hist;
     return Vec3::Zero();
@@ -163,8 +162,8 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
 /// evaluate(); `Limit` replaces spec.limit_force, the other spec switches
 /// (tangential_damping, kt_to_kn_user) are read at run time.
 template <NormalModel N, TangentialModel T, RollingModel R, bool Limit>
-inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairMaterial& m,
-                       double* history, ContactResult& out) {
+inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
+                       ContactResult& out) {
   constexpr int kShear = 0;
   constexpr int kRolling = detail::tangential_history_size<T>();
   constexpr int kSize = kRolling + detail::rolling_history_size<R>();
@@ -175,7 +174,8 @@ inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairM
   if (!(c.overlap > 0.0)) {
     out.force.setZero();
     out.fn = 0.0;
-    for (int h = 0; h < kSize; ++h) history[h] = 0.0;
+    for (int h = 0; h < kSize; ++h)
+      history[h] = 0.0;
     return;
   }
 
@@ -229,8 +229,8 @@ struct Kernel {
   static constexpr bool limit_force = Limit;
   static constexpr int history_size =
       detail::tangential_history_size<T>() + detail::rolling_history_size<R>();
-  static void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m,
-                       double* history, ContactResult& out) {
+  static void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
+                       ContactResult& out) {
     evaluate_t<N, T, R, Limit>(spec, c, m, history, out);
   }
 };
@@ -246,9 +246,12 @@ inline decltype(auto) dispatch_limit(const ModelSpec& s, Fn&& fn) {
 template <NormalModel N, TangentialModel T, class Fn>
 inline decltype(auto) dispatch_rolling(const ModelSpec& s, Fn&& fn) {
   switch (s.rolling) {
-    case RollingModel::Cdt: return dispatch_limit<N, T, RollingModel::Cdt>(s, fn);
-    case RollingModel::Epsd2: return dispatch_limit<N, T, RollingModel::Epsd2>(s, fn);
-    case RollingModel::None: break;
+    case RollingModel::Cdt:
+      return dispatch_limit<N, T, RollingModel::Cdt>(s, fn);
+    case RollingModel::Epsd2:
+      return dispatch_limit<N, T, RollingModel::Epsd2>(s, fn);
+    case RollingModel::None:
+      break;
   }
   return dispatch_limit<N, T, RollingModel::None>(s, fn);
 }
@@ -256,9 +259,12 @@ inline decltype(auto) dispatch_rolling(const ModelSpec& s, Fn&& fn) {
 template <NormalModel N, class Fn>
 inline decltype(auto) dispatch_tangential(const ModelSpec& s, Fn&& fn) {
   switch (s.tangential) {
-    case TangentialModel::None: return dispatch_rolling<N, TangentialModel::None>(s, fn);
-    case TangentialModel::NoHistory: return dispatch_rolling<N, TangentialModel::NoHistory>(s, fn);
-    case TangentialModel::History: break;
+    case TangentialModel::None:
+      return dispatch_rolling<N, TangentialModel::None>(s, fn);
+    case TangentialModel::NoHistory:
+      return dispatch_rolling<N, TangentialModel::NoHistory>(s, fn);
+    case TangentialModel::History:
+      break;
   }
   return dispatch_rolling<N, TangentialModel::History>(s, fn);
 }
@@ -269,8 +275,7 @@ inline decltype(auto) dispatch_tangential(const ModelSpec& s, Fn&& fn) {
 /// return what fn returns (fn must return the same type for every kernel).
 template <class Fn>
 inline decltype(auto) dispatch_model(const ModelSpec& spec, Fn&& fn) {
-  if (spec.normal == NormalModel::Hooke)
-    return detail::dispatch_tangential<NormalModel::Hooke>(spec, fn);
+  if (spec.normal == NormalModel::Hooke) return detail::dispatch_tangential<NormalModel::Hooke>(spec, fn);
   return detail::dispatch_tangential<NormalModel::Hertz>(spec, fn);
 }
 

@@ -27,14 +27,17 @@ HistoryLayout history_layout(const ModelSpec& spec) {
   return layout;
 }
 
-int history_size(const ModelSpec& spec) { return history_layout(spec).size; }
+int history_size(const ModelSpec& spec) {
+  return history_layout(spec).size;
+}
 
 void history_swap_signs(const ModelSpec& spec, double* signs) {
   // Both stored vectors are odd under i <-> j: the shear displacement is the
   // integral of the relative contact-point velocity of i with respect to j,
   // and the rolling spring torque is the torque on i (j carries its negative).
   const int n = history_size(spec);
-  for (int h = 0; h < n; ++h) signs[h] = -1.0;
+  for (int h = 0; h < n; ++h)
+    signs[h] = -1.0;
 }
 
 // ---------------------------------------------------------------------------
@@ -77,8 +80,7 @@ bool is_known_unsupported(const std::string& slot, const std::string& name) {
   return false;
 }
 
-[[noreturn]] void bad_model(const std::string& slot, const std::string& name,
-                            const std::string& supported) {
+[[noreturn]] void bad_model(const std::string& slot, const std::string& name, const std::string& supported) {
   if (is_known_unsupported(slot, name))
     fail("'" + slot + " " + name + "' is not supported (supported: " + supported + ")");
   const std::string what = slot == "model" ? "normal" : slot;
@@ -121,23 +123,34 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     if (w == "model") {
       once(seen_model, w);
       const std::string& v = value_of(args, pos);
-      if (v == "hertz") spec.normal = NormalModel::Hertz;
-      else if (v == "hooke") spec.normal = NormalModel::Hooke;
-      else bad_model(w, v, "hertz, hooke");
+      if (v == "hertz")
+        spec.normal = NormalModel::Hertz;
+      else if (v == "hooke")
+        spec.normal = NormalModel::Hooke;
+      else
+        bad_model(w, v, "hertz, hooke");
     } else if (w == "tangential") {
       once(seen_tangential, w);
       const std::string& v = value_of(args, pos);
-      if (v == "history") spec.tangential = TangentialModel::History;
-      else if (v == "no_history") spec.tangential = TangentialModel::NoHistory;
-      else if (v == "off") spec.tangential = TangentialModel::None;
-      else bad_model(w, v, "history, no_history, off");
+      if (v == "history")
+        spec.tangential = TangentialModel::History;
+      else if (v == "no_history")
+        spec.tangential = TangentialModel::NoHistory;
+      else if (v == "off")
+        spec.tangential = TangentialModel::None;
+      else
+        bad_model(w, v, "history, no_history, off");
     } else if (w == "rolling_friction") {
       once(seen_rolling, w);
       const std::string& v = value_of(args, pos);
-      if (v == "cdt") spec.rolling = RollingModel::Cdt;
-      else if (v == "epsd2") spec.rolling = RollingModel::Epsd2;
-      else if (v == "off") spec.rolling = RollingModel::None;
-      else bad_model(w, v, "cdt, epsd2, off");
+      if (v == "cdt")
+        spec.rolling = RollingModel::Cdt;
+      else if (v == "epsd2")
+        spec.rolling = RollingModel::Epsd2;
+      else if (v == "off")
+        spec.rolling = RollingModel::None;
+      else
+        bad_model(w, v, "cdt, epsd2, off");
     } else if (w == "cohesion") {
       once(seen_cohesion, w);
       const std::string& v = value_of(args, pos);
@@ -160,22 +173,32 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     }
     pos += 2;
   }
-  if (seen_kt_to_kn && spec.normal != NormalModel::Hooke)
-    fail("'ktToKnUser' applies only to 'model hooke'");
+  if (seen_kt_to_kn && spec.normal != NormalModel::Hooke) fail("'ktToKnUser' applies only to 'model hooke'");
   return spec;
 }
 
 std::string model_words(const ModelSpec& spec) {
   std::string s = spec.normal == NormalModel::Hooke ? "model hooke" : "model hertz";
   switch (spec.tangential) {
-    case TangentialModel::None: s += " tangential off"; break;
-    case TangentialModel::NoHistory: s += " tangential no_history"; break;
-    case TangentialModel::History: s += " tangential history"; break;
+    case TangentialModel::None:
+      s += " tangential off";
+      break;
+    case TangentialModel::NoHistory:
+      s += " tangential no_history";
+      break;
+    case TangentialModel::History:
+      s += " tangential history";
+      break;
   }
   switch (spec.rolling) {
-    case RollingModel::None: break;
-    case RollingModel::Cdt: s += " rolling_friction cdt"; break;
-    case RollingModel::Epsd2: s += " rolling_friction epsd2"; break;
+    case RollingModel::None:
+      break;
+    case RollingModel::Cdt:
+      s += " rolling_friction cdt";
+      break;
+    case RollingModel::Epsd2:
+      s += " rolling_friction epsd2";
+      break;
   }
   if (spec.limit_force) s += " limitForce on";
   if (!spec.tangential_damping) s += " tangential_damping off";
@@ -186,14 +209,13 @@ std::string model_words(const ModelSpec& spec) {
 // ---------------------------------------------------------------------------
 // Materials
 
-PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, double e, double mu,
-                           double mu_r, double char_vel) {
+PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, double e, double mu, double mu_r,
+                           double char_vel) {
   auto check = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument("contact material: " + what);
   };
   check(Y_i > 0.0 && Y_j > 0.0, "Young's modulus must be > 0");
-  check(nu_i > -1.0 && nu_i <= 0.5 && nu_j > -1.0 && nu_j <= 0.5,
-        "Poisson's ratio must be in (-1, 0.5]");
+  check(nu_i > -1.0 && nu_i <= 0.5 && nu_j > -1.0 && nu_j <= 0.5, "Poisson's ratio must be in (-1, 0.5]");
   check(e > 0.0 && e <= 1.0, "coefficient of restitution must be in (0, 1]");
   check(mu >= 0.0, "coefficient of friction must be >= 0");
   check(mu_r >= 0.0, "coefficient of rolling friction must be >= 0");
@@ -201,8 +223,7 @@ PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, dou
 
   PairMaterial m;
   m.Y_eff = 1.0 / ((1.0 - nu_i * nu_i) / Y_i + (1.0 - nu_j * nu_j) / Y_j);
-  m.G_eff =
-      1.0 / (2.0 * (2.0 - nu_i) * (1.0 + nu_i) / Y_i + 2.0 * (2.0 - nu_j) * (1.0 + nu_j) / Y_j);
+  m.G_eff = 1.0 / (2.0 * (2.0 - nu_i) * (1.0 + nu_i) / Y_i + 2.0 * (2.0 - nu_j) * (1.0 + nu_j) / Y_j);
   m.restitution = e;
   const double log_e = std::log(e);
   m.beta = log_e / std::sqrt(log_e * log_e + M_PI * M_PI);  // e = 1: log_e = 0, beta = 0

@@ -87,8 +87,8 @@ struct PairMaterial {
 
 /// Mix the properties of type i and type j. Throws std::invalid_argument for
 /// Y <= 0, nu outside (-1, 0.5], e outside (0, 1], or negative mu, mu_r, char_vel.
-PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, double e, double mu,
-                           double mu_r, double char_vel);
+PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, double e, double mu, double mu_r,
+                           double char_vel);
 
 /// Geometric and kinematic state of one contact, SI units.
 struct ContactState {
@@ -97,7 +97,7 @@ struct ContactState {
   double r_i = 0.0, r_j = 0.0;  ///< radii; r_j = 0 means j is a wall (flat, infinite radius)
   double r_eff = 0.0;           ///< R* = r_i r_j/(r_i+r_j), or r_i for a wall
   double m_eff = 0.0;           ///< m* = m_i m_j/(m_i+m_j), or m_i for a wall
-  Vec3 v_rel = Vec3::Zero();  ///< v_i - v_j (centre velocities; wall: its velocity at the contact)
+  Vec3 v_rel = Vec3::Zero();    ///< v_i - v_j (centre velocities; wall: its velocity at the contact)
   Vec3 omega_i = Vec3::Zero();  ///< spin of i [rad/s]
   Vec3 omega_j = Vec3::Zero();  ///< spin of j (0 for a wall)
   double dt = 0.0;              ///< timestep, for history integration [s]
@@ -115,8 +115,7 @@ struct ContactResult {
 /// Evaluate one contact. `history` points to history_size(spec) doubles owned by
 /// the caller (zero at first touch); it is updated in place. A state with
 /// overlap <= 0 yields a zero result and zeroes the history.
-void evaluate(const ModelSpec&, const ContactState&, const PairMaterial&, double* history,
-              ContactResult&);
+void evaluate(const ModelSpec&, const ContactState&, const PairMaterial&, double* history, ContactResult&);
 
 /// Signature of one compiled kernel (see contact_kernels.h).
 using KernelFn = void (*)(const ModelSpec&, const ContactState&, const PairMaterial&, double*,

@@ -19,7 +19,8 @@ namespace granary {
 namespace {
 
 void require_no_box(Engine& e, const std::string& cmd) {
-  if (e.domain->box_exist) throw InputError(cmd + " must come before the box is created (create_box or read_restart)");
+  if (e.domain->box_exist)
+    throw InputError(cmd + " must come before the box is created (create_box or read_restart)");
 }
 void require_box(Engine& e, const std::string& cmd) {
   if (!e.domain->box_exist) throw InputError(cmd + " needs the box: use create_box or read_restart first");
@@ -55,7 +56,8 @@ void cmd_atom_modify(Engine& e, const Args& a) {
     } else if (a[k] == "first" && k + 1 < a.size()) {
       ++k;
     } else if (a[k] == "map" || a[k] == "sort" || a[k] == "first") {
-      throw InputError("atom_modify " + a[k] + " needs " + (a[k] == "sort" ? "two values: sort N BINSIZE" : "a value"));
+      throw InputError("atom_modify " + a[k] + " needs " +
+                       (a[k] == "sort" ? "two values: sort N BINSIZE" : "a value"));
     } else {
       throw InputError("unknown atom_modify keyword '" + a[k] + "'; expected map, sort or first");
     }
@@ -68,7 +70,8 @@ void cmd_boundary(Engine& e, const Args& a) {
   Domain& d = *e.domain;
   for (int dim = 0; dim < 3; ++dim) {
     const std::string& w = a[dim];
-    if (w.size() != 1 && w.size() != 2) throw InputError("boundary '" + w + "' must be one or two of p f s m");
+    if (w.size() != 1 && w.size() != 2)
+      throw InputError("boundary '" + w + "' must be one or two of p f s m");
     const char lo = w[0], hi = w.size() == 2 ? w[1] : w[0];
     for (char c : {lo, hi}) {
       if (c != 'p' && c != 'f' && c != 's' && c != 'm') {
@@ -100,18 +103,21 @@ void cmd_create_box(Engine& e, const Args& a) {
   if (ntypes < 1) throw InputError("create_box needs at least one atom type");
   Region* r = e.domain->region_or_error(a[1], "create_box");
   Vec3 lo, hi;
-  if (!r->bounds(lo, hi)) throw InputError("create_box needs a bounded region; '" + a[1] + "' has no finite bounds");
+  if (!r->bounds(lo, hi))
+    throw InputError("create_box needs a bounded region; '" + a[1] + "' has no finite bounds");
   e.domain->set_box(lo, hi);
   e.particles->ntypes = static_cast<int>(ntypes);
   e.comm->setup(0.0);
   char buf[256];
-  std::snprintf(buf, sizeof buf, "Created box = (%g %g %g) to (%g %g %g)\n  %d by %d by %d MPI processor grid\n",
-                lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], e.comm->procgrid[0], e.comm->procgrid[1],
-                e.comm->procgrid[2]);
+  std::snprintf(buf, sizeof buf,
+                "Created box = (%g %g %g) to (%g %g %g)\n  %d by %d by %d MPI processor grid\n", lo[0], lo[1],
+                lo[2], hi[0], hi[1], hi[2], e.comm->procgrid[0], e.comm->procgrid[1], e.comm->procgrid[2]);
   e.logger->print(buf);
 }
 
-void cmd_region(Engine& e, const Args& a) { e.domain->add_region(a); }
+void cmd_region(Engine& e, const Args& a) {
+  e.domain->add_region(a);
+}
 
 void cmd_fix(Engine& e, const Args& a) {
   require_box(e, "fix");
@@ -141,7 +147,9 @@ void cmd_compute_modify(Engine& e, const Args& a) {
   }
 }
 
-void cmd_pair_style(Engine& e, const Args& a) { e.force->create_pair(a); }
+void cmd_pair_style(Engine& e, const Args& a) {
+  e.force->create_pair(a);
+}
 void cmd_pair_coeff(Engine& e, const Args& a) {
   require_box(e, "pair_coeff");
   if (!e.force->pair) throw InputError("pair_coeff needs a pair style: use pair_style first");

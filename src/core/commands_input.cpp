@@ -14,7 +14,9 @@
 namespace granary {
 namespace {
 
-void cmd_variable(Engine& e, const Args& a) { e.input->variables().set(a); }
+void cmd_variable(Engine& e, const Args& a) {
+  e.input->variables().set(a);
+}
 
 void cmd_label(Engine&, const Args& a) {
   if (a.size() != 1) throw InputError("expected: label ID");
@@ -36,8 +38,9 @@ void cmd_include(Engine& e, const Args& a) {
 
 // if BOOLEAN then CMD... [elif BOOLEAN CMD...]... [else CMD...]
 void cmd_if(Engine& e, const Args& a) {
-  const std::string usage = "expected: if \"BOOLEAN\" then \"COMMAND\" ... [elif \"BOOLEAN\" \"COMMAND\" ...] "
-                            "[else \"COMMAND\" ...]";
+  const std::string usage =
+      "expected: if \"BOOLEAN\" then \"COMMAND\" ... [elif \"BOOLEAN\" \"COMMAND\" ...] "
+      "[else \"COMMAND\" ...]";
   struct Branch {
     std::string condition;  // empty for else
     Args commands;
@@ -100,8 +103,10 @@ void cmd_print(Engine& e, const Args& a) {
       parse_bool(a[i + 1], "print universe");  // one partition: same as the screen
     }
   }
-  if (screen) e.logger->print(text + "\n");
-  else e.logger->log_only(text + "\n");
+  if (screen)
+    e.logger->print(text + "\n");
+  else
+    e.logger->log_only(text + "\n");
   if (!path.empty()) {
     int ok = 1;
     if (e.rank == 0) {
@@ -140,11 +145,16 @@ void cmd_log(Engine& e, const Args& a) {
 void cmd_echo(Engine& e, const Args& a) {
   if (a.size() != 1) throw InputError("expected: echo none|screen|log|both");
   const std::string& s = a[0];
-  if (s == "none") e.input->set_echo(false, false);
-  else if (s == "screen") e.input->set_echo(true, false);
-  else if (s == "log") e.input->set_echo(false, true);
-  else if (s == "both") e.input->set_echo(true, true);
-  else throw InputError("unknown echo style '" + s + "'; expected none, screen, log or both");
+  if (s == "none")
+    e.input->set_echo(false, false);
+  else if (s == "screen")
+    e.input->set_echo(true, false);
+  else if (s == "log")
+    e.input->set_echo(false, true);
+  else if (s == "both")
+    e.input->set_echo(true, true);
+  else
+    throw InputError("unknown echo style '" + s + "'; expected none, screen, log or both");
 }
 
 void cmd_clear(Engine& e, const Args& a) {

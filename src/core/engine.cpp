@@ -72,14 +72,18 @@ void Engine::execute(const Args& words) {
   if (!fn) {
     std::string msg = "unknown command '" + words[0] + "'";
     const std::string hint = did_you_mean(words[0], registry.names());
-    if (!hint.empty()) msg += "; " + hint;
-    else msg += "; see doc/commands for the list of commands";
+    if (!hint.empty())
+      msg += "; " + hint;
+    else
+      msg += "; see doc/commands for the list of commands";
     throw InputError(msg);
   }
   Args rest(words.begin() + 1, words.end());
   (*fn)(*this, rest);
 }
 
-void Engine::input_line(const std::string& line) { input->one(line); }
+void Engine::input_line(const std::string& line) {
+  input->one(line);
+}
 
 }  // namespace granary

@@ -105,7 +105,8 @@ bool Engine::atom_vector(const std::string& name, std::vector<double>& out) {
   const int n = p.nlocal;
   out.resize(n);
   auto vec = [&](const std::vector<Vec3>& a, int d) {
-    for (int i = 0; i < n; ++i) out[i] = a[i][d];
+    for (int i = 0; i < n; ++i)
+      out[i] = a[i][d];
   };
   static const char* comps[] = {"x", "y", "z"};
   for (int d = 0; d < 3; ++d) {
@@ -119,20 +120,24 @@ bool Engine::atom_vector(const std::string& name, std::vector<double>& out) {
   if (name == "mass") return out.assign(p.rmass.begin(), p.rmass.begin() + n), true;
   if (name == "radius") return out.assign(p.radius.begin(), p.radius.begin() + n), true;
   if (name == "diameter") {
-    for (int i = 0; i < n; ++i) out[i] = 2.0 * p.radius[i];
+    for (int i = 0; i < n; ++i)
+      out[i] = 2.0 * p.radius[i];
     return true;
   }
   if (name == "density") return out.assign(p.density.begin(), p.density.begin() + n), true;
   if (name == "type") {
-    for (int i = 0; i < n; ++i) out[i] = p.type[i];
+    for (int i = 0; i < n; ++i)
+      out[i] = p.type[i];
     return true;
   }
   if (name == "id") {
-    for (int i = 0; i < n; ++i) out[i] = static_cast<double>(p.id[i]);
+    for (int i = 0; i < n; ++i)
+      out[i] = static_cast<double>(p.id[i]);
     return true;
   }
   if (name == "mol" || name == "body") {
-    for (int i = 0; i < n; ++i) out[i] = static_cast<double>(p.body[i]);
+    for (int i = 0; i < n; ++i)
+      out[i] = static_cast<double>(p.body[i]);
     return true;
   }
   out.clear();
@@ -147,7 +152,8 @@ void Engine::compute_peratom(const std::string& id, int col, std::vector<double>
     c->invoked_peratom = update->ntimestep;
   }
   if (col == 0) {
-    if (c->peratom_cols != 0) throw InputError("c_" + id + " is a per-atom array; give a column c_" + id + "[i]");
+    if (c->peratom_cols != 0)
+      throw InputError("c_" + id + " is a per-atom array; give a column c_" + id + "[i]");
     out = c->vector_atom;
   } else {
     if (col < 1 || col > c->peratom_cols) {
@@ -161,7 +167,8 @@ void Engine::compute_peratom(const std::string& id, int col, std::vector<double>
 void Engine::fix_peratom(const std::string& id, int col, std::vector<double>& out) {
   Fix* f = modify->fix_or_error(id, "f_" + id);
   if (!f->peratom_flag) throw InputError("fix " + id + " does not give per-atom values");
-  if (col > f->peratom_cols) throw InputError("column " + std::to_string(col) + " of f_" + id + " is out of range");
+  if (col > f->peratom_cols)
+    throw InputError("column " + std::to_string(col) + " of f_" + id + " is out of range");
   f->peratom(col, out);
   out.resize(particles->nlocal);
 }

@@ -23,18 +23,42 @@ namespace {
 }  // namespace
 
 using Vec = std::vector<double>;
-double Resolver::compute_value(const std::string& id, int) { unavailable("c_" + id); }
-double Resolver::fix_value(const std::string& id, int) { unavailable("f_" + id); }
-double Resolver::group_function(const std::string& name, const Args&) { unavailable(name + "()"); }
-bool Resolver::atom_vector(const std::string&, Vec&) { return false; }
-void Resolver::compute_peratom(const std::string& id, int, Vec&) { unavailable("per-atom c_" + id); }
-void Resolver::fix_peratom(const std::string& id, int, Vec&) { unavailable("per-atom f_" + id); }
-std::size_t Resolver::nlocal() { return 0; }
-double Resolver::atom_element(const Vec&, long long) { unavailable("a value of one atom"); }
-bool Resolver::variable_exists(const std::string&) { return false; }
-bool Resolver::variable_is_atom(const std::string&) { return false; }
-double Resolver::variable_value(const std::string& name) { unavailable("v_" + name); }
-void Resolver::variable_atom(const std::string& name, Vec&) { unavailable("v_" + name); }
+double Resolver::compute_value(const std::string& id, int) {
+  unavailable("c_" + id);
+}
+double Resolver::fix_value(const std::string& id, int) {
+  unavailable("f_" + id);
+}
+double Resolver::group_function(const std::string& name, const Args&) {
+  unavailable(name + "()");
+}
+bool Resolver::atom_vector(const std::string&, Vec&) {
+  return false;
+}
+void Resolver::compute_peratom(const std::string& id, int, Vec&) {
+  unavailable("per-atom c_" + id);
+}
+void Resolver::fix_peratom(const std::string& id, int, Vec&) {
+  unavailable("per-atom f_" + id);
+}
+std::size_t Resolver::nlocal() {
+  return 0;
+}
+double Resolver::atom_element(const Vec&, long long) {
+  unavailable("a value of one atom");
+}
+bool Resolver::variable_exists(const std::string&) {
+  return false;
+}
+bool Resolver::variable_is_atom(const std::string&) {
+  return false;
+}
+double Resolver::variable_value(const std::string& name) {
+  unavailable("v_" + name);
+}
+void Resolver::variable_atom(const std::string& name, Vec&) {
+  unavailable("v_" + name);
+}
 
 // ---------------------------------------------------------------- tree
 
@@ -43,9 +67,34 @@ namespace expr_detail {
 enum class Op { Add, Sub, Mul, Div, Mod, Pow, Lt, Le, Gt, Ge, Eq, Ne, And, Or, Xor, Neg, Not, Plus };
 
 enum class Fn {
-  Sqrt, Exp, Ln, Log, Abs, Sin, Cos, Tan, Asin, Acos, Atan, Atan2, Floor, Ceil, Round,
-  Min, Max, Random, Normal, Ternary, Ramp, Stagger, Logfreq, Logfreq2, Stride,
-  Vdisplace, Swiggle, Cwiggle
+  Sqrt,
+  Exp,
+  Ln,
+  Log,
+  Abs,
+  Sin,
+  Cos,
+  Tan,
+  Asin,
+  Acos,
+  Atan,
+  Atan2,
+  Floor,
+  Ceil,
+  Round,
+  Min,
+  Max,
+  Random,
+  Normal,
+  Ternary,
+  Ramp,
+  Stagger,
+  Logfreq,
+  Logfreq2,
+  Stride,
+  Vdisplace,
+  Swiggle,
+  Cwiggle
 };
 
 struct FnInfo {
@@ -55,21 +104,24 @@ struct FnInfo {
 };
 
 const FnInfo kFunctions[] = {
-    {"sqrt", Fn::Sqrt, 1, 1},       {"exp", Fn::Exp, 1, 1},         {"ln", Fn::Ln, 1, 1},
-    {"log", Fn::Log, 1, 1},         {"abs", Fn::Abs, 1, 1},         {"sin", Fn::Sin, 1, 1},
-    {"cos", Fn::Cos, 1, 1},         {"tan", Fn::Tan, 1, 1},         {"asin", Fn::Asin, 1, 1},
-    {"acos", Fn::Acos, 1, 1},       {"atan", Fn::Atan, 1, 1},       {"atan2", Fn::Atan2, 2, 2},
-    {"floor", Fn::Floor, 1, 1},     {"ceil", Fn::Ceil, 1, 1},       {"round", Fn::Round, 1, 1},
-    {"min", Fn::Min, 2, -1},        {"max", Fn::Max, 2, -1},        {"random", Fn::Random, 3, 3},
-    {"normal", Fn::Normal, 3, 3},   {"ternary", Fn::Ternary, 3, 3}, {"ramp", Fn::Ramp, 2, 2},
-    {"stagger", Fn::Stagger, 2, 2}, {"logfreq", Fn::Logfreq, 3, 3}, {"logfreq2", Fn::Logfreq2, 3, 3},
+    {"sqrt", Fn::Sqrt, 1, 1},       {"exp", Fn::Exp, 1, 1},
+    {"ln", Fn::Ln, 1, 1},           {"log", Fn::Log, 1, 1},
+    {"abs", Fn::Abs, 1, 1},         {"sin", Fn::Sin, 1, 1},
+    {"cos", Fn::Cos, 1, 1},         {"tan", Fn::Tan, 1, 1},
+    {"asin", Fn::Asin, 1, 1},       {"acos", Fn::Acos, 1, 1},
+    {"atan", Fn::Atan, 1, 1},       {"atan2", Fn::Atan2, 2, 2},
+    {"floor", Fn::Floor, 1, 1},     {"ceil", Fn::Ceil, 1, 1},
+    {"round", Fn::Round, 1, 1},     {"min", Fn::Min, 2, -1},
+    {"max", Fn::Max, 2, -1},        {"random", Fn::Random, 3, 3},
+    {"normal", Fn::Normal, 3, 3},   {"ternary", Fn::Ternary, 3, 3},
+    {"ramp", Fn::Ramp, 2, 2},       {"stagger", Fn::Stagger, 2, 2},
+    {"logfreq", Fn::Logfreq, 3, 3}, {"logfreq2", Fn::Logfreq2, 3, 3},
     {"stride", Fn::Stride, 3, 3},   {"vdisplace", Fn::Vdisplace, 2, 2},
     {"swiggle", Fn::Swiggle, 3, 3}, {"cwiggle", Fn::Cwiggle, 3, 3},
 };
 
-const char* const kGroupFunctions[] = {"count", "mass",  "charge", "xcm",     "vcm",
-                                       "fcm",   "bound", "gyration", "ke",    "angmom",
-                                       "torque", "inertia", "omega"};
+const char* const kGroupFunctions[] = {"count",    "mass", "charge", "xcm",    "vcm",     "fcm",  "bound",
+                                       "gyration", "ke",   "angmom", "torque", "inertia", "omega"};
 
 /// Park-Miller minimal standard generator (Schrage-free: 64-bit products).
 struct Rng {
@@ -108,8 +160,8 @@ struct Node {
   double value = 0.0;
   Op op = Op::Add;
   Fn fn = Fn::Sqrt;
-  std::string name;  // identifier, function name or reference ID
-  char ref = 0;      // 'c' 'f' 'v' 'C' 'F'
+  std::string name;                         // identifier, function name or reference ID
+  char ref = 0;                             // 'c' 'f' 'v' 'C' 'F'
   std::vector<std::unique_ptr<Node>> kids;  // operands, arguments or indices
   Args raw;                                 // group-function arguments
   int height = 1;
@@ -140,15 +192,22 @@ std::string snippet(const std::string& s, std::size_t pos) {
   return rest;
 }
 
-bool is_ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
-bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+bool is_ident_start(char c) {
+  return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+}
+bool is_ident_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
 
 std::vector<std::string> builtin_names() {
   std::vector<std::string> out;
-  for (const auto& f : expr_detail::kFunctions) out.emplace_back(f.name);
-  for (const char* g : expr_detail::kGroupFunctions) out.emplace_back(g);
+  for (const auto& f : expr_detail::kFunctions)
+    out.emplace_back(f.name);
+  for (const char* g : expr_detail::kGroupFunctions)
+    out.emplace_back(g);
   out.emplace_back("is_file");
-  for (const char* c : {"PI", "on", "off", "true", "false", "yes", "no"}) out.emplace_back(c);
+  for (const char* c : {"PI", "on", "off", "true", "false", "yes", "no"})
+    out.emplace_back(c);
   return out;
 }
 
@@ -177,11 +236,12 @@ class Parser {
     if (s_.find('$') != std::string::npos) {
       hint = " ('$' is not substituted inside quotes: refer to variables as v_name)";
     }
-    throw InputError("syntax error in expression '" + s_ + "' at character " +
-                     std::to_string(pos_ + 1) + ": " + what + hint);
+    throw InputError("syntax error in expression '" + s_ + "' at character " + std::to_string(pos_ + 1) +
+                     ": " + what + hint);
   }
   void skip_ws() {
-    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_])))
+      ++pos_;
   }
   bool peek(const char* tok) {
     skip_ws();
@@ -206,7 +266,8 @@ class Parser {
     return n;
   }
   std::unique_ptr<Node> finish(std::unique_ptr<Node> n) {
-    for (const auto& k : n->kids) n->height = std::max(n->height, k->height + 1);
+    for (const auto& k : n->kids)
+      n->height = std::max(n->height, k->height + 1);
     if (n->height > kMaxHeight) fail("the expression is nested too deeply or too long");
     return n;
   }
@@ -285,17 +346,20 @@ class Parser {
 
   std::unique_ptr<Node> parse_number() {
     const std::size_t start = pos_;
-    while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+    while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_])))
+      ++pos_;
     if (pos_ < s_.size() && s_[pos_] == '.') {
       ++pos_;
-      while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+      while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_])))
+        ++pos_;
     }
     if (pos_ < s_.size() && (s_[pos_] == 'e' || s_[pos_] == 'E')) {
       std::size_t p = pos_ + 1;
       if (p < s_.size() && (s_[p] == '+' || s_[p] == '-')) ++p;
       if (p < s_.size() && std::isdigit(static_cast<unsigned char>(s_[p]))) {
         pos_ = p;
-        while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+        while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_])))
+          ++pos_;
       }
     }
     auto n = make(Node::Number);
@@ -363,16 +427,17 @@ class Parser {
       fail("expected a number, a name or '(' but found '" + snippet(s_, pos_) + "'");
     }
     const std::size_t start = pos_;
-    while (pos_ < s_.size() && is_ident_char(s_[pos_])) ++pos_;
+    while (pos_ < s_.size() && is_ident_char(s_[pos_]))
+      ++pos_;
     const std::string name = s_.substr(start, pos_ - start);
     skip_ws();
     if (pos_ < s_.size() && s_[pos_] == '(') {
       ++pos_;
       return parse_call(name);
     }
-    const bool is_ref = name.size() > 2 && name[1] == '_' &&
-                        (name[0] == 'c' || name[0] == 'f' || name[0] == 'v' || name[0] == 'C' ||
-                         name[0] == 'F');
+    const bool is_ref =
+        name.size() > 2 && name[1] == '_' &&
+        (name[0] == 'c' || name[0] == 'f' || name[0] == 'v' || name[0] == 'C' || name[0] == 'F');
     if (is_ref) {
       auto n = make(Node::Ref);
       n->ref = name[0];
@@ -448,8 +513,10 @@ class Parser {
     const int nargs = static_cast<int>(n->kids.size());
     if (nargs < info->min_args || (info->max_args >= 0 && nargs > info->max_args)) {
       std::string want = std::to_string(info->min_args);
-      if (info->max_args < 0) want = "at least " + want;
-      else if (info->max_args != info->min_args) want += " to " + std::to_string(info->max_args);
+      if (info->max_args < 0)
+        want = "at least " + want;
+      else if (info->max_args != info->min_args)
+        want += " to " + std::to_string(info->max_args);
       fail(name + "() takes " + want + " argument(s), got " + std::to_string(nargs));
     }
     return finish(std::move(n));
@@ -506,12 +573,14 @@ Val map_n(const Ctx& ctx, const std::vector<Val>& args, F f) {
   }
   std::vector<double> x(args.size());
   if (!any) {
-    for (std::size_t k = 0; k < args.size(); ++k) x[k] = args[k].s;
+    for (std::size_t k = 0; k < args.size(); ++k)
+      x[k] = args[k].s;
     return scalar(f(x.data()));
   }
   std::vector<double> out(n);
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = 0; k < args.size(); ++k) x[k] = args[k].at(i);
+    for (std::size_t k = 0; k < args.size(); ++k)
+      x[k] = args[k].at(i);
     out[i] = f(x.data());
   }
   return vector_of(std::move(out));
@@ -549,15 +618,15 @@ double eval_scalar(const Node& n, Ctx& ctx) {
 [[noreturn]] void unknown_name(const std::string& name, Ctx& ctx) {
   std::vector<double> tmp;
   if (!ctx.atom && ctx.r.atom_vector(name, tmp)) {
-    throw EvalError("'" + name +
-                    "' is a per-atom property: use it in an atom-style variable, or " + name +
+    throw EvalError("'" + name + "' is a per-atom property: use it in an atom-style variable, or " + name +
                     "[ID] for the atom with that ID");
   }
   if (ctx.r.variable_exists(name)) {
     throw EvalError("unknown name '" + name + "'; to use the variable " + name + " write v_" + name);
   }
   auto known = ctx.r.keyword_names();
-  for (auto& b : builtin_names()) known.push_back(b);
+  for (auto& b : builtin_names())
+    known.push_back(b);
   std::string msg = "unknown name '" + name + "' (not a thermo keyword, constant or " +
                     std::string(ctx.atom ? "per-atom property" : "variable reference") + ")";
   const std::string hint = did_you_mean(name, known);
@@ -571,7 +640,9 @@ Val eval_ref(const Node& n, Ctx& ctx) {
     idx.push_back(to_index(ctx, eval_scalar(*k, ctx), "an index"));
   }
   for (long long i : idx) {
-    if (i < 1) throw EvalError("index " + std::to_string(i) + " of " + std::string(1, n.ref) + "_" + n.name + " must be 1 or larger");
+    if (i < 1)
+      throw EvalError("index " + std::to_string(i) + " of " + std::string(1, n.ref) + "_" + n.name +
+                      " must be 1 or larger");
   }
   const std::string ref = std::string(1, n.ref) + "_" + n.name;
   std::vector<double> vals;
@@ -599,8 +670,10 @@ Val eval_ref(const Node& n, Ctx& ctx) {
   }
   const bool is_compute = n.ref == 'c' || n.ref == 'C';
   auto peratom = [&](int col) {
-    if (is_compute) r.compute_peratom(n.name, col, vals);
-    else r.fix_peratom(n.name, col, vals);
+    if (is_compute)
+      r.compute_peratom(n.name, col, vals);
+    else
+      r.fix_peratom(n.name, col, vals);
   };
   auto global = [&](int index) {
     return is_compute ? r.compute_value(n.name, index) : r.fix_value(n.name, index);
@@ -633,7 +706,8 @@ Val eval_ref(const Node& n, Ctx& ctx) {
 Val eval_func(const Node& n, Ctx& ctx) {
   std::vector<Val> a;
   a.reserve(n.kids.size());
-  for (const auto& k : n.kids) a.push_back(eval(*k, ctx));
+  for (const auto& k : n.kids)
+    a.push_back(eval(*k, ctx));
   const std::string fname = n.name + "()";
   auto map1 = [&](auto f) { return map_n(ctx, a, [&](const double* x) { return f(x[0]); }); };
   switch (n.fn) {
@@ -642,35 +716,46 @@ Val eval_func(const Node& n, Ctx& ctx) {
         if (x < 0.0) fault(ctx, "sqrt() of a negative value (" + std::to_string(x) + ")");
         return std::sqrt(x);
       });
-    case Fn::Exp: return map1([](double x) { return std::exp(x); });
+    case Fn::Exp:
+      return map1([](double x) { return std::exp(x); });
     case Fn::Ln:
     case Fn::Log:
       return map1([&](double x) {
         if (x <= 0.0) fault(ctx, fname + " of a value that is not positive (" + std::to_string(x) + ")");
         return n.fn == Fn::Ln ? std::log(x) : std::log10(x);
       });
-    case Fn::Abs: return map1([](double x) { return std::fabs(x); });
-    case Fn::Sin: return map1([](double x) { return std::sin(x); });
-    case Fn::Cos: return map1([](double x) { return std::cos(x); });
-    case Fn::Tan: return map1([](double x) { return std::tan(x); });
+    case Fn::Abs:
+      return map1([](double x) { return std::fabs(x); });
+    case Fn::Sin:
+      return map1([](double x) { return std::sin(x); });
+    case Fn::Cos:
+      return map1([](double x) { return std::cos(x); });
+    case Fn::Tan:
+      return map1([](double x) { return std::tan(x); });
     case Fn::Asin:
     case Fn::Acos:
       return map1([&](double x) {
         if (x < -1.0 || x > 1.0) fault(ctx, fname + " of a value outside [-1,1] (" + std::to_string(x) + ")");
         return n.fn == Fn::Asin ? std::asin(x) : std::acos(x);
       });
-    case Fn::Atan: return map1([](double x) { return std::atan(x); });
-    case Fn::Atan2: return map_n(ctx, a, [](const double* x) { return std::atan2(x[0], x[1]); });
-    case Fn::Floor: return map1([](double x) { return std::floor(x); });
-    case Fn::Ceil: return map1([](double x) { return std::ceil(x); });
-    case Fn::Round: return map1([](double x) { return std::round(x); });
+    case Fn::Atan:
+      return map1([](double x) { return std::atan(x); });
+    case Fn::Atan2:
+      return map_n(ctx, a, [](const double* x) { return std::atan2(x[0], x[1]); });
+    case Fn::Floor:
+      return map1([](double x) { return std::floor(x); });
+    case Fn::Ceil:
+      return map1([](double x) { return std::ceil(x); });
+    case Fn::Round:
+      return map1([](double x) { return std::round(x); });
     case Fn::Min:
     case Fn::Max: {
       const std::size_t m = a.size();
       const bool mx = n.fn == Fn::Max;
       return map_n(ctx, a, [&](const double* x) {
         double r = x[0];
-        for (std::size_t k = 1; k < m; ++k) r = mx ? std::max(r, x[k]) : std::min(r, x[k]);
+        for (std::size_t k = 1; k < m; ++k)
+          r = mx ? std::max(r, x[k]) : std::min(r, x[k]);
         return r;
       });
     }
@@ -690,10 +775,12 @@ Val eval_func(const Node& n, Ctx& ctx) {
       if (!ctx.atom) return scalar(draw(a[0].s, a[1].s));
       const std::size_t nl = a[0].vec ? a[0].size() : a[1].vec ? a[1].size() : ctx.r.nlocal();
       std::vector<double> out(nl);
-      for (std::size_t i = 0; i < nl; ++i) out[i] = draw(a[0].at(i), a[1].at(i));
+      for (std::size_t i = 0; i < nl; ++i)
+        out[i] = draw(a[0].at(i), a[1].at(i));
       return vector_of(std::move(out));
     }
-    default: break;
+    default:
+      break;
   }
   // Functions of the current step.
   const double step = keyword_or_fail(ctx, "step", n.name);
@@ -730,10 +817,12 @@ Val eval_func(const Node& n, Ctx& ctx) {
       const bool two = n.fn == Fn::Logfreq2;
       return map_n(ctx, a, [&](const double* x) {
         const long long p = ll(x[0]), q = ll(x[1]), z = ll(x[2]);
-        if (p <= 0 || q <= 0 || z <= 1 || (!two && q >= z)) fault(ctx, fname + " needs x > 0, y > 0, z > 1" + std::string(two ? "" : ", y < z"));
+        if (p <= 0 || q <= 0 || z <= 1 || (!two && q >= z))
+          fault(ctx, fname + " needs x > 0, y > 0, z > 1" + std::string(two ? "" : ", y < z"));
         if (istep < p) return static_cast<double>(p);
         long long lower = p;
-        while (lower < (1LL << 60) / z && istep >= z * lower) lower *= z;
+        while (lower < (1LL << 60) / z && istep >= z * lower)
+          lower *= z;
         if (!two) {
           const long long multiple = istep / lower;
           return static_cast<double>(multiple < q ? (multiple + 1) * lower : lower * z);
@@ -752,14 +841,16 @@ Val eval_func(const Node& n, Ctx& ctx) {
         const long long next = lo + ((istep - lo) / dz + 1) * dz;
         return next > hi ? 1.0e20 : static_cast<double>(next);
       });
-    default: break;
+    default:
+      break;
   }
   throw EvalError("internal error: function " + fname + " has no evaluator");
 }
 
 Val eval(const Node& n, Ctx& ctx) {
   switch (n.kind) {
-    case Node::Number: return scalar(n.value);
+    case Node::Number:
+      return scalar(n.value);
     case Node::Unary: {
       Val v = eval(*n.kids[0], ctx);
       std::vector<Val> a{std::move(v)};
@@ -772,9 +863,12 @@ Val eval(const Node& n, Ctx& ctx) {
       a.push_back(eval(*n.kids[0], ctx));
       a.push_back(eval(*n.kids[1], ctx));
       switch (n.op) {
-        case Op::Add: return map_n(ctx, a, [](const double* x) { return x[0] + x[1]; });
-        case Op::Sub: return map_n(ctx, a, [](const double* x) { return x[0] - x[1]; });
-        case Op::Mul: return map_n(ctx, a, [](const double* x) { return x[0] * x[1]; });
+        case Op::Add:
+          return map_n(ctx, a, [](const double* x) { return x[0] + x[1]; });
+        case Op::Sub:
+          return map_n(ctx, a, [](const double* x) { return x[0] - x[1]; });
+        case Op::Mul:
+          return map_n(ctx, a, [](const double* x) { return x[0] * x[1]; });
         case Op::Div:
           return map_n(ctx, a, [&](const double* x) {
             if (x[1] == 0.0) fault(ctx, "division by zero");
@@ -794,23 +888,31 @@ Val eval(const Node& n, Ctx& ctx) {
             }
             return r;
           });
-        case Op::Lt: return map_n(ctx, a, [](const double* x) { return x[0] < x[1] ? 1.0 : 0.0; });
-        case Op::Le: return map_n(ctx, a, [](const double* x) { return x[0] <= x[1] ? 1.0 : 0.0; });
-        case Op::Gt: return map_n(ctx, a, [](const double* x) { return x[0] > x[1] ? 1.0 : 0.0; });
-        case Op::Ge: return map_n(ctx, a, [](const double* x) { return x[0] >= x[1] ? 1.0 : 0.0; });
-        case Op::Eq: return map_n(ctx, a, [](const double* x) { return x[0] == x[1] ? 1.0 : 0.0; });
-        case Op::Ne: return map_n(ctx, a, [](const double* x) { return x[0] != x[1] ? 1.0 : 0.0; });
+        case Op::Lt:
+          return map_n(ctx, a, [](const double* x) { return x[0] < x[1] ? 1.0 : 0.0; });
+        case Op::Le:
+          return map_n(ctx, a, [](const double* x) { return x[0] <= x[1] ? 1.0 : 0.0; });
+        case Op::Gt:
+          return map_n(ctx, a, [](const double* x) { return x[0] > x[1] ? 1.0 : 0.0; });
+        case Op::Ge:
+          return map_n(ctx, a, [](const double* x) { return x[0] >= x[1] ? 1.0 : 0.0; });
+        case Op::Eq:
+          return map_n(ctx, a, [](const double* x) { return x[0] == x[1] ? 1.0 : 0.0; });
+        case Op::Ne:
+          return map_n(ctx, a, [](const double* x) { return x[0] != x[1] ? 1.0 : 0.0; });
         case Op::And:
           return map_n(ctx, a, [](const double* x) { return x[0] != 0.0 && x[1] != 0.0 ? 1.0 : 0.0; });
         case Op::Or:
           return map_n(ctx, a, [](const double* x) { return x[0] != 0.0 || x[1] != 0.0 ? 1.0 : 0.0; });
         case Op::Xor:
           return map_n(ctx, a, [](const double* x) { return (x[0] != 0.0) != (x[1] != 0.0) ? 1.0 : 0.0; });
-        default: break;
+        default:
+          break;
       }
       throw EvalError("internal error: bad operator");
     }
-    case Node::Func: return eval_func(n, ctx);
+    case Node::Func:
+      return eval_func(n, ctx);
     case Node::Group:
       try {
         return scalar(ctx.r.group_function(n.name, n.raw));
@@ -844,7 +946,8 @@ Val eval(const Node& n, Ctx& ctx) {
       const long long id = to_index(ctx, eval_scalar(*n.kids[0], ctx), "an atom ID");
       std::vector<double> v;
       if (!ctx.r.atom_vector(n.name, v)) {
-        throw EvalError("'" + n.name + "[" + std::to_string(id) + "]': '" + n.name + "' is not a per-atom property");
+        throw EvalError("'" + n.name + "[" + std::to_string(id) + "]': '" + n.name +
+                        "' is not a per-atom property");
       }
       return scalar(ctx.r.atom_element(v, id));
     }

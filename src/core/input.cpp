@@ -22,13 +22,18 @@ namespace granary {
 namespace script {
 
 namespace {
-bool blank(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
-bool triple_at(const std::string& s, std::size_t i) { return s.compare(i, 3, "\"\"\"") == 0; }
+bool blank(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+bool triple_at(const std::string& s, std::size_t i) {
+  return s.compare(i, 3, "\"\"\"") == 0;
+}
 }  // namespace
 
 int count_triple_quotes(const std::string& text) {
   int n = 0;
-  for (std::size_t p = text.find("\"\"\""); p != std::string::npos; p = text.find("\"\"\"", p + 3)) ++n;
+  for (std::size_t p = text.find("\"\"\""); p != std::string::npos; p = text.find("\"\"\"", p + 3))
+    ++n;
   return n;
 }
 
@@ -71,7 +76,8 @@ Args split_words(const std::string& line) {
     return s + (from + 40 < n ? "..." : "");
   };
   for (;;) {
-    while (i < n && blank(line[i])) ++i;
+    while (i < n && blank(line[i]))
+      ++i;
     if (i >= n) break;
     std::size_t start = i, close, after;
     if (triple_at(line, i)) {
@@ -87,7 +93,8 @@ Args split_words(const std::string& line) {
       start = i + 1;
       after = close + 1;
     } else {
-      while (i < n && !blank(line[i])) ++i;
+      while (i < n && !blank(line[i]))
+        ++i;
       out.push_back(line.substr(start, i - start));
       continue;
     }
@@ -156,7 +163,8 @@ class BoolParser {
     throw InputError("bad Boolean expression '" + s_ + "': " + what);
   }
   void skip_ws() {
-    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_])))
+      ++pos_;
   }
   bool accept(const char* tok) {
     skip_ws();
@@ -211,15 +219,23 @@ class BoolParser {
       const std::string& str = a.is_str ? a.str : b.str;
       fail("cannot compare a number with the string '" + str + "' using " + op + arithmetic_hint(str));
     }
-    if (a.is_str) c = a.str.compare(b.str);
-    else c = a.num < b.num ? -1 : (a.num > b.num ? 1 : 0);
+    if (a.is_str)
+      c = a.str.compare(b.str);
+    else
+      c = a.num < b.num ? -1 : (a.num > b.num ? 1 : 0);
     bool r = false;
-    if (op == "==") r = c == 0;
-    else if (op == "!=") r = c != 0;
-    else if (op == "<") r = c < 0;
-    else if (op == "<=") r = c <= 0;
-    else if (op == ">") r = c > 0;
-    else r = c >= 0;
+    if (op == "==")
+      r = c == 0;
+    else if (op == "!=")
+      r = c != 0;
+    else if (op == "<")
+      r = c < 0;
+    else if (op == "<=")
+      r = c <= 0;
+    else if (op == ">")
+      r = c > 0;
+    else
+      r = c >= 0;
     return num(r ? 1.0 : 0.0);
   }
   BVal parse_eq() {
@@ -234,7 +250,11 @@ class BoolParser {
   BVal parse_rel() {
     BVal a = parse_not();
     for (;;) {
-      const char* op = accept("<=") ? "<=" : accept(">=") ? ">=" : accept("<") ? "<" : accept(">") ? ">" : nullptr;
+      const char* op = accept("<=")   ? "<="
+                       : accept(">=") ? ">="
+                       : accept("<")  ? "<"
+                       : accept(">")  ? ">"
+                                      : nullptr;
       if (!op) return a;
       BVal b = parse_not();
       a = compare(a, b, op);
@@ -274,7 +294,8 @@ class BoolParser {
     char* endp = nullptr;
     const double x = std::strtod(word.c_str(), &endp);
     const char c0 = word[0];
-    const bool numeric_start = std::isdigit(static_cast<unsigned char>(c0)) || c0 == '.' || c0 == '-' || c0 == '+';
+    const bool numeric_start =
+        std::isdigit(static_cast<unsigned char>(c0)) || c0 == '.' || c0 == '-' || c0 == '+';
     if (numeric_start && endp && *endp == '\0') return num(x);
     BVal b;
     b.is_str = true;
@@ -338,10 +359,10 @@ class Input::EngineLookup : public Resolver {
     return found;
   }
   std::vector<std::string> keyword_names() override {
-    return {"step",  "elapsed", "elaplong", "dt",   "time", "cpu",  "tpcpu", "spcpu", "atoms",
-            "temp",  "press",   "pe",       "ke",   "etotal", "erotate", "vol", "density",
-            "lx",    "ly",      "lz",       "xlo",  "xhi",  "ylo",  "yhi",   "zlo",   "zhi",
-            "fmax",  "fnorm",   "nbuild",   "ndanger"};
+    return {"step",    "elapsed", "elaplong", "dt",    "time",   "cpu",    "tpcpu",   "spcpu",
+            "atoms",   "temp",    "press",    "pe",    "ke",     "etotal", "erotate", "vol",
+            "density", "lx",      "ly",       "lz",    "xlo",    "xhi",    "ylo",     "yhi",
+            "zlo",     "zhi",     "fmax",     "fnorm", "nbuild", "ndanger"};
   }
   double compute_value(const std::string& id, int index) override { return e_.compute_value(id, index); }
   double fix_value(const std::string& id, int index) override { return e_.fix_value(id, index); }
@@ -394,23 +415,28 @@ struct Input::Source {
 };
 
 Input::Input(Engine& engine)
-    : engine_(engine), variables_(std::make_unique<Variables>()), lookup_(std::make_unique<EngineLookup>(engine)) {
+    : engine_(engine),
+      variables_(std::make_unique<Variables>()),
+      lookup_(std::make_unique<EngineLookup>(engine)) {
   variables_->set_resolver(lookup_.get());
-  variables_->set_file_reader([this](const std::string& path, std::string& contents) {
-    return read_file(path, contents);
-  });
+  variables_->set_file_reader(
+      [this](const std::string& path, std::string& contents) { return read_file(path, contents); });
 }
 
 Input::~Input() = default;
 
-Variables& Input::variables() { return *variables_; }
+Variables& Input::variables() {
+  return *variables_;
+}
 
 void Input::set_echo(bool screen, bool log) {
   echo_screen_ = screen;
   echo_log_ = log;
 }
 
-std::string Input::substitute(const std::string& text) { return variables_->substitute(text); }
+std::string Input::substitute(const std::string& text) {
+  return variables_->substitute(text);
+}
 
 void Input::request_quit(int status) {
   quit_ = true;
@@ -428,11 +454,13 @@ std::string Input::location() const {
 
 namespace {
 /// "file:line: cmd: message" plus one "  included from" line per outer file.
-std::string format_error(const std::vector<std::string>& frames, const std::string& cmd, const std::string& msg) {
+std::string format_error(const std::vector<std::string>& frames, const std::string& cmd,
+                         const std::string& msg) {
   std::string out = frames.empty() ? "" : frames.back() + ": ";
   if (!cmd.empty()) out += cmd + ": ";
   out += msg;
-  for (std::size_t k = frames.size() > 0 ? frames.size() - 1 : 0; k-- > 0;) out += "\n  included from " + frames[k];
+  for (std::size_t k = frames.size() > 0 ? frames.size() - 1 : 0; k-- > 0;)
+    out += "\n  included from " + frames[k];
   return out;
 }
 }  // namespace
@@ -523,13 +551,16 @@ void Input::execute(const std::string& line, bool with_echo) {
   }
 }
 
-void Input::one(const std::string& line) { execute(line, true); }
+void Input::one(const std::string& line) {
+  execute(line, true);
+}
 
 void Input::run_source() {
   Source& src = *sources_.back();
   auto frames = [this]() {
     std::vector<std::string> f;
-    for (const auto& s : sources_) f.push_back(s->name + ":" + std::to_string(s->cmd_line));
+    for (const auto& s : sources_)
+      f.push_back(s->name + ":" + std::to_string(s->cmd_line));
     return f;
   };
   std::string text;
@@ -563,8 +594,9 @@ void Input::run_source() {
     label_.clear();
     std::vector<std::string> f = frames();
     f.back() = jump_origin_;
-    throw ScriptError(format_error(f, "jump", "label '" + missing + "' not found in " + src.name +
-                                                  "; add 'label " + missing + "' to that file"));
+    throw ScriptError(format_error(
+        f, "jump",
+        "label '" + missing + "' not found in " + src.name + "; add 'label " + missing + "' to that file"));
   }
 }
 

@@ -5,7 +5,9 @@
 namespace granary {
 
 Logger::Logger(int rank) : rank_(rank) {}
-Logger::~Logger() { close_log(); }
+Logger::~Logger() {
+  close_log();
+}
 
 void Logger::print(const std::string& text) {
   screen_only(text);
@@ -20,7 +22,9 @@ void Logger::log_only(const std::string& text) {
   if (rank_ == 0 && log_) std::fputs(text.c_str(), log_);
 }
 
-void Logger::warning(const std::string& text) { print("WARNING: " + text + "\n"); }
+void Logger::warning(const std::string& text) {
+  print("WARNING: " + text + "\n");
+}
 
 void Logger::open_log(const std::string& path, bool append) {
   if (rank_ != 0) return;

@@ -42,7 +42,8 @@ class Registry {
   }
   std::vector<std::string> names() const {
     std::vector<std::string> out;
-    for (const auto& kv : factories_) out.push_back(kv.first);
+    for (const auto& kv : factories_)
+      out.push_back(kv.first);
     return out;
   }
 
@@ -75,36 +76,37 @@ using DumpRegistry = Registry<DumpFactory>;
 #define GRANARY_CONCAT(a, b) GRANARY_CONCAT_(a, b)
 #define GRANARY_UNIQUE(prefix) GRANARY_CONCAT(prefix, __LINE__)
 
-#define GRANARY_COMMAND(name, fn)                                                        \
-  static const bool GRANARY_UNIQUE(granary_command_registered_) =                        \
+#define GRANARY_COMMAND(name, fn)                                 \
+  static const bool GRANARY_UNIQUE(granary_command_registered_) = \
       ::granary::CommandRegistry::instance().add(name, fn)
 
-#define GRANARY_FIX_STYLE(name, Class)                                                   \
-  static const bool GRANARY_UNIQUE(granary_fix_registered_) =                            \
-      ::granary::FixRegistry::instance().add(                                            \
-          name, [](::granary::Engine& e, const ::granary::Args& a)                       \
-                    -> std::unique_ptr<::granary::Fix> { return std::make_unique<Class>(e, a); })
+#define GRANARY_FIX_STYLE(name, Class)                                                                \
+  static const bool GRANARY_UNIQUE(granary_fix_registered_) = ::granary::FixRegistry::instance().add( \
+      name, [](::granary::Engine& e, const ::granary::Args& a) -> std::unique_ptr<::granary::Fix> {   \
+        return std::make_unique<Class>(e, a);                                                         \
+      })
 
-#define GRANARY_COMPUTE_STYLE(name, Class)                                               \
-  static const bool GRANARY_UNIQUE(granary_compute_registered_) =                        \
-      ::granary::ComputeRegistry::instance().add(                                        \
-          name, [](::granary::Engine& e, const ::granary::Args& a)                       \
-                    -> std::unique_ptr<::granary::Compute> { return std::make_unique<Class>(e, a); })
+#define GRANARY_COMPUTE_STYLE(name, Class)                                                                  \
+  static const bool GRANARY_UNIQUE(granary_compute_registered_) =                                           \
+      ::granary::ComputeRegistry::instance().add(                                                           \
+          name, [](::granary::Engine& e, const ::granary::Args& a) -> std::unique_ptr<::granary::Compute> { \
+            return std::make_unique<Class>(e, a);                                                           \
+          })
 
-#define GRANARY_PAIR_STYLE(name, Class)                                                  \
-  static const bool GRANARY_UNIQUE(granary_pair_registered_) =                           \
-      ::granary::PairRegistry::instance().add(                                           \
-          name, [](::granary::Engine& e, const ::granary::Args& a)                       \
-                    -> std::unique_ptr<::granary::Pair> { return std::make_unique<Class>(e, a); })
+#define GRANARY_PAIR_STYLE(name, Class)                                                                 \
+  static const bool GRANARY_UNIQUE(granary_pair_registered_) = ::granary::PairRegistry::instance().add( \
+      name, [](::granary::Engine& e, const ::granary::Args& a) -> std::unique_ptr<::granary::Pair> {    \
+        return std::make_unique<Class>(e, a);                                                           \
+      })
 
-#define GRANARY_REGION_STYLE(name, Class)                                                \
-  static const bool GRANARY_UNIQUE(granary_region_registered_) =                         \
-      ::granary::RegionRegistry::instance().add(                                         \
-          name, [](::granary::Engine& e, const ::granary::Args& a)                       \
-                    -> std::unique_ptr<::granary::Region> { return std::make_unique<Class>(e, a); })
+#define GRANARY_REGION_STYLE(name, Class)                                                                   \
+  static const bool GRANARY_UNIQUE(granary_region_registered_) = ::granary::RegionRegistry::instance().add( \
+      name, [](::granary::Engine& e, const ::granary::Args& a) -> std::unique_ptr<::granary::Region> {      \
+        return std::make_unique<Class>(e, a);                                                               \
+      })
 
-#define GRANARY_DUMP_STYLE(name, Class)                                                  \
-  static const bool GRANARY_UNIQUE(granary_dump_registered_) =                           \
-      ::granary::DumpRegistry::instance().add(                                           \
-          name, [](::granary::Engine& e, const ::granary::Args& a)                       \
-                    -> std::unique_ptr<::granary::Dump> { return std::make_unique<Class>(e, a); })
+#define GRANARY_DUMP_STYLE(name, Class)                                                                 \
+  static const bool GRANARY_UNIQUE(granary_dump_registered_) = ::granary::DumpRegistry::instance().add( \
+      name, [](::granary::Engine& e, const ::granary::Args& a) -> std::unique_ptr<::granary::Dump> {    \
+        return std::make_unique<Class>(e, a);                                                           \
+      })

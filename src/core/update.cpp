@@ -91,14 +91,16 @@ void Update::check_lost() {
   char text[256] = {0};
   if (e.rank == first) std::snprintf(text, sizeof text, "%s", e.comm->first_lost.c_str());
   MPI_Bcast(text, sizeof text, MPI_CHAR, first, e.world);
-  const std::string msg = std::to_string(total) + " particle(s) left the box through a fixed boundary at step " +
+  const std::string msg = std::to_string(total) +
+                          " particle(s) left the box through a fixed boundary at step " +
                           std::to_string(ntimestep) + " (first: " + text + ")";
   if (e.thermo->lost == Thermo::Lost::Warn) {
     e.logger->warning(msg);
     return;
   }
-  throw RunError(msg + "; contain them with walls, use shrink-wrapped boundaries (boundary m m m), "
-                       "or accept the loss with thermo_modify lost ignore");
+  throw RunError(msg +
+                 "; contain them with walls, use shrink-wrapped boundaries (boundary m m m), "
+                 "or accept the loss with thermo_modify lost ignore");
 }
 
 void Update::compute_forces() {
@@ -127,7 +129,8 @@ void Update::compute_forces() {
 
 void Update::setup() {
   Engine& e = engine_;
-  if (!e.domain->box_exist) throw InputError("run needs a simulation box: use create_box or read_restart first");
+  if (!e.domain->box_exist)
+    throw InputError("run needs a simulation box: use create_box or read_restart first");
   e.logger->print("Setting up run ...\n");
   std::fill(std::begin(timers), std::end(timers), 0.0);
   e.particles->natoms = count_global();
@@ -180,7 +183,8 @@ void Update::use_restart_forces() {
   Engine& e = engine_;
   Particles& p = *e.particles;
   long long local[2] = {0, p.nlocal}, all[2];
-  for (int i = 0; i < p.nlocal; ++i) local[0] += restart_forces.count(p.id[i]) ? 1 : 0;
+  for (int i = 0; i < p.nlocal; ++i)
+    local[0] += restart_forces.count(p.id[i]) ? 1 : 0;
   local[1] = static_cast<long long>(restart_forces.size());
   MPI_Allreduce(local, all, 2, MPI_LONG_LONG, MPI_SUM, e.world);
   const long long natoms = count_global();
@@ -300,7 +304,9 @@ void Update::report() {
 
 // run N [upto] [start S] [stop S] [pre yes|no] [post yes|no] [every M "commands"]
 void Update::run_command(const Args& args) {
-  if (args.empty()) throw InputError("usage: run N [upto] [start S] [stop S] [pre yes|no] [post yes|no] [every M command ...]");
+  if (args.empty())
+    throw InputError(
+        "usage: run N [upto] [start S] [stop S] [pre yes|no] [post yes|no] [every M command ...]");
   std::int64_t n = parse_int(args[0], "run steps");
   bool upto = false, pre = true, post = true;
   std::int64_t start = -1, stop = -1, every = 0;
@@ -311,11 +317,16 @@ void Update::run_command(const Args& args) {
       if (k + 1 >= args.size()) throw InputError("run keyword '" + w + "' needs a value");
       return args[++k];
     };
-    if (w == "upto") upto = true;
-    else if (w == "start") start = parse_int(value(), "run start");
-    else if (w == "stop") stop = parse_int(value(), "run stop");
-    else if (w == "pre") pre = parse_bool(value(), "run pre");
-    else if (w == "post") post = parse_bool(value(), "run post");
+    if (w == "upto")
+      upto = true;
+    else if (w == "start")
+      start = parse_int(value(), "run start");
+    else if (w == "stop")
+      stop = parse_int(value(), "run stop");
+    else if (w == "pre")
+      pre = parse_bool(value(), "run pre");
+    else if (w == "post")
+      post = parse_bool(value(), "run post");
     else if (w == "every") {
       every = parse_int(value(), "run every");
       if (every <= 0) throw InputError("run every needs a positive number of steps");
@@ -356,7 +367,9 @@ void Update::run_command(const Args& args) {
   }
 }
 
-void cmd_run(Engine& e, const Args& a) { e.update->run_command(a); }
+void cmd_run(Engine& e, const Args& a) {
+  e.update->run_command(a);
+}
 void cmd_timestep(Engine& e, const Args& a) {
   require_args(a, 1, 1, "timestep DT");
   e.update->set_timestep(parse_double(a[0], "timestep"));

@@ -16,13 +16,13 @@ class Update {
  public:
   explicit Update(Engine& engine);
 
-  double dt = 1.0e-8;          // [s]; LAMMPS' default for units si
+  double dt = 1.0e-8;  // [s]; LAMMPS' default for units si
   bool dt_set = false;
   std::int64_t ntimestep = 0;  // current step
   double atime = 0.0;          // simulated time at step atimestep
   std::int64_t atimestep = 0;
-  std::int64_t firststep = 0, laststep = 0;    // of the current run
-  std::int64_t beginstep = 0, endstep = 0;     // of the current run (start/stop keywords)
+  std::int64_t firststep = 0, laststep = 0;  // of the current run
+  std::int64_t beginstep = 0, endstep = 0;   // of the current run (start/stop keywords)
   bool running = false;
   bool first_run = true;
   bool halt_requested = false;  // set by fixes to end the current run early
@@ -40,7 +40,7 @@ class Update {
   /// Set up and run n steps (used by run and by tests).
   void run(std::int64_t n, bool pre = true, bool post = true);
 
-  double run_wall_time = 0.0;  // seconds of the last run's loop
+  double run_wall_time = 0.0;    // seconds of the last run's loop
   double loop_start_wall = 0.0;  // MPI_Wtime() when the current run's loop started
 
   /// Forces and torques read from a restart file, by particle id. The first

@@ -48,8 +48,8 @@ void require_args(const Args& args, std::size_t lo, std::size_t hi, const std::s
     std::string count = lo == hi ? std::to_string(lo)
                                  : (hi > 1000 ? "at least " + std::to_string(lo)
                                               : std::to_string(lo) + " to " + std::to_string(hi));
-    throw InputError("wrong number of arguments (" + std::to_string(args.size()) + ", expected " +
-                     count + "); usage: " + usage);
+    throw InputError("wrong number of arguments (" + std::to_string(args.size()) + ", expected " + count +
+                     "); usage: " + usage);
   }
 }
 

@@ -22,10 +22,10 @@ struct StyleName {
   Style style;
 };
 const StyleName kStyles[] = {
-    {"index", Style::Index},     {"loop", Style::Loop},       {"universe", Style::Universe},
-    {"uloop", Style::Uloop},     {"world", Style::World},     {"string", Style::String},
-    {"getenv", Style::Getenv},   {"file", Style::File},       {"format", Style::Format},
-    {"internal", Style::Internal}, {"equal", Style::Equal},   {"atom", Style::Atom},
+    {"index", Style::Index},       {"loop", Style::Loop},   {"universe", Style::Universe},
+    {"uloop", Style::Uloop},       {"world", Style::World}, {"string", Style::String},
+    {"getenv", Style::Getenv},     {"file", Style::File},   {"format", Style::Format},
+    {"internal", Style::Internal}, {"equal", Style::Equal}, {"atom", Style::Atom},
 };
 
 const char* style_name(Style s) {
@@ -55,12 +55,14 @@ std::string fmt15(double x) {
 /// Whole-string number (surrounding blanks allowed).
 bool to_number(const std::string& s, double& x) {
   const char* b = s.c_str();
-  while (std::isspace(static_cast<unsigned char>(*b))) ++b;
+  while (std::isspace(static_cast<unsigned char>(*b)))
+    ++b;
   if (!*b) return false;
   char* e = nullptr;
   x = std::strtod(b, &e);
   if (e == b) return false;
-  while (std::isspace(static_cast<unsigned char>(*e))) ++e;
+  while (std::isspace(static_cast<unsigned char>(*e)))
+    ++e;
   return *e == '\0';
 }
 
@@ -86,8 +88,8 @@ bool local_reader(const std::string& path, std::string& contents) {
 
 struct Variables::Var {
   Style style = Style::Index;
-  Args values;            // index/universe/world/file strings; string, getenv; format: name, fmt
-  std::size_t which = 0;  // current entry of values
+  Args values;                      // index/universe/world/file strings; string, getenv; format: name, fmt
+  std::size_t which = 0;            // current entry of values
   long long current = 1, last = 1;  // loop / uloop
   int pad = 0;                      // loop width when padded
   double number = 0.0;              // internal
@@ -105,9 +107,7 @@ class Variables::Lookup : public Resolver {
   std::vector<std::string> keyword_names() override {
     return v_.external_ ? v_.external_->keyword_names() : std::vector<std::string>{};
   }
-  double compute_value(const std::string& id, int index) override {
-    return ext().compute_value(id, index);
-  }
+  double compute_value(const std::string& id, int index) override { return ext().compute_value(id, index); }
   double fix_value(const std::string& id, int index) override { return ext().fix_value(id, index); }
   double group_function(const std::string& name, const Args& args) override {
     return ext().group_function(name, args);
@@ -145,9 +145,15 @@ class Variables::Lookup : public Resolver {
 Variables::Variables() : lookup_(std::make_unique<Lookup>(*this)), reader_(local_reader) {}
 Variables::~Variables() = default;
 
-void Variables::set_resolver(Resolver* external) { external_ = external; }
-void Variables::set_file_reader(FileReader reader) { reader_ = reader ? std::move(reader) : local_reader; }
-Resolver& Variables::resolver() { return *lookup_; }
+void Variables::set_resolver(Resolver* external) {
+  external_ = external;
+}
+void Variables::set_file_reader(FileReader reader) {
+  reader_ = reader ? std::move(reader) : local_reader;
+}
+Resolver& Variables::resolver() {
+  return *lookup_;
+}
 
 Variables::Var* Variables::get(const std::string& name) {
   auto it = vars_.find(name);
@@ -161,8 +167,10 @@ const Variables::Var* Variables::get(const std::string& name) const {
 void Variables::unknown(const std::string& name, const std::string& where) const {
   std::string msg = "unknown variable '" + name + "'" + where;
   const std::string hint = did_you_mean(name, names());
-  if (!hint.empty()) msg += "; " + hint;
-  else if (vars_.empty()) msg += "; no variables are defined";
+  if (!hint.empty())
+    msg += "; " + hint;
+  else if (vars_.empty())
+    msg += "; no variables are defined";
   throw InputError(msg);
 }
 
@@ -172,7 +180,9 @@ Variables::Var& Variables::require(const std::string& name) {
   return *v;
 }
 
-bool Variables::find(const std::string& name) const { return get(name) != nullptr; }
+bool Variables::find(const std::string& name) const {
+  return get(name) != nullptr;
+}
 
 std::string Variables::style(const std::string& name) const {
   const Var* v = get(name);
@@ -187,17 +197,21 @@ bool Variables::is_atom(const std::string& name) const {
 
 std::vector<std::string> Variables::names() const {
   std::vector<std::string> out;
-  for (const auto& kv : vars_) out.push_back(kv.first);
+  for (const auto& kv : vars_)
+    out.push_back(kv.first);
   return out;
 }
 
-void Variables::remove(const std::string& name) { vars_.erase(name); }
+void Variables::remove(const std::string& name) {
+  vars_.erase(name);
+}
 
 // ---------------------------------------------------------------- definition
 
 void Variables::set(const Args& args) {
-  const std::string usage = "expected: variable NAME STYLE VALUES... (style index, loop, string, equal, atom, "
-                            "getenv, file, format, internal, universe, uloop, world) or variable NAME delete";
+  const std::string usage =
+      "expected: variable NAME STYLE VALUES... (style index, loop, string, equal, atom, "
+      "getenv, file, format, internal, universe, uloop, world) or variable NAME delete";
   if (args.size() < 2) throw InputError("too few arguments; " + usage);
   const std::string& name = args[0];
   for (char c : name) {
@@ -226,8 +240,8 @@ void Variables::set(const Args& args) {
     throw InputError(hint.empty() ? msg + "; " + usage : msg + "; " + hint);
   }
   if (const Var* old = get(name)) {
-    if (old->command_line) return;          // -var on the command line wins
-    if (!redefinable(style)) return;         // index, loop, ... keep their current value
+    if (old->command_line) return;    // -var on the command line wins
+    if (!redefinable(style)) return;  // index, loop, ... keep their current value
     if (old->style != style) {
       throw InputError("variable '" + name + "' already exists with style " + style_name(old->style) +
                        "; delete it first ('variable " + name + " delete') to redefine it as " + sname);
@@ -258,7 +272,8 @@ void Variables::set(const Args& args) {
       Args nums = vals;
       const bool pad = nums.back() == "pad";
       if (pad) nums.pop_back();
-      if (nums.empty() || nums.size() > 2) throw InputError("style loop expects: variable NAME loop N [pad] or N1 N2 [pad]");
+      if (nums.empty() || nums.size() > 2)
+        throw InputError("style loop expects: variable NAME loop N [pad] or N1 N2 [pad]");
       long long first = 1, last;
       if (nums.size() == 1) {
         last = loop_bound(nums[0], "count N");
@@ -286,7 +301,8 @@ void Variables::set(const Args& args) {
     case Style::File: {
       need(1, 1, "FILENAME");
       std::string text;
-      if (!reader_(vals[0], text)) throw InputError("cannot read file '" + vals[0] + "' for file-style variable " + name);
+      if (!reader_(vals[0], text))
+        throw InputError("cannot read file '" + vals[0] + "' for file-style variable " + name);
       std::istringstream in(text);
       std::string line;
       while (std::getline(in, line)) {
@@ -306,11 +322,13 @@ void Variables::set(const Args& args) {
       break;
     case Style::Internal:
       need(1, 1, "NUMBER");
-      if (!to_number(vals[0], v->number)) throw InputError("style internal needs a number, got '" + vals[0] + "'");
+      if (!to_number(vals[0], v->number))
+        throw InputError("style internal needs a number, got '" + vals[0] + "'");
       break;
     case Style::Equal:
     case Style::Atom: {
-      if (vals.empty()) throw InputError("style " + sname + " expects: variable " + name + " " + sname + " FORMULA");
+      if (vals.empty())
+        throw InputError("style " + sname + " expects: variable " + name + " " + sname + " FORMULA");
       try {
         v->expr = Expression(join(vals));
       } catch (const InputError& e) {
@@ -386,7 +404,8 @@ double Variables::compute_equal(const std::string& name) {
   Var& v = require(name);
   if (std::find(active_.begin(), active_.end(), name) != active_.end()) {
     std::string chain;
-    for (const auto& a : active_) chain += a + " -> ";
+    for (const auto& a : active_)
+      chain += a + " -> ";
     throw InputError("variable '" + name + "' refers to itself (" + chain + name + ")");
   }
   struct Guard {
@@ -484,7 +503,9 @@ const Expression& Variables::cached(const std::string& formula) {
   return cache_.emplace(formula, std::move(e)).first->second;
 }
 
-double Variables::evaluate(const std::string& formula) { return cached(formula).evaluate(*lookup_); }
+double Variables::evaluate(const std::string& formula) {
+  return cached(formula).evaluate(*lookup_);
+}
 
 void Variables::evaluate_atom(const std::string& formula, std::vector<double>& out) {
   cached(formula).evaluate_atom(*lookup_, out);
@@ -495,11 +516,13 @@ std::string Variables::immediate(const std::string& inner) {
   const auto colon = inner.rfind(':');
   if (colon != std::string::npos) {
     std::size_t p = colon + 1;
-    while (p < inner.size() && std::isspace(static_cast<unsigned char>(inner[p]))) ++p;
+    while (p < inner.size() && std::isspace(static_cast<unsigned char>(inner[p])))
+      ++p;
     if (p < inner.size() && inner[p] == '%') {
       formula = inner.substr(0, colon);
       fmt = inner.substr(p);
-      while (!fmt.empty() && std::isspace(static_cast<unsigned char>(fmt.back()))) fmt.pop_back();
+      while (!fmt.empty() && std::isspace(static_cast<unsigned char>(fmt.back())))
+        fmt.pop_back();
     }
   }
   return format_number(evaluate(formula), fmt);
@@ -532,7 +555,8 @@ std::string Variables::substitute(const std::string& text) {
         const char d = text[i + 1];
         if (d == '{') {
           const auto close = text.find('}', i + 2);
-          if (close == std::string::npos) throw InputError("missing '}' after '${' in '" + text.substr(i, 30) + "'");
+          if (close == std::string::npos)
+            throw InputError("missing '}' after '${' in '" + text.substr(i, 30) + "'");
           const std::string name = text.substr(i + 2, close - i - 2);
           if (name.empty()) throw InputError("empty variable name in '${}'");
           if (!find(name)) unknown(name, " in '${" + name + "}'");
@@ -584,11 +608,13 @@ std::string format_number(double value, const std::string& format) {
       continue;
     }
     if (conv != std::string::npos) {
-      throw InputError("format '" + format + "' has more than one '%' conversion; use exactly one, e.g. %.6g");
+      throw InputError("format '" + format +
+                       "' has more than one '%' conversion; use exactly one, e.g. %.6g");
     }
     conv = i;
     std::size_t j = i + 1;
-    while (j < format.size() && std::string("-+ #0").find(format[j]) != std::string::npos) ++j;
+    while (j < format.size() && std::string("-+ #0").find(format[j]) != std::string::npos)
+      ++j;
     int width = 0, prec = 0;
     while (j < format.size() && std::isdigit(static_cast<unsigned char>(format[j]))) {
       width = std::min(width * 10 + (format[j++] - '0'), 100000);

@@ -79,7 +79,9 @@ bool owns_point(const Domain& dom, const Vec3& x) {
 }
 
 /// Uniform double in [0, 1) from a 64-bit generator (portable, unlike std distributions).
-double uniform01(std::mt19937_64& gen) { return static_cast<double>(gen() >> 11) * 0x1.0p-53; }
+double uniform01(std::mt19937_64& gen) {
+  return static_cast<double>(gen() >> 11) * 0x1.0p-53;
+}
 
 /// Uniform double in [0, 1) hashed from a seed and a particle id (rank-independent).
 double hash01(long long seed, tagint id) {
@@ -106,7 +108,8 @@ bool parse_units_lattice(Engine& e, const std::string& word, const std::string& 
   if (word == "box") return false;
   if (word == "lattice") {
     if (e.domain->lattice_style == "none") {
-      throw InputError(cmd + " units lattice needs a lattice; define one with the lattice command or use units box");
+      throw InputError(
+          cmd + " units lattice needs a lattice; define one with the lattice command or use units box");
     }
     return true;
   }
@@ -146,7 +149,8 @@ void cmd_lattice(Engine& e, const Args& a) {
   if (!(scale > 0.0)) throw InputError("the lattice constant must be positive, got '" + a[1] + "'");
   dom.lattice_style = style;
   dom.lattice_basis = basis;
-  for (double& s : dom.lattice_spacing) s = scale;
+  for (double& s : dom.lattice_spacing)
+    s = scale;
   if (style != "none") {
     e.logger->print("Lattice spacing in x,y,z = " + fmt(scale) + " " + fmt(scale) + " " + fmt(scale) + "\n");
   }
@@ -180,13 +184,14 @@ void create_single(Engine& e, int type, const Args& a) {
   int image = Particles::image_pack(0, 0, 0);
   if (remap) dom.remap(x, image);
   if (!dom.inside_box(x)) {
-    throw InputError("create_atoms single: the point (" + fmt(x[0]) + ", " + fmt(x[1]) + ", " +
-                     fmt(x[2]) + ") lies outside the box" +
+    throw InputError("create_atoms single: the point (" + fmt(x[0]) + ", " + fmt(x[1]) + ", " + fmt(x[2]) +
+                     ") lies outside the box" +
                      (remap ? "" : "; use remap yes to map it into a periodic box"));
   }
   image = Particles::image_pack(0, 0, 0);
   dom.remap(x, image);  // a point on the upper face of a periodic box belongs at the lower face
-  for (int d = 0; d < 3; ++d) x[d] = std::max(x[d], dom.boxlo[d]);  // rounding in the wrap
+  for (int d = 0; d < 3; ++d)
+    x[d] = std::max(x[d], dom.boxlo[d]);  // rounding in the wrap
   const tagint id = next_id(e);
   Particles& p = *e.particles;
   p.clear_ghosts();
@@ -204,7 +209,6 @@ void create_single(Engine& e, int type, const Args& a) {
   particles_changed(e);
   e.logger->print("Created 1 atoms\n");
 }
-
 
 void create_random(Engine& e, int type, const Args& a) {
   const char* usage =
@@ -257,15 +261,18 @@ void create_random(Engine& e, int type, const Args& a) {
     std::vector<double> mine;
     mine.reserve(3 * static_cast<std::size_t>(p.nlocal));
     for (int i = 0; i < p.nlocal; ++i)
-      for (int d = 0; d < 3; ++d) mine.push_back(p.x[i][d]);
+      for (int d = 0; d < 3; ++d)
+        mine.push_back(p.x[i][d]);
     int count = static_cast<int>(mine.size());
     std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < e.nprocs; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
     MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
                    e.world);
-    for (std::size_t k = 0; k + 2 < all.size(); k += 3) grid->add(Vec3(all[k], all[k + 1], all[k + 2]), 0.5 * overlap);
+    for (std::size_t k = 0; k + 2 < all.size(); k += 3)
+      grid->add(Vec3(all[k], all[k + 1], all[k + 2]), 0.5 * overlap);
   }
 
   // every rank draws the same points; each keeps those in its subdomain
@@ -278,7 +285,8 @@ void create_random(Engine& e, int type, const Args& a) {
     long long misses = 0, overlaps = 0;
     while (true) {
       Vec3 x;
-      for (int d = 0; d < 3; ++d) x[d] = lo[d] + uniform01(gen) * (hi[d] - lo[d]);
+      for (int d = 0; d < 3; ++d)
+        x[d] = lo[d] + uniform01(gen) * (hi[d] - lo[d]);
       if (region && !region->match(x)) {
         if (++misses >= kMaxRegionMisses) {
           throw InputError("create_atoms random: no point of region " + region->id +
@@ -312,7 +320,8 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
   if (a.size() < first) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
   Domain& dom = *e.domain;
   if (dom.lattice_style == "none" || dom.lattice_basis.empty()) {
-    throw InputError("create_atoms " + a[1] + " places particles on a lattice; define one with the lattice command first");
+    throw InputError("create_atoms " + a[1] +
+                     " places particles on a lattice; define one with the lattice command first");
   }
   const Region* region = use_region ? dom.region_or_error(a[2], "create_atoms region") : nullptr;
   const int nbasis = static_cast<int>(dom.lattice_basis.size());
@@ -372,10 +381,14 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
           for (int d = 0; d < 3 && ok; ++d) {
             x[d] = (static_cast<double>(cellidx[d]) + dom.lattice_basis[b][d]) * sp[d];
             const double eps = 1.0e-10 * dom.prd[d];
-            if (x[d] < dom.boxlo[d] - eps) ok = false;
-            else if (dom.periodic[d] && x[d] >= dom.boxhi[d] - eps) ok = false;  // the image at boxlo is made
-            else if (!dom.periodic[d] && x[d] > dom.boxhi[d] + eps) ok = false;
-            else x[d] = std::clamp(x[d], dom.boxlo[d], dom.boxhi[d]);
+            if (x[d] < dom.boxlo[d] - eps)
+              ok = false;
+            else if (dom.periodic[d] && x[d] >= dom.boxhi[d] - eps)
+              ok = false;  // the image at boxlo is made
+            else if (!dom.periodic[d] && x[d] > dom.boxhi[d] + eps)
+              ok = false;
+            else
+              x[d] = std::clamp(x[d], dom.boxlo[d], dom.boxhi[d]);
           }
           if (!ok || !owns_point(dom, x)) continue;
           if (region && !region->match(x)) continue;
@@ -391,7 +404,8 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
   int count = static_cast<int>(keys.size());
   std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<long long> all(static_cast<std::size_t>(displs.back()) + counts.back());
   MPI_Allgatherv(keys.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
                  e.world);
@@ -469,10 +483,14 @@ class Selection {
   bool selected(int i) const {
     const Particles& p = *e_.particles;
     switch (style_) {
-      case Atom: return p.id[i] >= lo_ && p.id[i] <= hi_;
-      case Type: return p.type[i] >= lo_ && p.type[i] <= hi_;
-      case Group: return (p.mask[i] & bit_) != 0;
-      case RegionStyle: return region_->match(p.x[i]);
+      case Atom:
+        return p.id[i] >= lo_ && p.id[i] <= hi_;
+      case Type:
+        return p.type[i] >= lo_ && p.type[i] <= hi_;
+      case Group:
+        return (p.mask[i] & bit_) != 0;
+      case RegionStyle:
+        return region_->match(p.x[i]);
     }
     return false;
   }
@@ -491,7 +509,8 @@ std::string variable_ref(Engine& e, const std::string& word, const std::string& 
   if (word.rfind("v_", 0) != 0) return "";
   const std::string name = word.substr(2);
   if (!e.input->variables().find(name)) {
-    throw InputError("unknown variable '" + name + "' in " + what + "; define it with the variable command first");
+    throw InputError("unknown variable '" + name + "' in " + what +
+                     "; define it with the variable command first");
   }
   return name;
 }
@@ -513,10 +532,9 @@ void cmd_set(Engine& e, const Args& a) {
     std::vector<bool> null;        // image components given as NULL
   };
   std::vector<Setting> settings;
-  static const std::vector<std::string> keys = {"type", "type/fraction", "diameter", "density", "mass",
-                                                "x",    "y",             "z",        "vx",      "vy",
-                                                "vz",   "omegax",        "omegay",   "omegaz",  "omega",
-                                                "image"};
+  static const std::vector<std::string> keys = {
+      "type", "type/fraction", "diameter", "density", "mass",  "x",    "y", "z", "vx", "vy",
+      "vz",   "omegax",        "omegay",   "omegaz",  "omega", "image"};
   for (std::size_t k = 2; k < a.size();) {
     Setting s;
     s.key = a[k];
@@ -524,8 +542,8 @@ void cmd_set(Engine& e, const Args& a) {
     if (s.key == "omega" || s.key == "image" || s.key == "type/fraction") nval = 3;
     if (std::find(keys.begin(), keys.end(), s.key) == keys.end()) {
       const std::string hint = did_you_mean(s.key, keys);
-      throw InputError("unknown set keyword '" + s.key + "'" + (hint.empty() ? "" : "; " + hint) + "; usage: " +
-                       usage);
+      throw InputError("unknown set keyword '" + s.key + "'" + (hint.empty() ? "" : "; " + hint) +
+                       "; usage: " + usage);
     }
     if (k + nval >= a.size()) {
       throw InputError("set " + s.key + " needs " + std::to_string(nval) + " value(s)");
@@ -549,7 +567,8 @@ void cmd_set(Engine& e, const Args& a) {
         s.v.push_back(parse_double(w, "set " + s.key));
       }
     }
-    if ((s.key == "diameter" || s.key == "density" || s.key == "mass") && s.var[0].empty() && !(s.v[0] > 0.0)) {
+    if ((s.key == "diameter" || s.key == "density" || s.key == "mass") && s.var[0].empty() &&
+        !(s.v[0] > 0.0)) {
       throw InputError("set " + s.key + " must be positive, got '" + a[k + 1] + "'");
     }
     if (s.key == "type/fraction") {
@@ -572,7 +591,8 @@ void cmd_set(Engine& e, const Args& a) {
     auto value = [&](std::size_t c, int i) { return s.var[c].empty() ? s.v[c] : varvals[c][i]; };
     const std::string& key = s.key;
     bool any_var = false;
-    for (const auto& v : s.var) any_var |= !v.empty();
+    for (const auto& v : s.var)
+      any_var |= !v.empty();
     if (any_var) {
       // variable values are checked on every rank before anything is set
       long long bad = 0;
@@ -642,9 +662,12 @@ void cmd_velocity(Engine& e, const Args& a) {
   const int bit = e.groups->bitmask(igroup);
   const std::string& style = a[1];
   std::size_t nargs = 0;
-  if (style == "set" || style == "setAngular") nargs = 3;
-  else if (style == "ramp") nargs = 6;
-  else if (style == "zero") nargs = 1;
+  if (style == "set" || style == "setAngular")
+    nargs = 3;
+  else if (style == "ramp")
+    nargs = 6;
+  else if (style == "zero")
+    nargs = 1;
   else if (style == "create") {
     throw InputError("velocity create (thermal velocities) is not supported; use velocity set or ramp");
   } else {
@@ -652,15 +675,20 @@ void cmd_velocity(Engine& e, const Args& a) {
     throw InputError("unknown velocity style '" + style + "'" + (hint.empty() ? "" : "; " + hint) +
                      "; usage: " + usage);
   }
-  if (a.size() < 2 + nargs) throw InputError("velocity " + style + " needs " + std::to_string(nargs) + " values; usage: " + usage);
+  if (a.size() < 2 + nargs)
+    throw InputError("velocity " + style + " needs " + std::to_string(nargs) + " values; usage: " + usage);
 
   bool sum = false, lattice = false;
   for (std::size_t k = 2 + nargs; k < a.size(); k += 2) {
     if (k + 1 >= a.size()) throw InputError("velocity keyword '" + a[k] + "' needs a value");
-    if (a[k] == "sum") sum = parse_bool(a[k + 1], "velocity sum");
-    else if (a[k] == "units") lattice = parse_units_lattice(e, a[k + 1], "velocity");
-    else if (a[k] == "dist" || a[k] == "mom" || a[k] == "rot" || a[k] == "loop") continue;  // used by create only
-    else throw InputError("unknown velocity keyword '" + a[k] + "'; usage: " + usage);
+    if (a[k] == "sum")
+      sum = parse_bool(a[k + 1], "velocity sum");
+    else if (a[k] == "units")
+      lattice = parse_units_lattice(e, a[k + 1], "velocity");
+    else if (a[k] == "dist" || a[k] == "mom" || a[k] == "rot" || a[k] == "loop")
+      continue;  // used by create only
+    else
+      throw InputError("unknown velocity keyword '" + a[k] + "'; usage: " + usage);
   }
   const Domain& dom = *e.domain;
   Particles& p = *e.particles;
@@ -745,14 +773,17 @@ void cmd_velocity(Engine& e, const Args& a) {
       const double m = p.rmass[i];
       const Vec3 L = m * r.cross(p.v[i]);
       const Eigen::Matrix3d I = m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-      for (int d = 0; d < 3; ++d) local[d] += L[d];
-      for (int q = 0; q < 9; ++q) local[3 + q] += I(q / 3, q % 3);
+      for (int d = 0; d < 3; ++d)
+        local[d] += L[d];
+      for (int q = 0; q < 9; ++q)
+        local[3 + q] += I(q / 3, q % 3);
     }
     double all[12];
     MPI_Allreduce(local, all, 12, MPI_DOUBLE, MPI_SUM, e.world);
     const Vec3 L(all[0], all[1], all[2]);
     Eigen::Matrix3d I;
-    for (int q = 0; q < 9; ++q) I(q / 3, q % 3) = all[3 + q];
+    for (int q = 0; q < 9; ++q)
+      I(q / 3, q % 3) = all[3 + q];
     // omega = I^-1 L, restricted to the directions with inertia (a line of particles has none along it)
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
     const double lmax = eig.eigenvalues().maxCoeff();
@@ -780,7 +811,8 @@ void cmd_velocity(Engine& e, const Args& a) {
 
 void cmd_delete_atoms(Engine& e, const Args& a) {
   const char* usage =
-      "delete_atoms group GROUP | region REGION | porosity REGION FRACTION SEED  [compress yes|no] [mol yes|no]";
+      "delete_atoms group GROUP | region REGION | porosity REGION FRACTION SEED  [compress yes|no] [mol "
+      "yes|no]";
   if (a.size() < 2) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
   require_box(e, "delete_atoms");
   Particles& p = *e.particles;
@@ -795,11 +827,13 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
   } else if (style == "region") {
     region = e.domain->region_or_error(a[1], "delete_atoms");
   } else if (style == "porosity") {
-    if (a.size() < 4) throw InputError(std::string("delete_atoms porosity needs REGION FRACTION SEED; usage: ") + usage);
+    if (a.size() < 4)
+      throw InputError(std::string("delete_atoms porosity needs REGION FRACTION SEED; usage: ") + usage);
     region = e.domain->region_or_error(a[1], "delete_atoms porosity");
     fraction = parse_double(a[2], "delete_atoms porosity fraction");
     seed = parse_int(a[3], "delete_atoms porosity seed");
-    if (fraction < 0.0 || fraction > 1.0) throw InputError("delete_atoms porosity needs a fraction in [0, 1]");
+    if (fraction < 0.0 || fraction > 1.0)
+      throw InputError("delete_atoms porosity needs a fraction in [0, 1]");
     if (seed <= 0) throw InputError("delete_atoms porosity needs a positive seed");
     first = 4;
   } else if (style == "overlap") {
@@ -812,17 +846,23 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
   bool compress = true, mol = false;
   for (std::size_t k = first; k < a.size(); k += 2) {
     if (k + 1 >= a.size()) throw InputError("delete_atoms keyword '" + a[k] + "' needs a value");
-    if (a[k] == "compress") compress = parse_bool(a[k + 1], "delete_atoms compress");
-    else if (a[k] == "mol") mol = parse_bool(a[k + 1], "delete_atoms mol");
-    else throw InputError("unknown delete_atoms keyword '" + a[k] + "'; usage: " + usage);
+    if (a[k] == "compress")
+      compress = parse_bool(a[k + 1], "delete_atoms compress");
+    else if (a[k] == "mol")
+      mol = parse_bool(a[k + 1], "delete_atoms mol");
+    else
+      throw InputError("unknown delete_atoms keyword '" + a[k] + "'; usage: " + usage);
   }
 
   const long long before = sum_all(e, p.nlocal);
   std::vector<char> doomed(p.nlocal, 0);
   for (int i = 0; i < p.nlocal; ++i) {
-    if (style == "group") doomed[i] = (p.mask[i] & bit) != 0;
-    else if (style == "region") doomed[i] = region->match(p.x[i]);
-    else doomed[i] = region->match(p.x[i]) && hash01(seed, p.id[i]) < fraction;
+    if (style == "group")
+      doomed[i] = (p.mask[i] & bit) != 0;
+    else if (style == "region")
+      doomed[i] = region->match(p.x[i]);
+    else
+      doomed[i] = region->match(p.x[i]) && hash01(seed, p.id[i]) < fraction;
   }
   if (mol) {
     // whole clumps go: every particle sharing a body id with a deleted one
@@ -832,7 +872,8 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     int count = static_cast<int>(bodies.size());
     std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < e.nprocs; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     std::vector<long long> all(static_cast<std::size_t>(displs.back()) + counts.back());
     MPI_Allgatherv(bodies.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(),
                    MPI_LONG_LONG, e.world);
@@ -849,11 +890,13 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     // surviving ids on every rank; with compress they become 1..N in the
     // order of the old ids (independent of the rank count)
     std::vector<long long> mine(p.nlocal);
-    for (int i = 0; i < p.nlocal; ++i) mine[i] = static_cast<long long>(p.id[i]);
+    for (int i = 0; i < p.nlocal; ++i)
+      mine[i] = static_cast<long long>(p.id[i]);
     int count = p.nlocal;
     std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < e.nprocs; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     std::vector<long long> all(static_cast<std::size_t>(displs.back()) + counts.back());
     MPI_Allgatherv(mine.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
                    e.world);
@@ -869,8 +912,8 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
   }
   particles_changed(e);
   const long long after = static_cast<long long>(p.natoms);
-  e.logger->print("Deleted " + std::to_string(before - after) + " atoms, new total = " + std::to_string(after) +
-                  "\n");
+  e.logger->print("Deleted " + std::to_string(before - after) +
+                  " atoms, new total = " + std::to_string(after) + "\n");
 }
 
 }  // namespace

@@ -35,11 +35,13 @@ void Domain::set_box(const Vec3& lo, const Vec3& hi) {
 void Domain::reset_box() {
   bool shrink = false;
   for (int d = 0; d < 3; ++d)
-    for (int s = 0; s < 2; ++s) shrink |= boundary[d][s] == 's' || boundary[d][s] == 'm';
+    for (int s = 0; s < 2; ++s)
+      shrink |= boundary[d][s] == 's' || boundary[d][s] == 'm';
   if (!shrink) return;
   const Particles& p = *engine_.particles;
   double ext[6];  // -min x,y,z then max x,y,z (so one MAX reduction does both)
-  for (int d = 0; d < 3; ++d) ext[d] = ext[d + 3] = -std::numeric_limits<double>::max();
+  for (int d = 0; d < 3; ++d)
+    ext[d] = ext[d + 3] = -std::numeric_limits<double>::max();
   for (int i = 0; i < p.nlocal; ++i) {
     for (int d = 0; d < 3; ++d) {
       ext[d] = std::max(ext[d], -(p.x[i][d] - p.radius[i]));
@@ -122,7 +124,8 @@ Region* Domain::region_or_error(const std::string& id, const std::string& what) 
   Region* r = find_region(id);
   if (r) return r;
   std::vector<std::string> known;
-  for (const auto& reg : regions) known.push_back(reg->id);
+  for (const auto& reg : regions)
+    known.push_back(reg->id);
   std::string msg = "unknown region '" + id + "' in " + what;
   const std::string hint = did_you_mean(id, known);
   throw InputError(msg + (hint.empty() ? "; define it first with the region command" : "; " + hint));

@@ -103,7 +103,9 @@ void check_group_name(const std::string& name) {
 
 }  // namespace
 
-Groups::Groups(Engine& engine) : engine_(engine) { names[0] = "all"; }
+Groups::Groups(Engine& engine) : engine_(engine) {
+  names[0] = "all";
+}
 
 int Groups::find(const std::string& name) const {
   for (int g = 0; g < kMaxGroups; ++g)
@@ -148,8 +150,7 @@ void Groups::command(const Args& args) {
     if (g == 0) throw InputError("group all cannot be deleted");
     for (const auto& f : engine_.modify->fixes) {
       if (f->igroup == g) {
-        throw InputError("cannot delete group " + name + ": fix " + f->id +
-                         " uses it; unfix it first");
+        throw InputError("cannot delete group " + name + ": fix " + f->id + " uses it; unfix it first");
       }
     }
     for (const auto& c : engine_.modify->computes) {
@@ -159,7 +160,8 @@ void Groups::command(const Args& args) {
       }
     }
     const int keep = ~bitmask(g);
-    for (int i = 0; i < p.size(); ++i) p.mask[i] &= keep;
+    for (int i = 0; i < p.size(); ++i)
+      p.mask[i] &= keep;
     names[g].clear();
     return;
   }
@@ -169,12 +171,13 @@ void Groups::command(const Args& args) {
     const int g = find_or_error(name, "group clear");
     if (g == 0) throw InputError("group all cannot be cleared");
     const int keep = ~bitmask(g);
-    for (int i = 0; i < p.size(); ++i) p.mask[i] &= keep;
+    for (int i = 0; i < p.size(); ++i)
+      p.mask[i] &= keep;
     return;
   }
 
-  static const std::vector<std::string> styles = {"region", "type",      "id",     "subtract", "union",
-                                                  "intersect", "delete", "clear",  "empty"};
+  static const std::vector<std::string> styles = {"region",    "type",   "id",    "subtract", "union",
+                                                  "intersect", "delete", "clear", "empty"};
   if (std::find(styles.begin(), styles.end(), style) == styles.end()) {
     const std::string hint = did_you_mean(style, styles);
     throw InputError("unknown group style '" + style + "'" + (hint.empty() ? "" : "; " + hint) +
@@ -198,8 +201,9 @@ void Groups::command(const Args& args) {
   } else {
     const std::size_t need = style == "union" ? 3 : 4;
     if (args.size() < need) {
-      throw InputError("group " + style + " needs " + (need == 3 ? "at least one group" : "at least two groups") +
-                       "; usage: group ID " + style + " G1 G2 ...");
+      throw InputError("group " + style + " needs " +
+                       (need == 3 ? "at least one group" : "at least two groups") + "; usage: group ID " +
+                       style + " G1 G2 ...");
     }
     for (std::size_t k = 2; k < args.size(); ++k) {
       members.push_back(bitmask(find_or_error(args[k], "group " + name + " " + style)));
@@ -221,7 +225,8 @@ void Groups::command(const Args& args) {
   } else if (style == "subtract") {
     for (int i = 0; i < n; ++i) {
       bool in = (p.mask[i] & members[0]) != 0;
-      for (std::size_t k = 1; in && k < members.size(); ++k) in = (p.mask[i] & members[k]) == 0;
+      for (std::size_t k = 1; in && k < members.size(); ++k)
+        in = (p.mask[i] & members[k]) == 0;
       if (in) p.mask[i] |= bit;
     }
   } else if (style == "union") {
@@ -236,7 +241,8 @@ void Groups::command(const Args& args) {
   } else if (style == "intersect") {
     for (int i = 0; i < n; ++i) {
       bool in = true;
-      for (std::size_t k = 0; in && k < members.size(); ++k) in = (p.mask[i] & members[k]) != 0;
+      for (std::size_t k = 0; in && k < members.size(); ++k)
+        in = (p.mask[i] & members[k]) != 0;
       if (in) p.mask[i] |= bit;
     }
   }
@@ -283,7 +289,8 @@ Vec3 Groups::xcm(int igroup, const Region* region) const {
     // unwrapped position: periodic images put back where the particle travelled
     const Vec3 xu = p.x[i] + Vec3(ix * dom.prd[0], iy * dom.prd[1], iz * dom.prd[2]);
     const double m = p.rmass[i];
-    for (int d = 0; d < 3; ++d) local[d] += m * xu[d];
+    for (int d = 0; d < 3; ++d)
+      local[d] += m * xu[d];
     local[3] += m;
   }
   double all[4];
@@ -299,7 +306,8 @@ Vec3 Groups::vcm(int igroup, const Region* region) const {
   for (int i = 0; i < p.nlocal; ++i) {
     if (!(p.mask[i] & bit) || (region && !region->match(p.x[i]))) continue;
     const double m = p.rmass[i];
-    for (int d = 0; d < 3; ++d) local[d] += m * p.v[i][d];
+    for (int d = 0; d < 3; ++d)
+      local[d] += m * p.v[i][d];
     local[3] += m;
   }
   double all[4];
@@ -313,7 +321,8 @@ void Groups::bounds(int igroup, Vec3& lo, Vec3& hi, const Region* region) const 
   const int bit = bitmask(igroup);
   // -min and max in one MAX reduction; an empty group gives lo = +BIG, hi = -BIG (as LAMMPS)
   double local[6];
-  for (double& v : local) v = -kBig;
+  for (double& v : local)
+    v = -kBig;
   for (int i = 0; i < p.nlocal; ++i) {
     if (!(p.mask[i] & bit) || (region && !region->match(p.x[i]))) continue;
     for (int d = 0; d < 3; ++d) {
@@ -330,7 +339,9 @@ void Groups::bounds(int igroup, Vec3& lo, Vec3& hi, const Region* region) const 
 }
 
 namespace {
-void cmd_group(Engine& engine, const Args& args) { engine.groups->command(args); }
+void cmd_group(Engine& engine, const Args& args) {
+  engine.groups->command(args);
+}
 }  // namespace
 
 GRANARY_COMMAND("group", cmd_group);

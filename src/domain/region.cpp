@@ -68,7 +68,8 @@ Region::Region(Engine& engine, const Args& args, std::size_t nshape) : engine_(e
                        " uses units lattice but no lattice is defined; add a lattice command "
                        "before it or use units box");
     }
-    for (int d = 0; d < 3; ++d) scale[d] = dom.lattice_spacing[d];
+    for (int d = 0; d < 3; ++d)
+      scale[d] = dom.lattice_spacing[d];
   }
 }
 

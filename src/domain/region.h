@@ -30,7 +30,7 @@ class Region {
   virtual double volume() const { return -1.0; }
 
   std::string id, style;
-  bool interior = true;  // side in
+  bool interior = true;         // side in
   double scale[3] = {1, 1, 1};  // units lattice -> box factors
 
  protected:

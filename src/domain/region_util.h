@@ -11,7 +11,9 @@ namespace region_util {
 /// Magnitude used for INF bounds (as in LAMMPS); bounds at or beyond it are unbounded.
 constexpr double kBig = 1.0e20;
 
-inline bool is_infinite(double v) { return v <= -kBig || v >= kBig; }
+inline bool is_infinite(double v) {
+  return v <= -kBig || v >= kBig;
+}
 
 /// Axis letter x, y or z as 0, 1, 2.
 inline int parse_axis(const std::string& word, const std::string& what) {

@@ -41,7 +41,8 @@ class SphereGrid {
     for (int a = 0; a < count[0]; ++a) {
       for (int b = 0; b < count[1]; ++b) {
         for (int c = 0; c < count[2]; ++c) {
-          const Vec3 xs = x + Vec3(shifts[0][a] * dom_.prd[0], shifts[1][b] * dom_.prd[1], shifts[2][c] * dom_.prd[2]);
+          const Vec3 xs =
+              x + Vec3(shifts[0][a] * dom_.prd[0], shifts[1][b] * dom_.prd[1], shifts[2][c] * dom_.prd[2]);
           const auto base = cell(xs);
           for (long long i = base[0] - 1; i <= base[0] + 1; ++i) {
             for (long long j = base[1] - 1; j <= base[1] + 1; ++j) {
@@ -64,7 +65,8 @@ class SphereGrid {
  private:
   std::array<long long, 3> cell(const Vec3& x) const {
     std::array<long long, 3> c;
-    for (int d = 0; d < 3; ++d) c[d] = static_cast<long long>(std::floor((x[d] - dom_.boxlo[d]) / cell_));
+    for (int d = 0; d < 3; ++d)
+      c[d] = static_cast<long long>(std::floor((x[d] - dom_.boxlo[d]) / cell_));
     return c;
   }
   static std::uint64_t key(const std::array<long long, 3>& c) {

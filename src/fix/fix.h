@@ -63,9 +63,9 @@ class Fix {
   bool restart_global = false;  // set by fixes that implement the two above
 
   std::string id, style;
-  int igroup = 0;     // group index
-  int groupbit = 1;   // group bit mask
-  int nevery = 1;     // end_of_step period
+  int igroup = 0;               // group index
+  int groupbit = 1;             // group bit mask
+  int nevery = 1;               // end_of_step period
   bool time_integrate = false;  // integrates positions (nve/sphere, multisphere, ...)
 
  protected:

@@ -23,7 +23,8 @@ class FixCheckTimestepGran : public Fix {
  public:
   FixCheckTimestepGran(Engine& engine, const Args& args) : Fix(engine, args) {
     const std::string usage =
-        "fix ID group check/timestep/gran NEVERY FRACTION_RAYLEIGH FRACTION_HERTZ [warn yes|no] [error yes|no]";
+        "fix ID group check/timestep/gran NEVERY FRACTION_RAYLEIGH FRACTION_HERTZ [warn yes|no] [error "
+        "yes|no]";
     if (args.size() < 6) throw InputError("wrong number of arguments; usage: " + usage);
     nevery = static_cast<int>(parse_int(args[3], "nevery"));
     frac_rayleigh_ = parse_double(args[4], "fraction of the Rayleigh time");
@@ -32,10 +33,14 @@ class FixCheckTimestepGran : public Fix {
       throw InputError("check/timestep/gran needs NEVERY >= 1 and positive fractions");
     }
     for (std::size_t k = 6; k < args.size(); k += 2) {
-      if (k + 1 >= args.size()) throw InputError("keyword '" + args[k] + "' needs yes or no; usage: " + usage);
-      if (args[k] == "warn") warn_ = parse_bool(args[k + 1], "warn");
-      else if (args[k] == "error") error_ = parse_bool(args[k + 1], "error");
-      else throw InputError("unknown keyword '" + args[k] + "'; usage: " + usage);
+      if (k + 1 >= args.size())
+        throw InputError("keyword '" + args[k] + "' needs yes or no; usage: " + usage);
+      if (args[k] == "warn")
+        warn_ = parse_bool(args[k + 1], "warn");
+      else if (args[k] == "error")
+        error_ = parse_bool(args[k + 1], "error");
+      else
+        throw InputError("unknown keyword '" + args[k] + "'; usage: " + usage);
     }
     size_vector = 2;
   }
@@ -47,14 +52,17 @@ class FixCheckTimestepGran : public Fix {
  private:
   void check() {
     auto* pair = dynamic_cast<PairGranular*>(engine_.force->pair.get());
-    if (!pair) throw InputError("fix check/timestep/gran needs a granular pair style (pair_style gran or hertz/rolling)");
+    if (!pair)
+      throw InputError(
+          "fix check/timestep/gran needs a granular pair style (pair_style gran or hertz/rolling)");
     const MaterialTable& mat = pair->materials();
     const Particles& p = *engine_.particles;
     const double dt = engine_.update->dt;
     const double t_rayleigh = min_rayleigh_time(engine_, mat);
     // Hertz time of a head-on impact of two equal particles at twice the largest speed.
     double vmax_local = 0.0, vmax = 0.0;
-    for (int i = 0; i < p.nlocal; ++i) vmax_local = std::max(vmax_local, p.v[i].norm());
+    for (int i = 0; i < p.nlocal; ++i)
+      vmax_local = std::max(vmax_local, p.v[i].norm());
     MPI_Allreduce(&vmax_local, &vmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
     double th_local = 1e300, t_hertz = 1e300;
     const double vrel = 2.0 * vmax;

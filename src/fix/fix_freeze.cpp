@@ -40,7 +40,8 @@ class FixFreeze : public Fix {
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
       if (tally)
-        for (int d = 0; d < 3; ++d) removed_[d] += p.f[i][d];
+        for (int d = 0; d < 3; ++d)
+          removed_[d] += p.f[i][d];
       p.f[i].setZero();
       p.torque[i].setZero();
       p.v[i].setZero();

@@ -40,7 +40,9 @@ class Value {
     }
   }
   bool variable() const { return !var_.empty(); }
-  double get(Engine& engine) const { return var_.empty() ? value_ : engine.input->variables().compute_equal(var_); }
+  double get(Engine& engine) const {
+    return var_.empty() ? value_ : engine.input->variables().compute_equal(var_);
+  }
 
  private:
   double value_ = 0.0;
@@ -55,7 +57,8 @@ class FixGravity : public Fix {
     style_ = args[4];
     if (style_ == "vector") {
       require_args(args, 8, 8, kUsage);
-      for (int d = 0; d < 3; ++d) dir_[d] = Value(engine, args[5 + d], "the gravity direction");
+      for (int d = 0; d < 3; ++d)
+        dir_[d] = Value(engine, args[5 + d], "the gravity direction");
     } else if (style_ == "spherical") {
       require_args(args, 7, 7, kUsage);
       const double phi = parse_double(args[5], "the gravity angle phi") * M_PI / 180.0;

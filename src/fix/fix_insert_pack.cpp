@@ -46,9 +46,10 @@ struct Geodesic {
   double scale = 1.0;
   Geodesic() {
     const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    for (auto& x : v) x.normalize();
+    std::vector<Vec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+    for (auto& x : v)
+      x.normalize();
     std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                          {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                          {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -110,7 +111,6 @@ bool sphere_inside(const Region& reg, const Vec3& c, double r) {
 }
 
 // ------------------------------------------------------- overlap search
-
 
 /// Position wrapped into the periodic box (a copy; image flags are not kept).
 Vec3 wrapped(const Domain& dom, const Vec3& x) {
@@ -178,7 +178,8 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
     };
     auto vec3 = [&](const std::string& name) {
       Vec3 v;
-      for (int d = 0; d < 3; ++d) v[d] = parse_double(value(), what + " " + name);
+      for (int d = 0; d < 3; ++d)
+        v[d] = parse_double(value(), what + " " + name);
       return v;
     };
     if (w == "seed") {
@@ -211,9 +212,12 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
       all_in_ = parse_bool(value(), what + " all_in");
     } else if (w == "random_distribute") {
       const std::string& v = value();
-      if (v == "exact") exact_ = true;
-      else if (v == "uncorrelated") exact_ = false;
-      else throw InputError(what + ": random_distribute must be exact or uncorrelated, got '" + v + "'");
+      if (v == "exact")
+        exact_ = true;
+      else if (v == "uncorrelated")
+        exact_ = false;
+      else
+        throw InputError(what + ": random_distribute must be exact or uncorrelated, got '" + v + "'");
     } else if (w == "compress_tags") {
       if (parse_bool(value(), what + " compress_tags")) {
         throw InputError(what + ": compress_tags yes (renumbering all particles) is not supported");
@@ -232,8 +236,10 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
         for (int d = 0; d < 3; ++d)
           if (vel_fluct_[d] < 0) throw InputError(what + ": vel " + s + " fluctuations must not be negative");
       } else {
-        throw InputError(what + ": vel takes constant VX VY VZ, uniform VX VY VZ DVX DVY DVZ or gaussian "
-                                "VX VY VZ SX SY SZ, got '" + s + "'");
+        throw InputError(what +
+                         ": vel takes constant VX VY VZ, uniform VX VY VZ DVX DVY DVZ or gaussian "
+                         "VX VY VZ SX SY SZ, got '" +
+                         s + "'");
       }
     } else if (w == "omega") {
       const std::string& s = value();
@@ -247,13 +253,16 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
         orientation_ = Orientation::Template;
       } else if (s == "constant") {
         double q[4];
-        for (double& c : q) c = parse_double(value(), what + " orientation constant");
+        for (double& c : q)
+          c = parse_double(value(), what + " orientation constant");
         quat_ = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-        if (!(quat_.norm() > 0.0)) throw InputError(what + ": orientation constant needs a non-zero quaternion");
+        if (!(quat_.norm() > 0.0))
+          throw InputError(what + ": orientation constant needs a non-zero quaternion");
         quat_.normalize();
         orientation_ = Orientation::Constant;
       } else {
-        throw InputError(what + ": orientation must be random, template or constant Q0 Q1 Q2 Q3, got '" + s + "'");
+        throw InputError(what + ": orientation must be random, template or constant Q0 Q1 Q2 Q3, got '" + s +
+                         "'");
       }
     } else if (w == "region") {
       region_id_ = value();
@@ -265,20 +274,23 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
     } else if (style_keywords.count(w)) {
       const int nv = style_keywords.at(w);
       Args vals;
-      for (int i = 0; i < nv; ++i) vals.push_back(value());
+      for (int i = 0; i < nv; ++i)
+        vals.push_back(value());
       style_values_[w] = vals;
     } else {
-      std::vector<std::string> known = {"seed", "distributiontemplate", "verbose", "maxattempt", "insert_every",
-                                        "start", "overlapcheck", "all_in", "random_distribute", "vel", "omega",
-                                        "orientation", "region", "ntry_mc"};
-      for (const auto& kv : style_keywords) known.push_back(kv.first);
+      std::vector<std::string> known = {
+          "seed",   "distributiontemplate", "verbose", "maxattempt", "insert_every", "start",  "overlapcheck",
+          "all_in", "random_distribute",    "vel",     "omega",      "orientation",  "region", "ntry_mc"};
+      for (const auto& kv : style_keywords)
+        known.push_back(kv.first);
       const std::string hint = did_you_mean(w, known);
       throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
                        "; usage: " + usage);
     }
   }
   if (!have_seed) throw InputError(what + ": the seed keyword is required; usage: " + usage);
-  if (dist_id_.empty()) throw InputError(what + ": the distributiontemplate keyword is required; usage: " + usage);
+  if (dist_id_.empty())
+    throw InputError(what + ": the distributiontemplate keyword is required; usage: " + usage);
   if (region_id_.empty()) throw InputError(what + ": the region keyword is required; usage: " + usage);
   Fix* d = engine.modify->find_fix(dist_id_);
   if (!d || !dynamic_cast<FixParticleDistributionDiscrete*>(d)) {
@@ -292,7 +304,9 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
   restart_global = true;
 }
 
-double FixInsert::uniform() { return static_cast<double>(gen_() >> 11) * 0x1.0p-53; }
+double FixInsert::uniform() {
+  return static_cast<double>(gen_() >> 11) * 0x1.0p-53;
+}
 
 FixParticleDistributionDiscrete& FixInsert::dist() const {
   Fix* d = engine_.modify->find_fix(dist_id_);
@@ -301,13 +315,17 @@ FixParticleDistributionDiscrete& FixInsert::dist() const {
   return *dd;
 }
 
-Region& FixInsert::region() const { return *engine_.domain->region_or_error(region_id_, label()); }
+Region& FixInsert::region() const {
+  return *engine_.domain->region_or_error(region_id_, label());
+}
 
 void FixInsert::init() {
   const std::string what = label();
   FixParticleDistributionDiscrete& d = dist();
-  for (int i = 0; i < d.ntemplates(); ++i) d.templ(i).init();
-  if (d.any_multisphere() && !dynamic_cast<BodyRegistrar*>(engine_.modify->find_fix_by_style("multisphere"))) {
+  for (int i = 0; i < d.ntemplates(); ++i)
+    d.templ(i).init();
+  if (d.any_multisphere() &&
+      !dynamic_cast<BodyRegistrar*>(engine_.modify->find_fix_by_style("multisphere"))) {
     throw InputError(what + ": distribution " + dist_id_ +
                      " has a multisphere template; define fix multisphere before the run");
   }
@@ -338,13 +356,15 @@ void FixInsert::init() {
     long long hits = 0;
     for (long long k = 0; k < ntry_mc_; ++k) {
       Vec3 x;
-      for (int d3 = 0; d3 < 3; ++d3) x[d3] = lo[d3] + static_cast<double>(mc() >> 11) * 0x1.0p-53 * (hi[d3] - lo[d3]);
+      for (int d3 = 0; d3 < 3; ++d3)
+        x[d3] = lo[d3] + static_cast<double>(mc() >> 11) * 0x1.0p-53 * (hi[d3] - lo[d3]);
       hits += reg.match(x) ? 1 : 0;
     }
     region_volume_ = (hi - lo).prod() * static_cast<double>(hits) / static_cast<double>(ntry_mc_);
     if (hits == 0) {
-      throw InputError(what + ": none of " + std::to_string(ntry_mc_) + " random points of the box lies in region " +
-                       region_id_ + "; check the region (or raise ntry_mc for a very thin one)");
+      throw InputError(what + ": none of " + std::to_string(ntry_mc_) +
+                       " random points of the box lies in region " + region_id_ +
+                       "; check the region (or raise ntry_mc for a very thin one)");
     }
   }
 
@@ -391,8 +411,10 @@ void FixInsert::count_in_region(double& number, double& mass, double& volume) co
   std::vector<long long> bodies;
   for (int i = 0; i < p.nlocal; ++i) {
     if (!reg.match(wrapped(*engine_.domain, p.x[i]))) continue;  // not yet remapped at pre_exchange
-    if (p.body[i] >= 0) bodies.push_back(static_cast<long long>(p.body[i]));
-    else local[0] += 1.0;
+    if (p.body[i] >= 0)
+      bodies.push_back(static_cast<long long>(p.body[i]));
+    else
+      local[0] += 1.0;
     local[1] += p.rmass[i];
     local[2] += 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];
   }
@@ -401,7 +423,8 @@ void FixInsert::count_in_region(double& number, double& mass, double& volume) co
   int nb = static_cast<int>(bodies.size());
   std::vector<int> counts(engine_.nprocs), displs(engine_.nprocs, 0);
   MPI_Allgather(&nb, 1, MPI_INT, counts.data(), 1, MPI_INT, engine_.world);
-  for (int r = 1; r < engine_.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+  for (int r = 1; r < engine_.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
   std::vector<long long> allb(static_cast<std::size_t>(displs.back() + counts.back()));
   MPI_Allgatherv(bodies.data(), nb, MPI_LONG_LONG, allb.data(), counts.data(), displs.data(), MPI_LONG_LONG,
                  engine_.world);
@@ -435,11 +458,13 @@ FixInsert::Result FixInsert::insert(long long n) {
 
   double rnew = 0.0, rbound = 0.0;
   for (const auto& b : batch) {
-    for (double r : b.particle.radii) rnew = std::max(rnew, r);
+    for (double r : b.particle.radii)
+      rnew = std::max(rnew, r);
     rbound = std::max(rbound, b.particle.bounding_radius);
   }
   double rold_local = 0.0, rold = 0.0;
-  for (int i = 0; i < p.nlocal; ++i) rold_local = std::max(rold_local, p.radius[i]);
+  for (int i = 0; i < p.nlocal; ++i)
+    rold_local = std::max(rold_local, p.radius[i]);
   MPI_Allreduce(&rold_local, &rold, 1, MPI_DOUBLE, MPI_MAX, e.world);
 
   SphereGrid grid(dom, std::max(rnew, rold));
@@ -472,10 +497,13 @@ FixInsert::Result FixInsert::insert(long long n) {
     int count = static_cast<int>(mine.size());
     std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
     MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < e.nprocs; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
-    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
-    for (std::size_t k = 0; k + 3 < all.size(); k += 4) grid.add(Vec3(all[k], all[k + 1], all[k + 2]), all[k + 3]);
+    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                   e.world);
+    for (std::size_t k = 0; k + 3 < all.size(); k += 4)
+      grid.add(Vec3(all[k], all[k + 1], all[k + 2]), all[k + 3]);
     for (const auto& f : e.modify->fixes)
       if (auto* w = dynamic_cast<const FixWallGran*>(f.get())) walls.push_back(w);
   }
@@ -500,7 +528,8 @@ FixInsert::Result FixInsert::insert(long long n) {
       Vec3 x;
       long long misses = 0;
       while (true) {
-        for (int k = 0; k < 3; ++k) x[k] = lo[k] + uniform() * (hi[k] - lo[k]);
+        for (int k = 0; k < 3; ++k)
+          x[k] = lo[k] + uniform() * (hi[k] - lo[k]);
         if (reg.match(x)) break;
         if (++misses >= kMaxRegionMisses) {
           region_empty = true;
@@ -516,12 +545,13 @@ FixInsert::Result FixInsert::insert(long long n) {
           // uniform random rotation (Shoemake)
           const double u1 = uniform(), u2 = uniform(), u3 = uniform();
           const double a = std::sqrt(1.0 - u1), c = std::sqrt(u1);
-          q = Eigen::Quaterniond(c * std::cos(2 * M_PI * u3), a * std::sin(2 * M_PI * u2), a * std::cos(2 * M_PI * u2),
-                                 c * std::sin(2 * M_PI * u3));
+          q = Eigen::Quaterniond(c * std::cos(2 * M_PI * u3), a * std::sin(2 * M_PI * u2),
+                                 a * std::cos(2 * M_PI * u2), c * std::sin(2 * M_PI * u3));
         }
       }
       centres.clear();
-      for (const Vec3& off : tp.offsets) centres.push_back(several ? Vec3(x + q * off) : x);
+      for (const Vec3& off : tp.offsets)
+        centres.push_back(several ? Vec3(x + q * off) : x);
       bool ok = true;
       for (std::size_t k = 0; k < centres.size() && ok; ++k) {
         const Vec3& c = centres[k];
@@ -544,7 +574,8 @@ FixInsert::Result FixInsert::insert(long long n) {
         }
       }
       if (!ok) continue;
-      for (std::size_t k = 0; k < centres.size(); ++k) grid.add(wrapped(dom, centres[k]), tp.radii[k]);
+      for (std::size_t k = 0; k < centres.size(); ++k)
+        grid.add(wrapped(dom, centres[k]), tp.radii[k]);
       placed.push_back({b, x, q});
       return true;
     }
@@ -560,14 +591,16 @@ FixInsert::Result FixInsert::insert(long long n) {
   }
   if (region_empty) {
     e.logger->warning(label() + ": no point of region " + region_id_ + " found in " +
-                      std::to_string(kMaxRegionMisses) + " random tries inside its bounds; insertion stopped");
+                      std::to_string(kMaxRegionMisses) +
+                      " random tries inside its bounds; insertion stopped");
   }
 
   // velocities, ids, and the spheres this rank owns
   long long maxid_local = static_cast<long long>(p.max_local_id()), maxid = 0;
   MPI_Allreduce(&maxid_local, &maxid, 1, MPI_LONG_LONG, MPI_MAX, e.world);
   long long maxbody_local = -1, maxbody = -1;
-  for (int i = 0; i < p.nlocal; ++i) maxbody_local = std::max<long long>(maxbody_local, p.body[i]);
+  for (int i = 0; i < p.nlocal; ++i)
+    maxbody_local = std::max<long long>(maxbody_local, p.body[i]);
   MPI_Allreduce(&maxbody_local, &maxbody, 1, MPI_LONG_LONG, MPI_MAX, e.world);
   tagint next_id = static_cast<tagint>(maxid + 1);
   tagint next_body = static_cast<tagint>(std::max(maxbody, 0LL) + 1);  // body ids start at 1
@@ -587,7 +620,8 @@ FixInsert::Result FixInsert::insert(long long n) {
     const int mask = newmask_all | batch[pl.b].groupbits;
     Vec3 v = vel_;
     if (vel_style_ == VelStyle::Uniform) {
-      for (int k = 0; k < 3; ++k) v[k] += vel_fluct_[k] * (2.0 * uniform() - 1.0);
+      for (int k = 0; k < 3; ++k)
+        v[k] += vel_fluct_[k] * (2.0 * uniform() - 1.0);
     } else if (vel_style_ == VelStyle::Gaussian) {
       for (int k = 0; k < 3; ++k) {
         const double u1 = 1.0 - uniform(), u2 = uniform();  // Box-Muller, u1 in (0, 1]
@@ -677,7 +711,8 @@ const char* kPackUsage =
 }  // namespace
 
 FixInsertPack::FixInsertPack(Engine& engine, const Args& args)
-    : FixInsert(engine, args, {{"volumefraction_region", 1}, {"particles_in_region", 1}, {"mass_in_region", 1}},
+    : FixInsert(engine, args,
+                {{"volumefraction_region", 1}, {"particles_in_region", 1}, {"mass_in_region", 1}},
                 kPackUsage) {
   const std::string what = label();
   int ntargets = 0;
@@ -703,15 +738,17 @@ FixInsertPack::FixInsertPack(Engine& engine, const Args& args)
     if (!(target_value_ > 0.0)) throw InputError(what + ": mass_in_region must be positive");
   }
   if (ntargets != 1) {
-    throw InputError(what + ": give exactly one of volumefraction_region, particles_in_region and mass_in_region");
+    throw InputError(what +
+                     ": give exactly one of volumefraction_region, particles_in_region and mass_in_region");
   }
 }
 
 void FixInsertPack::init() {
   FixInsert::init();
   if (target_ == Target::VolumeFraction && target_value_ > 0.74) {
-    engine_.logger->warning(label() + ": a volume fraction of " + num(target_value_) +
-                            " cannot be reached by random insertion (random loose packing is below about 0.6)");
+    engine_.logger->warning(
+        label() + ": a volume fraction of " + num(target_value_) +
+        " cannot be reached by random insertion (random loose packing is below about 0.6)");
   }
 }
 
@@ -740,23 +777,30 @@ void FixInsertPack::inserted_batch(const Result& r) {
   const double phi = (existing_volume_ + r.volume) / region_volume_;
   std::string target;
   switch (target_) {
-    case Target::VolumeFraction: target = "volume fraction " + num(target_value_); break;
-    case Target::Particles: target = num(target_value_) + " particles"; break;
-    case Target::Mass: target = "mass " + num(target_value_) + " kg"; break;
+    case Target::VolumeFraction:
+      target = "volume fraction " + num(target_value_);
+      break;
+    case Target::Particles:
+      target = num(target_value_) + " particles";
+      break;
+    case Target::Mass:
+      target = "mass " + num(target_value_) + " kg";
+      break;
   }
   if (verbose_) {
     std::ostringstream os;
-    os << "INFO: " << label() << " inserted " << r.placed << " particles (target " << r.requested << ") at step "
-       << engine_.update->ntimestep << "; region " << region_id_ << " now holds " << number << " particles, mass "
-       << num(mass) << " kg, volume fraction " << num(phi) << " (target: " << target << ")\n";
+    os << "INFO: " << label() << " inserted " << r.placed << " particles (target " << r.requested
+       << ") at step " << engine_.update->ntimestep << "; region " << region_id_ << " now holds " << number
+       << " particles, mass " << num(mass) << " kg, volume fraction " << num(phi) << " (target: " << target
+       << ")\n";
     engine_.logger->print(os.str());
   }
   if (r.placed < r.requested) {
     std::ostringstream os;
-    os << label() << ": placed only " << r.placed << " of the " << r.requested << " particles requested in region "
-       << region_id_ << " (maxattempt " << maxattempt_ << (all_in_ ? ", all_in yes" : "")
-       << "); the region now holds volume fraction " << num(phi) << " (target: " << target
-       << "). Enlarge the region, lower the target or raise maxattempt";
+    os << label() << ": placed only " << r.placed << " of the " << r.requested
+       << " particles requested in region " << region_id_ << " (maxattempt " << maxattempt_
+       << (all_in_ ? ", all_in yes" : "") << "); the region now holds volume fraction " << num(phi)
+       << " (target: " << target << "). Enlarge the region, lower the target or raise maxattempt";
     engine_.logger->warning(os.str());
   }
 }

@@ -103,12 +103,12 @@ class FixInsert : public Fix {
   std::string dist_id_, region_id_;
   long long seed_ = 0;
   int maxattempt_ = 50;
-  int insert_every_ = 0;       // 0: once
-  std::int64_t start_ = -1;    // first insertion step (-1: the first step of the next run)
+  int insert_every_ = 0;     // 0: once
+  std::int64_t start_ = -1;  // first insertion step (-1: the first step of the next run)
   bool overlapcheck_ = true;
   bool all_in_ = false;
   bool verbose_ = true;
-  bool exact_ = true;          // random_distribute exact
+  bool exact_ = true;  // random_distribute exact
   enum class VelStyle { Constant, Uniform, Gaussian } vel_style_ = VelStyle::Constant;
   Vec3 vel_{0, 0, 0}, vel_fluct_{0, 0, 0}, omega_{0, 0, 0};
   enum class Orientation { Random, Template, Constant } orientation_ = Orientation::Random;

@@ -17,13 +17,15 @@ namespace {
 const char* kUsage =
     "fix ID group insert/rate/region seed SEED distributiontemplate DIST nparticles N|INF | mass M|INF "
     "particlerate R | massrate MR insert_every STEPS [maxattempt N] [start STEP] [overlapcheck yes|no] "
-    "[all_in yes|no] [random_distribute exact|uncorrelated] [vel constant VX VY VZ] [omega constant WX WY WZ] "
+    "[all_in yes|no] [random_distribute exact|uncorrelated] [vel constant VX VY VZ] [omega constant WX WY "
+    "WZ] "
     "[orientation random|template] region REGION [ntry_mc N]";
 
 }  // namespace
 
 FixInsertRateRegion::FixInsertRateRegion(Engine& engine, const Args& args)
-    : FixInsert(engine, args, {{"nparticles", 1}, {"mass", 1}, {"particlerate", 1}, {"massrate", 1}}, kUsage) {
+    : FixInsert(engine, args, {{"nparticles", 1}, {"mass", 1}, {"particlerate", 1}, {"massrate", 1}},
+                kUsage) {
   const std::string what = label();
   const bool has_n = style_values_.count("nparticles") > 0, has_m = style_values_.count("mass") > 0;
   if (has_n == has_m) throw InputError(what + ": give exactly one of nparticles and mass; usage: " + kUsage);
@@ -41,12 +43,15 @@ FixInsertRateRegion::FixInsertRateRegion(Engine& engine, const Args& args)
     target_n_ = n;
   }
   const bool has_pr = style_values_.count("particlerate") > 0, has_mr = style_values_.count("massrate") > 0;
-  if (has_pr == has_mr) throw InputError(what + ": give exactly one of particlerate and massrate; usage: " + kUsage);
+  if (has_pr == has_mr)
+    throw InputError(what + ": give exactly one of particlerate and massrate; usage: " + kUsage);
   rate_by_mass_ = has_mr;
-  rate_ = parse_double(style_values_[has_mr ? "massrate" : "particlerate"][0], what + (has_mr ? " massrate" : " particlerate"));
+  rate_ = parse_double(style_values_[has_mr ? "massrate" : "particlerate"][0],
+                       what + (has_mr ? " massrate" : " particlerate"));
   if (!(rate_ > 0.0)) throw InputError(what + ": the insertion rate must be positive");
   bool every_given = false;
-  for (std::size_t k = 3; k + 1 < args.size(); ++k) every_given |= args[k] == "insert_every";
+  for (std::size_t k = 3; k + 1 < args.size(); ++k)
+    every_given |= args[k] == "insert_every";
   if (!every_given || insert_every_ == 0) {
     throw InputError(what + ": insert_every STEPS (a positive number of steps between batches) is required");
   }
@@ -72,16 +77,16 @@ long long FixInsertRateRegion::count_to_insert() {
 void FixInsertRateRegion::inserted_batch(const Result& r) {
   if (verbose_ && r.requested > 0) {
     std::ostringstream os;
-    os << "INFO: " << label() << " inserted " << r.placed << " particles (target " << r.requested << ") at step "
-       << engine_.update->ntimestep << "; " << ninserted_ << " so far";
+    os << "INFO: " << label() << " inserted " << r.placed << " particles (target " << r.requested
+       << ") at step " << engine_.update->ntimestep << "; " << ninserted_ << " so far";
     if (target_n_ >= 0) os << " of " << target_n_;
     os << ", mass " << mass_inserted_ << " kg\n";
     engine_.logger->print(os.str());
   }
   if (r.placed < r.requested) {
     std::ostringstream os;
-    os << label() << ": placed only " << r.placed << " of the " << r.requested << " particles of this batch in region "
-       << region_id_ << " (maxattempt " << maxattempt_ << "); "
+    os << label() << ": placed only " << r.placed << " of the " << r.requested
+       << " particles of this batch in region " << region_id_ << " (maxattempt " << maxattempt_ << "); "
        << (target_n_ >= 0 ? "the rest follow after the last regular batch" : "they are skipped")
        << ". Enlarge the region, lower the rate or raise maxattempt";
     engine_.logger->warning(os.str());

@@ -29,12 +29,12 @@ class FixInsertRateRegion : public FixInsert {
   bool done_after_insertion() const override { return target_n_ >= 0 && ninserted_ >= target_n_; }
 
  private:
-  bool by_mass_ = false;           // mass M instead of nparticles N
-  double target_value_ = -1.0;     // N or M; < 0 for INF
-  long long target_n_ = -1;        // particles to insert in all; -1 for INF
-  bool rate_by_mass_ = false;      // massrate instead of particlerate
-  double rate_ = 0.0;              // particles/s or kg/s
-  double carry_ = 0.0;             // fraction of a particle carried to the next batch
+  bool by_mass_ = false;        // mass M instead of nparticles N
+  double target_value_ = -1.0;  // N or M; < 0 for INF
+  long long target_n_ = -1;     // particles to insert in all; -1 for INF
+  bool rate_by_mass_ = false;   // massrate instead of particlerate
+  double rate_ = 0.0;           // particles/s or kg/s
+  double carry_ = 0.0;          // fraction of a particle carried to the next batch
 };
 
 }  // namespace granary

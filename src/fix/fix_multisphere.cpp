@@ -55,12 +55,14 @@ FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, a
   const std::string usage = "fix ID group multisphere [allow_group_and_set yes|no] [allow_heatsource yes|no]";
   for (std::size_t k = 3; k < args.size(); k += 2) {
     const std::string& w = args[k];
-    if (k + 1 >= args.size()) throw InputError("fix multisphere keyword '" + w + "' needs a value; usage: " + usage);
+    if (k + 1 >= args.size())
+      throw InputError("fix multisphere keyword '" + w + "' needs a value; usage: " + usage);
     if (w == "allow_group_and_set" || w == "allow_heatsource") {
       parse_bool(args[k + 1], "fix multisphere " + w);  // accepted; Granary always allows both
     } else if (w == "CAddRhoFluid") {
-      throw InputError("fix multisphere CAddRhoFluid (added mass of a fluid) needs CFD coupling, which Granary "
-                       "does not have; remove the keyword");
+      throw InputError(
+          "fix multisphere CAddRhoFluid (added mass of a fluid) needs CFD coupling, which Granary "
+          "does not have; remove the keyword");
     } else {
       throw InputError("unknown fix multisphere keyword '" + w + "'; usage: " + usage);
     }
@@ -72,7 +74,8 @@ FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, a
     for (const auto& f : engine.modify->fixes) {
       if (f->style != "multisphere") continue;
       if (f->id != id) {
-        throw InputError("fix multisphere " + f->id + " already integrates the clumps; use one fix multisphere");
+        throw InputError("fix multisphere " + f->id +
+                         " already integrates the clumps; use one fix multisphere");
       }
       // the fix is being redefined: keep the clumps
       if (auto* old = dynamic_cast<FixMultisphere*>(f.get())) bodies_ = old->bodies_;
@@ -106,8 +109,9 @@ void FixMultisphere::bodies_changed() {
 
 // ---------------------------------------------------------------- bodies
 
-void FixMultisphere::add_body(tagint body_id, tagint first_id, const TemplateParticle& particle, const Vec3& x_cm,
-                              const Eigen::Quaterniond& q, const Vec3& v, const Vec3& omega) {
+void FixMultisphere::add_body(tagint body_id, tagint first_id, const TemplateParticle& particle,
+                              const Vec3& x_cm, const Eigen::Quaterniond& q, const Vec3& v,
+                              const Vec3& omega) {
   try {
     bodies_.add(body_id, first_id, particle.type, particle.mass, particle.volume, particle.density,
                 particle.inertia, particle.offsets, particle.radii, x_cm, q, v, omega);
@@ -121,20 +125,21 @@ void FixMultisphere::add_body(tagint body_id, tagint first_id, const TemplatePar
 tagint FixMultisphere::next_body_id() {
   const Particles& p = *engine_.particles;
   long long local = static_cast<long long>(bodies_.max_tag()), all = 0;
-  for (int i = 0; i < p.nlocal; ++i) local = std::max(local, static_cast<long long>(p.body[i]));
+  for (int i = 0; i < p.nlocal; ++i)
+    local = std::max(local, static_cast<long long>(p.body[i]));
   MPI_Allreduce(&local, &all, 1, MPI_LONG_LONG, MPI_MAX, engine_.world);
   return static_cast<tagint>(all + 1);
 }
 
-tagint FixMultisphere::create_clump(const TemplateParticle& particle, const Vec3& x, const Eigen::Quaterniond& q,
-                                    const Vec3& v, const Vec3& omega) {
+tagint FixMultisphere::create_clump(const TemplateParticle& particle, const Vec3& x,
+                                    const Eigen::Quaterniond& q, const Vec3& v, const Vec3& omega) {
   Engine& e = engine_;
   Domain& dom = *e.domain;
   Particles& p = *e.particles;
   if (!dom.box_exist) throw InputError("create_clump needs the simulation box; use create_box first");
   if (particle.type < 1 || particle.type > p.ntypes) {
-    throw InputError("create_clump: the template's atom type " + std::to_string(particle.type) + " is outside 1.." +
-                     std::to_string(p.ntypes));
+    throw InputError("create_clump: the template's atom type " + std::to_string(particle.type) +
+                     " is outside 1.." + std::to_string(p.ntypes));
   }
   const Eigen::Quaterniond qn = q.normalized();
   const Eigen::Matrix3d r = qn.toRotationMatrix();
@@ -240,8 +245,10 @@ long long FixMultisphere::remove_incomplete_bodies() {
   long long local[2] = {0, 0}, all[2] = {0, 0};
   for (int i = 0; i < p.nlocal; ++i) {
     if (p.body[i] < 0) continue;
-    if (bodies_.find(p.body[i]) >= 0) ++local[0];
-    else ++local[1];
+    if (bodies_.find(p.body[i]) >= 0)
+      ++local[0];
+    else
+      ++local[1];
   }
   MPI_Allreduce(local, all, 2, MPI_LONG_LONG, MPI_SUM, e.world);
   if (all[1] > 0) {
@@ -312,7 +319,8 @@ void FixMultisphere::rotate_free(Eigen::Quaterniond& q, Vec3& lb, const Vec3& in
 
 void FixMultisphere::compute_rotations() {
   rot_.resize(bodies_.size());
-  for (int b = 0; b < bodies_.size(); ++b) rot_[b] = bodies_.rotation(b);
+  for (int b = 0; b < bodies_.size(); ++b)
+    rot_[b] = bodies_.rotation(b);
 }
 
 void FixMultisphere::place_spheres(bool positions) {
@@ -409,13 +417,16 @@ void FixMultisphere::final_integrate() {
 
 // ---------------------------------------------------------------- restart
 
-void FixMultisphere::pack_restart(std::string& out) const { bodies_.pack(out); }
+void FixMultisphere::pack_restart(std::string& out) const {
+  bodies_.pack(out);
+}
 
 void FixMultisphere::unpack_restart(const std::string& in) {
   try {
     bodies_.unpack(in);
   } catch (const std::runtime_error& e) {
-    throw InputError("fix multisphere " + id + ": the restart file's clump data is unreadable (" + e.what() + ")");
+    throw InputError("fix multisphere " + id + ": the restart file's clump data is unreadable (" + e.what() +
+                     ")");
   }
   pending_ = false;
   bodies_changed();
@@ -431,11 +442,13 @@ void cmd_create_clump(Engine& e, const Args& a) {
       "create_clump TEMPLATE-ID X Y Z [quat W I J K] [vel VX VY VZ] [omega WX WY WZ] [frame principal|file]";
   if (a.size() < 4) throw InputError("wrong number of arguments; usage: " + usage);
   auto* tmpl = dynamic_cast<FixParticleTemplate*>(e.modify->fix_or_error(a[0], "create_clump"));
-  if (!tmpl) throw InputError("create_clump: fix " + a[0] + " is not a particle template (particletemplate/...)");
+  if (!tmpl)
+    throw InputError("create_clump: fix " + a[0] + " is not a particle template (particletemplate/...)");
   FixMultisphere* ms = FixMultisphere::find(*e.modify);
   if (!ms) throw InputError("create_clump needs fix multisphere to integrate the clump; define it first");
   Vec3 x, v(0, 0, 0), w(0, 0, 0);
-  for (int d = 0; d < 3; ++d) x[d] = parse_double(a[1 + d], "create_clump position");
+  for (int d = 0; d < 3; ++d)
+    x[d] = parse_double(a[1 + d], "create_clump position");
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   bool file_frame = false;
   for (std::size_t k = 4; k < a.size();) {
@@ -452,9 +465,11 @@ void cmd_create_clump(Engine& e, const Args& a) {
     if (key != "quat" && key != "vel" && key != "omega") {
       throw InputError("unknown create_clump keyword '" + key + "'; usage: " + usage);
     }
-    if (k + n >= a.size()) throw InputError("create_clump " + key + " needs " + std::to_string(n) + " values");
+    if (k + n >= a.size())
+      throw InputError("create_clump " + key + " needs " + std::to_string(n) + " values");
     double val[4];
-    for (std::size_t m = 0; m < n; ++m) val[m] = parse_double(a[k + 1 + m], "create_clump " + key);
+    for (std::size_t m = 0; m < n; ++m)
+      val[m] = parse_double(a[k + 1 + m], "create_clump " + key);
     if (key == "quat") {
       q = Eigen::Quaterniond(val[0], val[1], val[2], val[3]);
       if (!(q.norm() > 0.0)) throw InputError("create_clump quat must not be zero");

@@ -14,7 +14,8 @@ namespace granary {
 class FixNveSphere : public Fix {
  public:
   FixNveSphere(Engine& engine, const Args& args) : Fix(engine, args) {
-    if (args.size() > 3) throw InputError("fix nve/sphere takes no arguments here; usage: fix ID group nve/sphere");
+    if (args.size() > 3)
+      throw InputError("fix nve/sphere takes no arguments here; usage: fix ID group nve/sphere");
     time_integrate = true;
   }
   unsigned hooks() const override { return INITIAL_INTEGRATE | FINAL_INTEGRATE; }

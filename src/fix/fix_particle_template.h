@@ -21,11 +21,11 @@ namespace granary {
 struct TemplateParticle {
   int type = 1;
   double density = 0.0;
-  std::vector<Vec3> offsets;   // sphere centres in the body frame [m] (one at 0 for a sphere)
-  std::vector<double> radii;   // sphere radii [m]
-  double mass = 0.0;           // [kg]
-  Vec3 inertia{0, 0, 0};       // principal moments [kg m^2]
-  double volume = 0.0;         // solid volume (overlaps counted once) [m^3]
+  std::vector<Vec3> offsets;     // sphere centres in the body frame [m] (one at 0 for a sphere)
+  std::vector<double> radii;     // sphere radii [m]
+  double mass = 0.0;             // [kg]
+  Vec3 inertia{0, 0, 0};         // principal moments [kg m^2]
+  double volume = 0.0;           // solid volume (overlaps counted once) [m^3]
   double bounding_radius = 0.0;  // radius of a sphere about the centre of mass that holds it [m]
   bool multisphere = false;
 };
@@ -59,9 +59,8 @@ class BodyRegistrar {
   /// Register a rigid body made from `particle`, centre of mass at x_cm, body
   /// frame rotated by q, moving with v and spinning with omega. Sub-sphere k of
   /// the body has global id first_id + k.
-  virtual void add_body(tagint body_id, tagint first_id, const TemplateParticle& particle,
-                        const Vec3& x_cm, const Eigen::Quaterniond& q, const Vec3& v,
-                        const Vec3& omega) = 0;
+  virtual void add_body(tagint body_id, tagint first_id, const TemplateParticle& particle, const Vec3& x_cm,
+                        const Eigen::Quaterniond& q, const Vec3& v, const Vec3& omega) = 0;
 };
 
 }  // namespace granary

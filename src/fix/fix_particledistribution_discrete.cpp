@@ -19,7 +19,9 @@ const char* kUsage =
     "fix ID group particledistribution/discrete SEED N TEMPLATE1 WEIGHT1 ... TEMPLATEN WEIGHTN "
     "[fractions mass|number|volume]";
 
-double uniform01(std::mt19937_64& gen) { return static_cast<double>(gen() >> 11) * 0x1.0p-53; }
+double uniform01(std::mt19937_64& gen) {
+  return static_cast<double>(gen() >> 11) * 0x1.0p-53;
+}
 
 }  // namespace
 
@@ -51,7 +53,8 @@ FixParticleDistributionDiscrete::FixParticleDistributionDiscrete(Engine& engine,
       throw InputError(what + ": template " + tid + " is listed twice");
     }
     const double w = parse_double(args[6 + 2 * i], what + " weight of " + tid);
-    if (!(w >= 0.0) || !std::isfinite(w)) throw InputError(what + ": the weight of " + tid + " must not be negative");
+    if (!(w >= 0.0) || !std::isfinite(w))
+      throw InputError(what + ": the weight of " + tid + " must not be negative");
     template_ids_.push_back(tid);
     weights_.push_back(w);
   }
@@ -63,14 +66,20 @@ FixParticleDistributionDiscrete::FixParticleDistributionDiscrete(Engine& engine,
     if (k + 1 >= args.size()) throw InputError(what + ": fractions needs mass, number or volume");
     const std::string& m = args[++k];
     Fractions f;
-    if (m == "mass") f = Fractions::Mass;
-    else if (m == "number") f = Fractions::Number;
-    else if (m == "volume") f = Fractions::Volume;
-    else throw InputError(what + ": fractions must be mass, number or volume, got '" + m + "'");
+    if (m == "mass")
+      f = Fractions::Mass;
+    else if (m == "number")
+      f = Fractions::Number;
+    else if (m == "volume")
+      f = Fractions::Volume;
+    else
+      throw InputError(what + ": fractions must be mass, number or volume, got '" + m + "'");
     if ((style == "particledistribution/discrete/massbased" && f != Fractions::Mass) ||
         (style == "particledistribution/discrete/numberbased" && f != Fractions::Number)) {
-      throw InputError(what + ": the style already says what the weights are; use particledistribution/discrete "
-                              "with fractions " + m);
+      throw InputError(what +
+                       ": the style already says what the weights are; use particledistribution/discrete "
+                       "with fractions " +
+                       m);
     }
     fractions_ = f;
   }
@@ -81,7 +90,8 @@ FixParticleDistributionDiscrete::FixParticleDistributionDiscrete(Engine& engine,
     os << what << ": the weights sum to " << sum << ", not 1; they are normalised";
     engine.logger->warning(os.str());
   }
-  for (double& w : weights_) w /= sum;
+  for (double& w : weights_)
+    w /= sum;
   restart_global = true;
 }
 
@@ -96,7 +106,8 @@ FixParticleTemplate& FixParticleDistributionDiscrete::templ(int i) const {
 }
 
 void FixParticleDistributionDiscrete::init() {
-  for (int i = 0; i < ntemplates(); ++i) templ(i);  // every template still exists
+  for (int i = 0; i < ntemplates(); ++i)
+    templ(i);  // every template still exists
 }
 
 std::vector<double> FixParticleDistributionDiscrete::number_probabilities() const {
@@ -104,33 +115,43 @@ std::vector<double> FixParticleDistributionDiscrete::number_probabilities() cons
   std::vector<double> p(n);
   for (int i = 0; i < n; ++i) {
     switch (fractions_) {
-      case Fractions::Number: p[i] = weights_[i]; break;
-      case Fractions::Mass: p[i] = weights_[i] / templ(i).mean_mass(); break;
-      case Fractions::Volume: p[i] = weights_[i] / templ(i).mean_volume(); break;
+      case Fractions::Number:
+        p[i] = weights_[i];
+        break;
+      case Fractions::Mass:
+        p[i] = weights_[i] / templ(i).mean_mass();
+        break;
+      case Fractions::Volume:
+        p[i] = weights_[i] / templ(i).mean_volume();
+        break;
     }
   }
   const double sum = std::accumulate(p.begin(), p.end(), 0.0);
-  for (double& v : p) v /= sum;
+  for (double& v : p)
+    v /= sum;
   return p;
 }
 
 double FixParticleDistributionDiscrete::mean_volume() const {
   const auto p = number_probabilities();
   double v = 0.0;
-  for (int i = 0; i < ntemplates(); ++i) v += p[i] * templ(i).mean_volume();
+  for (int i = 0; i < ntemplates(); ++i)
+    v += p[i] * templ(i).mean_volume();
   return v;
 }
 
 double FixParticleDistributionDiscrete::mean_mass() const {
   const auto p = number_probabilities();
   double m = 0.0;
-  for (int i = 0; i < ntemplates(); ++i) m += p[i] * templ(i).mean_mass();
+  for (int i = 0; i < ntemplates(); ++i)
+    m += p[i] * templ(i).mean_mass();
   return m;
 }
 
 double FixParticleDistributionDiscrete::max_bounding_radius() const {
   double r = 0.0;
-  for (int i = 0; i < ntemplates(); ++i) r = std::max(r, templ(i).max_bounding_radius());
+  for (int i = 0; i < ntemplates(); ++i)
+    r = std::max(r, templ(i).max_bounding_radius());
   return r;
 }
 
@@ -154,10 +175,12 @@ int FixParticleDistributionDiscrete::draw_template() {
   return 0;
 }
 
-TemplateParticle FixParticleDistributionDiscrete::draw() { return templ(draw_template()).draw(); }
+TemplateParticle FixParticleDistributionDiscrete::draw() {
+  return templ(draw_template()).draw();
+}
 
 std::vector<FixParticleDistributionDiscrete::Drawn> FixParticleDistributionDiscrete::draw_batch(long long n,
-                                                                                                 bool exact) {
+                                                                                                bool exact) {
   std::vector<Drawn> out;
   if (n <= 0) return out;
   out.reserve(static_cast<std::size_t>(n));
@@ -171,7 +194,8 @@ std::vector<FixParticleDistributionDiscrete::Drawn> FixParticleDistributionDiscr
     out.push_back(std::move(d));
   };
   if (!exact) {
-    for (long long k = 0; k < n; ++k) make(draw_template());
+    for (long long k = 0; k < n; ++k)
+      make(draw_template());
     return out;
   }
   // counts n p_i rounded down; the remaining particles go to templates chosen
@@ -212,10 +236,12 @@ std::vector<FixParticleDistributionDiscrete::Drawn> FixParticleDistributionDiscr
   std::vector<int> order(nt);
   std::iota(order.begin(), order.end(), 0);
   std::vector<double> rb(nt);
-  for (int i = 0; i < nt; ++i) rb[i] = templ(i).max_bounding_radius();
+  for (int i = 0; i < nt; ++i)
+    rb[i] = templ(i).max_bounding_radius();
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return rb[a] > rb[b]; });
   for (int i : order)
-    for (long long k = 0; k < count[i]; ++k) make(i);
+    for (long long k = 0; k < count[i]; ++k)
+      make(i);
   return out;
 }
 

@@ -100,7 +100,8 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
       const long long t = parse_int(value("a type"), what + " atom_type");
       if (t < 1 || (engine.domain->box_exist && t > engine.particles->ntypes)) {
         throw InputError(what + ": atom_type " + std::to_string(t) + " is outside 1.." +
-                         std::to_string(engine.particles->ntypes) + " (the number of atom types given to create_box)");
+                         std::to_string(engine.particles->ntypes) +
+                         " (the number of atom types given to create_box)");
       }
       atom_type = static_cast<int>(t);
     } else if (w == "density") {
@@ -135,12 +136,14 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
                            " spheres but nspheres is " + std::to_string(nspheres));
         }
       } else {
-        if (nspheres < 0) throw InputError(what + ": give nspheres N before the inline 'spheres x1 y1 z1 r1 ...'");
+        if (nspheres < 0)
+          throw InputError(what + ": give nspheres N before the inline 'spheres x1 y1 z1 r1 ...'");
         if (k + 4 * nspheres >= args.size()) {
-          throw InputError(what + ": spheres needs " + std::to_string(4 * nspheres) + " numbers (x y z r for each of " +
-                           std::to_string(nspheres) + " spheres)");
+          throw InputError(what + ": spheres needs " + std::to_string(4 * nspheres) +
+                           " numbers (x y z r for each of " + std::to_string(nspheres) + " spheres)");
         }
-        for (long long m = 0; m < 4 * nspheres; ++m) values.push_back(parse_double(args[++k], what + " spheres"));
+        for (long long m = 0; m < 4 * nspheres; ++m)
+          values.push_back(parse_double(args[++k], what + " spheres"));
       }
       have_spheres = true;
     } else if (w == "type") {
@@ -170,18 +173,21 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
     } else if (w == "fflag" || w == "tflag") {
       for (int d = 0; d < 3; ++d) {
         if (value("three values on|off") != "on") {
-          throw InputError(what + ": " + w + " with 'off' components (constrained bodies) is not supported; "
+          throw InputError(what + ": " + w +
+                           " with 'off' components (constrained bodies) is not supported; "
                            "use 'on on on' or leave the keyword out");
         }
       }
     } else {
-      const std::string hint = did_you_mean(w, {"atom_type", "density", "nspheres", "ntry", "spheres", "type", "mass",
-                                                "inertia_tensor", "use_volume", "use_density", "volume_limit"});
-      throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) + "; usage: " +
-                       kUsage);
+      const std::string hint =
+          did_you_mean(w, {"atom_type", "density", "nspheres", "ntry", "spheres", "type", "mass",
+                           "inertia_tensor", "use_volume", "use_density", "volume_limit"});
+      throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
+                       "; usage: " + kUsage);
     }
   }
-  if (!have_spheres) throw InputError(what + " needs 'spheres file FILE' or 'spheres x1 y1 z1 r1 ...'; usage: " + kUsage);
+  if (!have_spheres)
+    throw InputError(what + " needs 'spheres file FILE' or 'spheres x1 y1 z1 r1 ...'; usage: " + kUsage);
 
   const int n = static_cast<int>(values.size() / 4);
   std::vector<double> radii(n);
@@ -201,11 +207,14 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
   double volume = props_.volume, mass = density * volume;
   if (mass_given > 0.0) {
     mass = mass_given;
-    if (use_density) volume = mass / density;
-    else density = mass / volume;
+    if (use_density)
+      volume = mass / density;
+    else
+      density = mass / volume;
   }
   if (volume < volume_limit) {
-    throw InputError(what + ": the clump volume " + num(volume) + " m^3 is below volume_limit " + num(volume_limit) +
+    throw InputError(what + ": the clump volume " + num(volume) + " m^3 is below volume_limit " +
+                     num(volume_limit) +
                      " (check the units: coordinates and radii are in m, use scale), or lower volume_limit");
   }
   Eigen::Matrix3d inertia = (mass / props_.volume) * props_.inertia;
@@ -236,8 +245,8 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
       << num(props_.relative_volume_error()) << ", " << props_.samples << " samples), mass " << num(mass)
       << " kg, principal moments " << num(moments[0]) << " " << num(moments[1]) << " " << num(moments[2])
       << " kg m^2 (relative error " << num(props_.relative_inertia_error()) << "), bounding radius "
-      << num(particle_.bounding_radius) << " m, centre of mass (" << num(centre_[0]) << ", " << num(centre_[1])
-      << ", " << num(centre_[2]) << ") m in the input frame\n";
+      << num(particle_.bounding_radius) << " m, centre of mass (" << num(centre_[0]) << ", "
+      << num(centre_[1]) << ", " << num(centre_[2]) << ") m in the input frame\n";
   engine.logger->print(log.str());
 }
 

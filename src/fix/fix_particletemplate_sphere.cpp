@@ -17,7 +17,9 @@ const char* kUsage =
     "fix ID group particletemplate/sphere SEED [atom_type T] [density constant RHO] "
     "[radius constant R | radius uniform LO HI] [volume_limit V] [relative no]";
 
-double uniform01(std::mt19937_64& gen) { return static_cast<double>(gen() >> 11) * 0x1.0p-53; }
+double uniform01(std::mt19937_64& gen) {
+  return static_cast<double>(gen() >> 11) * 0x1.0p-53;
+}
 
 std::string num(double v) {
   std::ostringstream os;
@@ -47,7 +49,8 @@ FixParticleTemplateSphere::FixParticleTemplateSphere(Engine& engine, const Args&
       if (t < 1) throw InputError(what + ": atom_type must be at least 1");
       if (engine.domain->box_exist && t > engine.particles->ntypes) {
         throw InputError(what + ": atom_type " + std::to_string(t) + " is outside 1.." +
-                         std::to_string(engine.particles->ntypes) + " (the number of atom types given to create_box)");
+                         std::to_string(engine.particles->ntypes) +
+                         " (the number of atom types given to create_box)");
       }
       atom_type = static_cast<int>(t);
     } else if (w == "density") {
@@ -83,7 +86,8 @@ FixParticleTemplateSphere::FixParticleTemplateSphere(Engine& engine, const Args&
         throw InputError(what + ": relative yes (radii relative to a reference radius) is not supported");
       }
     } else {
-      const std::string hint = did_you_mean(w, {"atom_type", "density", "radius", "volume_limit", "relative"});
+      const std::string hint =
+          did_you_mean(w, {"atom_type", "density", "radius", "volume_limit", "relative"});
       throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
                        "; usage: " + kUsage);
     }

@@ -35,8 +35,8 @@ class FixParticleTemplateSphere : public FixParticleTemplate {
 
  private:
   double density_ = 1.0;
-  double radius_ = 1.0;                        // constant radius
-  bool uniform_ = false;                       // radius uniform LO HI
+  double radius_ = 1.0;   // constant radius
+  bool uniform_ = false;  // radius uniform LO HI
   double radius_lo_ = 0.0, radius_hi_ = 0.0;
   double volume_limit_ = 1e-12;
   std::mt19937_64 gen_;

@@ -58,15 +58,18 @@ FixPropertyGlobal::FixPropertyGlobal(Engine& engine, const Args& args) : Fix(eng
   if (kind == "atomtypepair") kind = "peratomtypepair";
   std::size_t first = 5;
   if (kind == "peratomtypepair" || kind == "matrix") {
-    const long long n = parse_int(args[5], "the " + std::string(kind == "matrix" ? "column count" : "type count") +
-                                               " of property " + name);
-    if (n < 1) throw InputError("property/global " + name + ": " + kind + " needs a positive size, got " + args[5]);
+    const long long n =
+        parse_int(args[5], "the " + std::string(kind == "matrix" ? "column count" : "type count") +
+                               " of property " + name);
+    if (n < 1)
+      throw InputError("property/global " + name + ": " + kind + " needs a positive size, got " + args[5]);
     ncols = static_cast<int>(n);
     first = 6;
   } else if (kind != "scalar" && kind != "vector" && kind != "peratomtype") {
-    const std::string hint = did_you_mean(kind, {"scalar", "vector", "peratomtype", "peratomtypepair", "matrix"});
-    throw InputError("unknown property/global kind '" + kind + "' for " + name + (hint.empty() ? "" : "; " + hint) +
-                     "; usage: " + kUsage);
+    const std::string hint =
+        did_you_mean(kind, {"scalar", "vector", "peratomtype", "peratomtypepair", "matrix"});
+    throw InputError("unknown property/global kind '" + kind + "' for " + name +
+                     (hint.empty() ? "" : "; " + hint) + "; usage: " + kUsage);
   }
   for (std::size_t k = first; k < args.size(); ++k) {
     values.push_back(parse_double(args[k], "a value of property " + name));
@@ -82,8 +85,9 @@ FixPropertyGlobal::FixPropertyGlobal(Engine& engine, const Args& args) : Fix(eng
                      std::to_string(ncols) + "), got " + std::to_string(n));
   }
   if (kind == "matrix" && n % static_cast<std::size_t>(ncols) != 0) {
-    throw InputError("property/global " + name + " matrix with " + std::to_string(ncols) + " columns needs a multiple of " +
-                     std::to_string(ncols) + " values, got " + std::to_string(n));
+    throw InputError("property/global " + name + " matrix with " + std::to_string(ncols) +
+                     " columns needs a multiple of " + std::to_string(ncols) + " values, got " +
+                     std::to_string(n));
   }
   check_types(engine, *this);
   scalar_flag = kind == "scalar";
@@ -97,8 +101,8 @@ double FixPropertyGlobal::compute_vector(int i) {
 
 double FixPropertyGlobal::per_type(int t) const {
   if (t < 1 || t > static_cast<int>(values.size())) {
-    throw InputError("property " + name + " has " + std::to_string(values.size()) + " per-type value(s); type " +
-                     std::to_string(t) + " has none");
+    throw InputError("property " + name + " has " + std::to_string(values.size()) +
+                     " per-type value(s); type " + std::to_string(t) + " has none");
   }
   return values[t - 1];
 }

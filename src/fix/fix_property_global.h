@@ -24,9 +24,9 @@ class FixPropertyGlobal : public Fix {
   double compute_scalar() override { return values.empty() ? 0.0 : values[0]; }
   double compute_vector(int i) override;
 
-  std::string name;   // property name
-  std::string kind;   // scalar, vector, peratomtype, peratomtypepair, matrix
-  int ncols = 1;      // columns of a pair table
+  std::string name;  // property name
+  std::string kind;  // scalar, vector, peratomtype, peratomtypepair, matrix
+  int ncols = 1;     // columns of a pair table
   std::vector<double> values;
 
   /// Value for type t (1-based) of a peratomtype property.

@@ -24,11 +24,13 @@ class FixViscous : public Fix {
     const int ntypes = engine.particles->ntypes;
     gamma_.assign(static_cast<std::size_t>(ntypes) + 1, gamma);
     for (std::size_t k = 4; k < args.size(); k += 3) {
-      if (args[k] != "scale") throw InputError("unknown fix viscous keyword '" + args[k] + "'; usage: " + kUsage);
+      if (args[k] != "scale")
+        throw InputError("unknown fix viscous keyword '" + args[k] + "'; usage: " + kUsage);
       if (k + 2 >= args.size()) throw InputError("fix viscous scale needs TYPE and RATIO");
       const long long t = parse_int(args[k + 1], "the type of fix viscous scale");
       if (t < 1 || t > ntypes) {
-        throw InputError("fix viscous scale type " + args[k + 1] + " is outside 1.." + std::to_string(ntypes));
+        throw InputError("fix viscous scale type " + args[k + 1] + " is outside 1.." +
+                         std::to_string(ntypes));
       }
       gamma_[t] = gamma * parse_double(args[k + 2], "the ratio of fix viscous scale");
     }

@@ -25,14 +25,16 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   }
   if (pos >= words.size()) throw InputError("fix wall/gran needs a wall; usage: " + usage);
   if (words[pos] == "mesh") {
-    throw InputError("fix wall/gran mesh walls need fix mesh/surface, which is not available yet; "
-                     "use a primitive wall");
+    throw InputError(
+        "fix wall/gran mesh walls need fix mesh/surface, which is not available yet; "
+        "use a primitive wall");
   }
   if (words[pos] != "primitive") {
     throw InputError("fix wall/gran: expected 'primitive', got '" + words[pos] + "'; usage: " + usage);
   }
   ++pos;
-  if (pos + 1 >= words.size() || words[pos] != "type") throw InputError("fix wall/gran primitive needs 'type T'; usage: " + usage);
+  if (pos + 1 >= words.size() || words[pos] != "type")
+    throw InputError("fix wall/gran primitive needs 'type T'; usage: " + usage);
   wall_type_ = static_cast<int>(parse_int(words[pos + 1], "wall type"));
   if (wall_type_ < 1 || wall_type_ > engine.particles->ntypes) {
     throw InputError("fix wall/gran: wall type " + words[pos + 1] + " is outside 1.." +
@@ -42,7 +44,9 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   if (pos >= words.size()) throw InputError("fix wall/gran: missing wall shape; usage: " + usage);
   const std::string& shape = words[pos++];
   auto need = [&](std::size_t n) {
-    if (pos + n > words.size()) throw InputError("fix wall/gran " + shape + " needs " + std::to_string(n) + " value(s); usage: " + usage);
+    if (pos + n > words.size())
+      throw InputError("fix wall/gran " + shape + " needs " + std::to_string(n) +
+                       " value(s); usage: " + usage);
   };
   if (shape == "xplane" || shape == "yplane" || shape == "zplane") {
     need(1);
@@ -56,12 +60,15 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
     cyl_cy_ = parse_double(words[pos++], "zcylinder centre y");
     if (cyl_r_ <= 0) throw InputError("fix wall/gran zcylinder radius must be positive");
   } else {
-    throw InputError("fix wall/gran: unknown primitive '" + shape + "'; expected xplane, yplane, zplane or zcylinder");
+    throw InputError("fix wall/gran: unknown primitive '" + shape +
+                     "'; expected xplane, yplane, zplane or zcylinder");
   }
-  if (pos != words.size()) throw InputError("fix wall/gran: unexpected word '" + words[pos] + "'; usage: " + usage);
+  if (pos != words.size())
+    throw InputError("fix wall/gran: unexpected word '" + words[pos] + "'; usage: " + usage);
   nhist_ = contact::history_size(spec_);
   if (nhist_ > 0) {
-    field_ = engine.particles->add_field("wall_history/" + id + "/" + std::to_string(nhist_), nhist_, false, true);
+    field_ =
+        engine.particles->add_field("wall_history/" + id + "/" + std::to_string(nhist_), nhist_, false, true);
     engine.particles->extras[field_].history = true;
   }
 }
@@ -149,9 +156,11 @@ void FixWallGran::post_force() {
       if (!touching) {
         if constexpr (nh > 0) {
           bool stale = false;
-          for (int q = 0; q < nh; ++q) stale |= h[q] != 0.0;
+          for (int q = 0; q < nh; ++q)
+            stale |= h[q] != 0.0;
           if (stale)
-            for (int q = 0; q < nh; ++q) h[q] = 0.0;
+            for (int q = 0; q < nh; ++q)
+              h[q] = 0.0;
         }
         continue;
       }

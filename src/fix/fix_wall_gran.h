@@ -33,9 +33,9 @@ class FixWallGran : public Fix {
   MaterialTable materials_;
   Shape shape_ = Shape::ZPlane;
   int wall_type_ = 1;
-  double pos_ = 0.0;               // plane position
+  double pos_ = 0.0;  // plane position
   double cyl_r_ = 0.0, cyl_cx_ = 0.0, cyl_cy_ = 0.0;
-  int field_ = -1;                  // per-particle history field
+  int field_ = -1;  // per-particle history field
   int nhist_ = 0;
 };
 

@@ -51,7 +51,8 @@ struct Moments {
     v += vol;
     s1 += vol * m;
     s2 += vol * m * m.transpose();
-    for (int d = 0; d < 3; ++d) s2(d, d) += vol * e[d] * e[d] / 12.0;
+    for (int d = 0; d < 3; ++d)
+      s2(d, d) += vol * e[d] * e[d] / 12.0;
   }
 };
 
@@ -80,7 +81,8 @@ MassProperties sphere_union_properties(const std::vector<Vec3>& centres, const s
   }
   const Vec3 origin = 0.5 * (lo + hi);
   std::vector<Vec3> c(centres.size());
-  for (std::size_t k = 0; k < c.size(); ++k) c[k] = centres[k] - origin;
+  for (std::size_t k = 0; k < c.size(); ++k)
+    c[k] = centres[k] - origin;
   lo -= origin;
   hi -= origin;
 
@@ -112,8 +114,10 @@ MassProperties sphere_union_properties(const std::vector<Vec3>& centres, const s
           b[d] = upper ? cell.hi[d] : mid[d];
         }
         const Kind kind = classify(a, b, c, radii, &cell.candidates, cut);
-        if (kind == Kind::Inside) m.add_box(a, b);
-        else if (kind == Kind::Surface) next.push_back(Cell{a, b, cut});
+        if (kind == Kind::Inside)
+          m.add_box(a, b);
+        else if (kind == Kind::Surface)
+          next.push_back(Cell{a, b, cut});
       }
     }
     level.swap(next);
@@ -137,7 +141,8 @@ MassProperties sphere_union_properties(const std::vector<Vec3>& centres, const s
       for (int ix = 0; ix < k; ++ix) {
         for (int iy = 0; iy < k; ++iy) {
           for (int iz = 0; iz < k; ++iz) {
-            const Vec3 x(cell.lo[0] + (ix + uniform01()) * e[0] / k, cell.lo[1] + (iy + uniform01()) * e[1] / k,
+            const Vec3 x(cell.lo[0] + (ix + uniform01()) * e[0] / k,
+                         cell.lo[1] + (iy + uniform01()) * e[1] / k,
                          cell.lo[2] + (iz + uniform01()) * e[2] / k);
             bool in = false;
             for (int s : cell.candidates) {

@@ -20,12 +20,12 @@
 namespace granary {
 
 struct MassProperties {
-  double volume = 0.0;            // [m^3]
-  Vec3 centre{0, 0, 0};           // centroid [m]
+  double volume = 0.0;   // [m^3]
+  Vec3 centre{0, 0, 0};  // centroid [m]
   /// Inertia tensor about the centroid for unit density, tr(S) 1 - S with
   /// S = integral of (r - c)(r - c)^T dV [m^5]; multiply by the density.
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
-  Vec3 principal{0, 0, 0};        // eigenvalues of `inertia`, ascending [m^5]
+  Vec3 principal{0, 0, 0};  // eigenvalues of `inertia`, ascending [m^5]
   /// Principal axes as columns (right-handed rotation): a vector d in the
   /// principal frame is axes * d in the input frame.
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();

@@ -74,7 +74,8 @@ Fix* Modify::find_fix(const std::string& id) const {
 Fix* Modify::fix_or_error(const std::string& id, const std::string& what) const {
   if (Fix* f = find_fix(id)) return f;
   std::vector<std::string> known;
-  for (const auto& f : fixes) known.push_back(f->id);
+  for (const auto& f : fixes)
+    known.push_back(f->id);
   const std::string hint = did_you_mean(id, known);
   throw InputError("unknown fix ID '" + id + "' in " + what + (hint.empty() ? "" : "; " + hint));
 }
@@ -114,14 +115,15 @@ Compute* Modify::find_compute(const std::string& id) const {
 Compute* Modify::compute_or_error(const std::string& id, const std::string& what) const {
   if (Compute* c = find_compute(id)) return c;
   std::vector<std::string> known;
-  for (const auto& c : computes) known.push_back(c->id);
+  for (const auto& c : computes)
+    known.push_back(c->id);
   const std::string hint = did_you_mean(id, known);
   throw InputError("unknown compute ID '" + id + "' in " + what + (hint.empty() ? "" : "; " + hint));
 }
 
 void Modify::rebuild_hook_lists() {
-  for (auto* list : {&initial_integrate_, &post_integrate_, &pre_exchange_, &pre_neighbor_,
-                     &post_neighbor_, &pre_force_, &post_force_, &final_integrate_, &end_of_step_}) {
+  for (auto* list : {&initial_integrate_, &post_integrate_, &pre_exchange_, &pre_neighbor_, &post_neighbor_,
+                     &pre_force_, &post_force_, &final_integrate_, &end_of_step_}) {
     list->clear();
   }
   for (const auto& f : fixes) {
@@ -140,7 +142,8 @@ void Modify::rebuild_hook_lists() {
 
 void Modify::init() {
   rebuild_hook_lists();
-  for (auto& f : fixes) f->init();
+  for (auto& f : fixes)
+    f->init();
   for (auto& c : computes) {
     c->init();
     c->invoked_scalar = c->invoked_vector = c->invoked_peratom = -1;
@@ -148,38 +151,48 @@ void Modify::init() {
 }
 
 void Modify::setup() {
-  for (auto& f : fixes) f->setup();
+  for (auto& f : fixes)
+    f->setup();
 }
 void Modify::initial_integrate() {
-  for (Fix* f : initial_integrate_) f->initial_integrate();
+  for (Fix* f : initial_integrate_)
+    f->initial_integrate();
 }
 void Modify::post_integrate() {
-  for (Fix* f : post_integrate_) f->post_integrate();
+  for (Fix* f : post_integrate_)
+    f->post_integrate();
 }
 void Modify::pre_exchange() {
-  for (Fix* f : pre_exchange_) f->pre_exchange();
+  for (Fix* f : pre_exchange_)
+    f->pre_exchange();
 }
 void Modify::pre_neighbor() {
-  for (Fix* f : pre_neighbor_) f->pre_neighbor();
+  for (Fix* f : pre_neighbor_)
+    f->pre_neighbor();
 }
 void Modify::post_neighbor() {
-  for (Fix* f : post_neighbor_) f->post_neighbor();
+  for (Fix* f : post_neighbor_)
+    f->post_neighbor();
 }
 void Modify::pre_force() {
-  for (Fix* f : pre_force_) f->pre_force();
+  for (Fix* f : pre_force_)
+    f->pre_force();
 }
 void Modify::post_force() {
-  for (Fix* f : post_force_) f->post_force();
+  for (Fix* f : post_force_)
+    f->post_force();
 }
 void Modify::final_integrate() {
-  for (Fix* f : final_integrate_) f->final_integrate();
+  for (Fix* f : final_integrate_)
+    f->final_integrate();
 }
 void Modify::end_of_step(std::int64_t step) {
   for (Fix* f : end_of_step_)
     if (step % f->nevery == 0) f->end_of_step();
 }
 void Modify::reset_dt() {
-  for (auto& f : fixes) f->reset_dt();
+  for (auto& f : fixes)
+    f->reset_dt();
 }
 
 bool Modify::has_integrator() const {

@@ -63,8 +63,8 @@ class Modify {
  private:
   void rebuild_hook_lists();
   Engine& engine_;
-  std::vector<Fix*> initial_integrate_, post_integrate_, pre_exchange_, pre_neighbor_,
-      post_neighbor_, pre_force_, post_force_, final_integrate_, end_of_step_;
+  std::vector<Fix*> initial_integrate_, post_integrate_, pre_exchange_, pre_neighbor_, post_neighbor_,
+      pre_force_, post_force_, final_integrate_, end_of_step_;
 };
 
 }  // namespace granary

@@ -27,7 +27,8 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
         vals.assign(h, h + nvalues_);
       } else {
         std::swap(a, b);
-        for (int c = 0; c < nvalues_; ++c) vals[c] = swap_signs_[c] * h[c];
+        for (int c = 0; c < nvalues_; ++c)
+          vals[c] = swap_signs_[c] * h[c];
       }
       const auto kk = key(a, b);
       if (store_.emplace(kk, vals).second) {
@@ -55,7 +56,8 @@ void ContactHistory::restore(const Neighbor& list, const Particles& p) {
       auto it = store_.find(swapped ? key(b, a) : key(a, b));
       if (it == store_.end()) continue;
       double* h = &values_[static_cast<std::size_t>(k) * nvalues_];
-      for (int c = 0; c < nvalues_; ++c) h[c] = swapped ? swap_signs_[c] * it->second[c] : it->second[c];
+      for (int c = 0; c < nvalues_; ++c)
+        h[c] = swapped ? swap_signs_[c] * it->second[c] : it->second[c];
       touch_[k] = 1;
     }
   }
@@ -97,7 +99,8 @@ int ContactHistory::unpack_particle(const double* buf) {
 
 void ContactHistory::forget_particle(tagint tag) {
   auto range = by_particle_.equal_range(tag);
-  for (auto it = range.first; it != range.second; ++it) store_.erase(it->second);
+  for (auto it = range.first; it != range.second; ++it)
+    store_.erase(it->second);
 }
 
 void ContactHistory::retain(const std::vector<long long>& sorted_ids, bool renumber) {

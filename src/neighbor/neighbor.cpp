@@ -37,11 +37,16 @@ void Neighbor::modify_command(const Args& args) {
       if (k + 1 >= args.size()) throw InputError(std::string("neigh_modify ") + what + " needs a value");
       return args[++k];
     };
-    if (w == "every") every = static_cast<int>(parse_int(value("every"), "every"));
-    else if (w == "delay") delay = static_cast<int>(parse_int(value("delay"), "delay"));
-    else if (w == "check") check = parse_bool(value("check"), "check");
-    else if (w == "once") once = parse_bool(value("once"), "once");
-    else if (w == "page" || w == "one" || w == "binsize" || w == "contact_distance_factor") value(w.c_str());
+    if (w == "every")
+      every = static_cast<int>(parse_int(value("every"), "every"));
+    else if (w == "delay")
+      delay = static_cast<int>(parse_int(value("delay"), "delay"));
+    else if (w == "check")
+      check = parse_bool(value("check"), "check");
+    else if (w == "once")
+      once = parse_bool(value("once"), "once");
+    else if (w == "page" || w == "one" || w == "binsize" || w == "contact_distance_factor")
+      value(w.c_str());
     else if (w == "exclude") {
       const std::string& kind = value("exclude");
       if (kind == "none") {
@@ -53,7 +58,8 @@ void Neighbor::modify_command(const Args& args) {
         parse_type_range(args[k + 1], ntypes, lo1, hi1);
         parse_type_range(args[k + 2], ntypes, lo2, hi2);
         for (int a = lo1; a <= hi1; ++a)
-          for (int b = lo2; b <= hi2; ++b) exclude_types_.emplace_back(a, b);
+          for (int b = lo2; b <= hi2; ++b)
+            exclude_types_.emplace_back(a, b);
         k += 2;
       } else if (kind == "group") {
         if (k + 2 >= args.size()) throw InputError("neigh_modify exclude group needs two groups");
@@ -65,7 +71,8 @@ void Neighbor::modify_command(const Args& args) {
         value("exclude molecule");
         exclude_body_ = true;  // always on: sub-spheres of one clump never interact
       } else {
-        throw InputError("neigh_modify exclude takes type, group, molecule/intra or none, got '" + kind + "'");
+        throw InputError("neigh_modify exclude takes type, group, molecule/intra or none, got '" + kind +
+                         "'");
       }
     } else {
       throw InputError("unknown neigh_modify keyword '" + w +
@@ -78,7 +85,8 @@ void Neighbor::modify_command(const Args& args) {
 void Neighbor::init() {
   const Particles& p = *engine_.particles;
   double r = 0.0;
-  for (int i = 0; i < p.nlocal; ++i) r = std::max(r, p.radius[i]);
+  for (int i = 0; i < p.nlocal; ++i)
+    r = std::max(r, p.radius[i]);
   MPI_Allreduce(&r, &rmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
   cutneighmax = 2.0 * rmax + skin;
 }
@@ -91,7 +99,8 @@ bool Neighbor::excluded(int i, int j) const {
       return true;
   }
   for (const auto& g : exclude_groups_) {
-    if (((p.mask[i] & g.first) && (p.mask[j] & g.second)) || ((p.mask[i] & g.second) && (p.mask[j] & g.first)))
+    if (((p.mask[i] & g.first) && (p.mask[j] & g.second)) ||
+        ((p.mask[i] & g.second) && (p.mask[j] & g.first)))
       return true;
   }
   return false;
@@ -140,7 +149,8 @@ void Neighbor::sort_particles(std::int64_t step) {
     key[i] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
   }
   std::vector<int> order(n);
-  for (int i = 0; i < n; ++i) order[i] = i;
+  for (int i = 0; i < n; ++i)
+    order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
   p.permute(order);
 }
@@ -227,15 +237,18 @@ void Neighbor::build() {
     // Neighbours in id order: each particle's forces are then summed in an
     // order that does not depend on when the list was built (restarts
     // continue bit for bit).
-    std::sort(neigh.begin() + offset[i], neigh.end(), [&p](int a, int b) {
-      return p.id[a] != p.id[b] ? p.id[a] < p.id[b] : a < b;
-    });
+    std::sort(neigh.begin() + offset[i], neigh.end(),
+              [&p](int a, int b) { return p.id[a] != p.id[b] ? p.id[a] < p.id[b] : a < b; });
   }
   offset[nlocal] = static_cast<int>(neigh.size());
 }
 
-void cmd_neighbor(Engine& e, const Args& a) { e.neighbor->neighbor_command(a); }
-void cmd_neigh_modify(Engine& e, const Args& a) { e.neighbor->modify_command(a); }
+void cmd_neighbor(Engine& e, const Args& a) {
+  e.neighbor->neighbor_command(a);
+}
+void cmd_neigh_modify(Engine& e, const Args& a) {
+  e.neighbor->modify_command(a);
+}
 GRANARY_COMMAND("neighbor", cmd_neighbor);
 GRANARY_COMMAND("neigh_modify", cmd_neigh_modify);
 

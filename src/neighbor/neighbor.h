@@ -29,7 +29,7 @@ class Neighbor {
   int every = 1, delay = 0;
   bool check = true;
   bool once = false;
-  int sort_every = 1000;     // atom_modify sort N binsize (0 = off)
+  int sort_every = 1000;  // atom_modify sort N binsize (0 = off)
   double sort_binsize = 0.0;
 
   void neighbor_command(const Args& args);

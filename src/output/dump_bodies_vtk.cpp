@@ -29,15 +29,16 @@ namespace granary {
 
 DumpBodiesVTK::DumpBodiesVTK(Engine& engine, const Args& args) : Dump(engine, args) {
   if (args.size() > 5) {
-    throw InputError("dump " + id + ": bodies/vtk takes no fields (it writes every body's state), got '" + args[5] +
-                     "'");
+    throw InputError("dump " + id + ": bodies/vtk takes no fields (it writes every body's state), got '" +
+                     args[5] + "'");
   }
   if (vtkio::extension(filename) != ".vtp") {
     throw InputError("dump " + id + ": bodies/vtk needs a file name ending in .vtp, got '" + filename + "'");
   }
   if (filename.find('%') != std::string::npos) {
-    throw InputError("dump " + id + ": bodies/vtk writes one file per frame on rank 0; '%' is not allowed in '" +
-                     filename + "'");
+    throw InputError("dump " + id +
+                     ": bodies/vtk writes one file per frame on rank 0; '%' is not allowed in '" + filename +
+                     "'");
   }
   dumpio::check_directory(engine.world, filename, "dump " + id);
   pvd_.path = vtkio::pvd_name(filename, id);
@@ -82,13 +83,16 @@ int DumpBodiesVTK::modify_param(const Args& args, std::size_t k) {
 FixMultisphere& DumpBodiesVTK::multisphere() const {
   FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
   if (!ms) {
-    throw InputError("dump " + id + ": bodies/vtk writes the clumps of fix multisphere, but no fix multisphere "
+    throw InputError("dump " + id +
+                     ": bodies/vtk writes the clumps of fix multisphere, but no fix multisphere "
                      "is defined");
   }
   return *ms;
 }
 
-void DumpBodiesVTK::init() { multisphere(); }
+void DumpBodiesVTK::init() {
+  multisphere();
+}
 
 std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vector<char>& selected) {
   const FixMultisphere& ms = multisphere();
@@ -128,7 +132,8 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
   make(nsph, "nspheres", 1);
   // the component names ParaView shows for the quaternion
   const char* qnames[4] = {"w", "x", "y", "z"};
-  for (int c = 0; c < 4; ++c) quat->SetComponentName(c, qnames[c]);
+  for (int c = 0; c < 4; ++c)
+    quat->SetComponentName(c, qnames[c]);
 
   for (vtkIdType k = 0; k < n; ++k) {
     const int b = list[k];
@@ -165,8 +170,10 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
   ds->GetFieldData()->AddArray(cycle);
 
   // create the file first so that a failure names the file and the reason
-  if (std::FILE* fp = std::fopen(frame.c_str(), "wb")) std::fclose(fp);
-  else return dumpio::open_error(frame);
+  if (std::FILE* fp = std::fopen(frame.c_str(), "wb"))
+    std::fclose(fp);
+  else
+    return dumpio::open_error(frame);
   auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
   vtkio::configure_writer(w.Get(), binary_, compressor_);
   w->SetInputData(ds);
@@ -191,11 +198,13 @@ void DumpBodiesVTK::write() {
       if (b >= 0) local[b] = 1;
     }
     MPI_Allreduce(local.data(), all.data(), B.size(), MPI_INT, MPI_MAX, engine_.world);
-    for (int b = 0; b < B.size(); ++b) selected[b] = static_cast<char>(all[b]);
+    for (int b = 0; b < B.size(); ++b)
+      selected[b] = static_cast<char>(all[b]);
   }
 
   std::string err;
-  if (engine_.rank == 0) err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, pad_), selected);
+  if (engine_.rank == 0)
+    err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, pad_), selected);
   err = dumpio::first_error(engine_.world, err);
   if (!err.empty()) throw RunError("dump " + id + ": " + err);
 }

@@ -29,9 +29,37 @@ namespace {
 
 // Built-in per-particle fields.
 enum CoreField : int {
-  kId, kType, kBody, kMass, kDensity, kRadius, kDiameter,
-  kX, kY, kZ, kXs, kYs, kZs, kXu, kYu, kZu, kIx, kIy, kIz,
-  kVx, kVy, kVz, kFx, kFy, kFz, kOmegax, kOmegay, kOmegaz, kTqx, kTqy, kTqz,
+  kId,
+  kType,
+  kBody,
+  kMass,
+  kDensity,
+  kRadius,
+  kDiameter,
+  kX,
+  kY,
+  kZ,
+  kXs,
+  kYs,
+  kZs,
+  kXu,
+  kYu,
+  kZu,
+  kIx,
+  kIy,
+  kIz,
+  kVx,
+  kVy,
+  kVz,
+  kFx,
+  kFy,
+  kFz,
+  kOmegax,
+  kOmegay,
+  kOmegaz,
+  kTqx,
+  kTqy,
+  kTqz,
   kNumCore
 };
 
@@ -41,13 +69,39 @@ struct CoreName {
 };
 
 const CoreName kCoreNames[] = {
-    {"id", kId}, {"type", kType}, {"body", kBody}, {"mol", kBody}, {"id_multisphere", kBody},
-    {"mass", kMass}, {"density", kDensity}, {"radius", kRadius}, {"diameter", kDiameter},
-    {"x", kX}, {"y", kY}, {"z", kZ}, {"xs", kXs}, {"ys", kYs}, {"zs", kZs},
-    {"xu", kXu}, {"yu", kYu}, {"zu", kZu}, {"ix", kIx}, {"iy", kIy}, {"iz", kIz},
-    {"vx", kVx}, {"vy", kVy}, {"vz", kVz}, {"fx", kFx}, {"fy", kFy}, {"fz", kFz},
-    {"omegax", kOmegax}, {"omegay", kOmegay}, {"omegaz", kOmegaz},
-    {"tqx", kTqx}, {"tqy", kTqy}, {"tqz", kTqz},
+    {"id", kId},
+    {"type", kType},
+    {"body", kBody},
+    {"mol", kBody},
+    {"id_multisphere", kBody},
+    {"mass", kMass},
+    {"density", kDensity},
+    {"radius", kRadius},
+    {"diameter", kDiameter},
+    {"x", kX},
+    {"y", kY},
+    {"z", kZ},
+    {"xs", kXs},
+    {"ys", kYs},
+    {"zs", kZs},
+    {"xu", kXu},
+    {"yu", kYu},
+    {"zu", kZu},
+    {"ix", kIx},
+    {"iy", kIy},
+    {"iz", kIz},
+    {"vx", kVx},
+    {"vy", kVy},
+    {"vz", kVz},
+    {"fx", kFx},
+    {"fy", kFy},
+    {"fz", kFz},
+    {"omegax", kOmegax},
+    {"omegay", kOmegay},
+    {"omegaz", kOmegaz},
+    {"tqx", kTqx},
+    {"tqy", kTqy},
+    {"tqz", kTqz},
 };
 
 bool core_is_integer(int f) {
@@ -95,15 +149,21 @@ DumpFields::DumpFields(Engine& engine, const Args& words, const std::string& wha
       std::string col;
       split_ref(w, f.ref, col);
       if (f.ref.empty()) throw InputError(what_ + ": field '" + w + "' needs a name after '" + prefix + "'");
-      f.source = prefix == "c_" ? DumpField::kCompute : prefix == "f_" ? DumpField::kFix : DumpField::kVariable;
+      f.source = prefix == "c_"   ? DumpField::kCompute
+                 : prefix == "f_" ? DumpField::kFix
+                                  : DumpField::kVariable;
       if (f.source == DumpField::kVariable && !col.empty()) {
         throw InputError(what_ + ": variable field '" + w + "' takes no column index");
       }
       if (col == "*") {
         int ncols = 0;
-        if (f.source == DumpField::kCompute) ncols = engine_.modify->compute_or_error(f.ref, what_)->peratom_cols;
-        else ncols = engine_.modify->fix_or_error(f.ref, what_)->peratom_cols;
-        if (ncols <= 0) throw InputError(what_ + ": '" + w + "' needs a per-atom array; " + prefix + f.ref + " has no columns");
+        if (f.source == DumpField::kCompute)
+          ncols = engine_.modify->compute_or_error(f.ref, what_)->peratom_cols;
+        else
+          ncols = engine_.modify->fix_or_error(f.ref, what_)->peratom_cols;
+        if (ncols <= 0)
+          throw InputError(what_ + ": '" + w + "' needs a per-atom array; " + prefix + f.ref +
+                           " has no columns");
         for (int i = 1; i <= ncols; ++i) {
           DumpField g = f;
           g.col = i;
@@ -121,11 +181,13 @@ DumpFields::DumpFields(Engine& engine, const Args& words, const std::string& wha
       continue;
     }
     std::vector<std::string> known;
-    for (const auto& c : kCoreNames) known.push_back(c.name);
+    for (const auto& c : kCoreNames)
+      known.push_back(c.name);
     const std::string hint = did_you_mean(w, known);
-    throw InputError(what_ + ": unknown field '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
-                     " (fields: id type x y z vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz"
-                     " radius diameter mass density body xs xu ix ..., c_ID, c_ID[i], f_ID, f_ID[i], v_name)");
+    throw InputError(
+        what_ + ": unknown field '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
+        " (fields: id type x y z vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz"
+        " radius diameter mass density body xs xu ix ..., c_ID, c_ID[i], f_ID, f_ID[i], v_name)");
   }
 }
 
@@ -156,13 +218,15 @@ void DumpFields::init() {
                          f.name + "[1]");
       }
       if (f.col > 0 && f.col > ncols) {
-        throw InputError(what_ + ": column " + std::to_string(f.col) + " of " + f.name.substr(0, f.name.find('[')) +
-                         " is out of range (it has " + std::to_string(ncols) + " columns)");
+        throw InputError(what_ + ": column " + std::to_string(f.col) + " of " +
+                         f.name.substr(0, f.name.find('[')) + " is out of range (it has " +
+                         std::to_string(ncols) + " columns)");
       }
     } else if (f.source == DumpField::kVariable) {
       Variables& vars = engine_.input->variables();
       if (!vars.find(f.ref)) throw InputError(what_ + ": variable '" + f.ref + "' does not exist");
-      if (!vars.is_atom(f.ref)) throw InputError(what_ + ": variable '" + f.ref + "' is not an atom-style variable");
+      if (!vars.is_atom(f.ref))
+        throw InputError(what_ + ": variable '" + f.ref + "' is not an atom-style variable");
     }
   }
 }
@@ -184,7 +248,8 @@ void DumpFields::core_column(int which, const std::vector<int>& sel, int stride,
   const Domain& d = *engine_.domain;
   const std::size_t n = sel.size();
   auto put = [&](auto value) {
-    for (std::size_t k = 0; k < n; ++k) out[k * stride] = value(sel[k]);
+    for (std::size_t k = 0; k < n; ++k)
+      out[k * stride] = value(sel[k]);
   };
   auto image = [&](int i, int dim) {
     int im[3];
@@ -192,55 +257,86 @@ void DumpFields::core_column(int which, const std::vector<int>& sel, int stride,
     return im[dim];
   };
   switch (which) {
-    case kId: put([&](int i) { return static_cast<double>(p.id[i]); }); break;
-    case kType: put([&](int i) { return static_cast<double>(p.type[i]); }); break;
-    case kBody: put([&](int i) { return static_cast<double>(p.body[i]); }); break;
-    case kMass: put([&](int i) { return p.rmass[i]; }); break;
-    case kDensity: put([&](int i) { return p.density[i]; }); break;
-    case kRadius: put([&](int i) { return p.radius[i]; }); break;
-    case kDiameter: put([&](int i) { return 2.0 * p.radius[i]; }); break;
-    case kX: case kY: case kZ: {
+    case kId:
+      put([&](int i) { return static_cast<double>(p.id[i]); });
+      break;
+    case kType:
+      put([&](int i) { return static_cast<double>(p.type[i]); });
+      break;
+    case kBody:
+      put([&](int i) { return static_cast<double>(p.body[i]); });
+      break;
+    case kMass:
+      put([&](int i) { return p.rmass[i]; });
+      break;
+    case kDensity:
+      put([&](int i) { return p.density[i]; });
+      break;
+    case kRadius:
+      put([&](int i) { return p.radius[i]; });
+      break;
+    case kDiameter:
+      put([&](int i) { return 2.0 * p.radius[i]; });
+      break;
+    case kX:
+    case kY:
+    case kZ: {
       const int dim = which - kX;
       put([&](int i) { return p.x[i][dim]; });
       break;
     }
-    case kXs: case kYs: case kZs: {
+    case kXs:
+    case kYs:
+    case kZs: {
       const int dim = which - kXs;
       const double lo = d.boxlo[dim], len = d.prd[dim] > 0 ? d.prd[dim] : 1.0;
       put([&](int i) { return (p.x[i][dim] - lo) / len; });
       break;
     }
-    case kXu: case kYu: case kZu: {
+    case kXu:
+    case kYu:
+    case kZu: {
       const int dim = which - kXu;
       put([&](int i) { return p.x[i][dim] + image(i, dim) * d.prd[dim]; });
       break;
     }
-    case kIx: case kIy: case kIz: {
+    case kIx:
+    case kIy:
+    case kIz: {
       const int dim = which - kIx;
       put([&](int i) { return static_cast<double>(image(i, dim)); });
       break;
     }
-    case kVx: case kVy: case kVz: {
+    case kVx:
+    case kVy:
+    case kVz: {
       const int dim = which - kVx;
       put([&](int i) { return p.v[i][dim]; });
       break;
     }
-    case kFx: case kFy: case kFz: {
+    case kFx:
+    case kFy:
+    case kFz: {
       const int dim = which - kFx;
       put([&](int i) { return p.f[i][dim]; });
       break;
     }
-    case kOmegax: case kOmegay: case kOmegaz: {
+    case kOmegax:
+    case kOmegay:
+    case kOmegaz: {
       const int dim = which - kOmegax;
       put([&](int i) { return p.omega[i][dim]; });
       break;
     }
-    case kTqx: case kTqy: case kTqz: {
+    case kTqx:
+    case kTqy:
+    case kTqz: {
       const int dim = which - kTqx;
       put([&](int i) { return p.torque[i][dim]; });
       break;
     }
-    default: break;
+    default:
+      break;
   }
 }
 
@@ -253,11 +349,15 @@ void DumpFields::pack(const std::vector<int>& sel, bool with_id, std::vector<dou
       core_column(f.core, sel, stride, out.data() + c);
       continue;
     }
-    if (f.source == DumpField::kCompute) engine_.compute_peratom(f.ref, f.col, scratch_);
-    else if (f.source == DumpField::kFix) engine_.fix_peratom(f.ref, f.col, scratch_);
-    else engine_.input->variables().compute_atom(f.ref, scratch_);
+    if (f.source == DumpField::kCompute)
+      engine_.compute_peratom(f.ref, f.col, scratch_);
+    else if (f.source == DumpField::kFix)
+      engine_.fix_peratom(f.ref, f.col, scratch_);
+    else
+      engine_.input->variables().compute_atom(f.ref, scratch_);
     scratch_.resize(engine_.particles->nlocal, 0.0);
-    for (std::size_t k = 0; k < sel.size(); ++k) out[k * stride + c] = scratch_[sel[k]];
+    for (std::size_t k = 0; k < sel.size(); ++k)
+      out[k * stride + c] = scratch_[sel[k]];
   }
   if (with_id) core_column(kId, sel, stride, out.data() + ncols());
 }
@@ -266,21 +366,24 @@ void DumpFields::pack(const std::vector<int>& sel, bool with_id, std::vector<dou
 
 namespace dumpio {
 
-std::int64_t gather_rows(MPI_Comm comm, const std::vector<double>& local, int ncols, std::vector<double>& all) {
+std::int64_t gather_rows(MPI_Comm comm, const std::vector<double>& local, int ncols,
+                         std::vector<double>& all) {
   int rank = 0, nprocs = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &nprocs);
   long long mine = static_cast<long long>(local.size()), total = 0;
   MPI_Allreduce(&mine, &total, 1, MPI_LONG_LONG, MPI_SUM, comm);
   if (total > INT_MAX) {
-    throw RunError("dump: " + std::to_string(total) + " values are too many to gather on one rank; "
+    throw RunError("dump: " + std::to_string(total) +
+                   " values are too many to gather on one rank; "
                    "use dump custom/vtk, which writes one piece per rank");
   }
   const int count = static_cast<int>(mine);
   std::vector<int> counts(rank == 0 ? nprocs : 0), displs(rank == 0 ? nprocs : 0);
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
   if (rank == 0) {
-    for (int r = 1; r < nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < nprocs; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     all.resize(static_cast<std::size_t>(total));
   }
   MPI_Gatherv(local.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, comm);
@@ -343,25 +446,31 @@ std::string open_error(const std::string& file) {
 // ---------------------------------------------------------------- DumpCustom
 
 DumpCustom::DumpCustom(Engine& engine, const Args& args)
-    : Dump(engine, args), fields_(engine, Args(args.begin() + std::min<std::size_t>(5, args.size()), args.end()),
-                                  "dump " + args[0]) {
+    : Dump(engine, args),
+      fields_(engine, Args(args.begin() + std::min<std::size_t>(5, args.size()), args.end()),
+              "dump " + args[0]) {
   if (args.size() < 6) throw InputError("dump " + id + ": usage: dump ID group-ID custom N file field ...");
   if (filename.size() > 3 && filename.compare(filename.size() - 3, 3, ".gz") == 0) {
-    throw InputError("dump " + id + ": compressed text dumps (.gz) are not supported; use dump custom/vtk "
+    throw InputError("dump " + id +
+                     ": compressed text dumps (.gz) are not supported; use dump custom/vtk "
                      "(zlib-compressed by default) or compress the files afterwards");
   }
   if (filename.find('%') != std::string::npos) {
-    throw InputError("dump " + id + ": '%' (one file per rank) is not supported by dump custom; "
+    throw InputError("dump " + id +
+                     ": '%' (one file per rank) is not supported by dump custom; "
                      "the frames are gathered on one rank");
   }
   multifile_ = filename.find('*') != std::string::npos;
   dumpio::check_directory(engine.world, filename, "dump " + id);
   col_format_.assign(fields_.ncols(), "");
   columns_ = "";
-  for (const auto& f : fields_.fields) columns_ += (columns_.empty() ? "" : " ") + f.name;
+  for (const auto& f : fields_.fields)
+    columns_ += (columns_.empty() ? "" : " ") + f.name;
 }
 
-DumpCustom::~DumpCustom() { finish(); }
+DumpCustom::~DumpCustom() {
+  finish();
+}
 
 void DumpCustom::finish() {
   if (fp_) {
@@ -382,7 +491,8 @@ DumpCustom::Format DumpCustom::parse_format(const std::string& text) const {
       continue;
     }
     j = i + 1;
-    while (j < text.size() && std::string("-+ #0123456789.").find(text[j]) != std::string::npos) ++j;
+    while (j < text.size() && std::string("-+ #0123456789.").find(text[j]) != std::string::npos)
+      ++j;
     break;
   }
   f.spec = text;
@@ -397,10 +507,14 @@ void DumpCustom::build_formats() {
   for (int c = 0; c < n; ++c) {
     const bool integer = fields_.fields[c].integer;
     std::string text;
-    if (!col_format_[c].empty()) text = col_format_[c];
-    else if (integer && !int_format_.empty()) text = int_format_;
-    else if (!integer && !float_format_.empty()) text = float_format_;
-    else if (!line_format_.empty()) text = line_format_[c];
+    if (!col_format_[c].empty())
+      text = col_format_[c];
+    else if (integer && !int_format_.empty())
+      text = int_format_;
+    else if (!integer && !float_format_.empty())
+      text = float_format_;
+    else if (!line_format_.empty())
+      text = line_format_[c];
     if (!text.empty()) {
       formats_[c] = parse_format(text);
       continue;
@@ -418,8 +532,10 @@ int DumpCustom::modify_param(const Args& args, std::size_t k) {
   const std::string where = "dump_modify " + id + " " + key;
   if (key == "sort" && has1) {
     const std::string& v = args[k + 1];
-    if (v == "off") sort_ = 0;
-    else if (v == "id") sort_ = kSortId;
+    if (v == "off")
+      sort_ = 0;
+    else if (v == "id")
+      sort_ = kSortId;
     else {
       const long long c = parse_int(v, where);
       if (c == 0 || std::llabs(c) > fields_.ncols()) {
@@ -438,17 +554,21 @@ int DumpCustom::modify_param(const Args& args, std::size_t k) {
       col_format_.assign(fields_.ncols(), "");
       return 2;
     }
-    if ((v == "line" || v == "int" || v == "float") && !has2) throw InputError(where + " " + v + " needs a format string");
+    if ((v == "line" || v == "int" || v == "float") && !has2)
+      throw InputError(where + " " + v + " needs a format string");
     if (v == "int" || v == "float") {
       parse_format(args[k + 2]);
       (v == "int" ? int_format_ : float_format_) = args[k + 2];
       return 3;
     }
-    const bool is_column = !v.empty() && std::all_of(v.begin(), v.end(), [](char ch) { return std::isdigit(static_cast<unsigned char>(ch)); });
+    const bool is_column = !v.empty() && std::all_of(v.begin(), v.end(), [](char ch) {
+      return std::isdigit(static_cast<unsigned char>(ch));
+    });
     if (is_column) {
       if (!has2) throw InputError(where + " " + v + " needs a format string");
       const long long c = parse_int(v, where);
-      if (c < 1 || c > fields_.ncols()) throw InputError(where + ": column " + v + " is out of range 1.." + std::to_string(fields_.ncols()));
+      if (c < 1 || c > fields_.ncols())
+        throw InputError(where + ": column " + v + " is out of range 1.." + std::to_string(fields_.ncols()));
       parse_format(args[k + 2]);
       col_format_[c - 1] = args[k + 2];
       return 3;
@@ -466,7 +586,8 @@ int DumpCustom::modify_param(const Args& args, std::size_t k) {
       throw InputError(where + ": the format line has " + std::to_string(words.size()) + " conversions for " +
                        std::to_string(fields_.ncols()) + " columns");
     }
-    for (const auto& w : words) parse_format(w);
+    for (const auto& w : words)
+      parse_format(w);
     line_format_ = words;
     return v == "line" ? 3 : 2;
   }
@@ -488,8 +609,10 @@ int DumpCustom::modify_param(const Args& args, std::size_t k) {
   if (key == "flush" && has1) return parse_bool(args[k + 1], where), 2;  // frames are always flushed
   if (key == "label" && has1) return label_ = args[k + 1], 2;
   if (key == "region" && has1) {
-    if (args[k + 1] == "none") region_.clear();
-    else region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
+    if (args[k + 1] == "none")
+      region_.clear();
+    else
+      region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
     return 2;
   }
   return 0;

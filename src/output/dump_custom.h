@@ -20,7 +20,7 @@ namespace granary {
 /// One output column of a custom-style dump.
 struct DumpField {
   enum Source { kCore, kCompute, kFix, kVariable };
-  std::string name;      // as written in the command: "vx", "c_stress[2]", "v_ke"
+  std::string name;  // as written in the command: "vx", "c_stress[2]", "v_ke"
   Source source = kCore;
   int core = -1;         // kCore: index into the table of built-in fields
   std::string ref;       // compute, fix or variable name
@@ -104,18 +104,18 @@ class DumpCustom : public Dump {
   bool multifile_ = false;  // '*' in the file name: one file per frame
   bool append_ = false;
   int pad_ = 0;
-  int sort_ = 0;            // 0 off, kSortId by id, +-(column) ascending/descending
+  int sort_ = 0;  // 0 off, kSortId by id, +-(column) ascending/descending
   static constexpr int kSortId = 1 << 30;
-  int precision_ = 0;       // significant digits of the default float format (0 = %g)
+  int precision_ = 0;  // significant digits of the default float format (0 = %g)
   bool time_flag_ = false, units_flag_ = false, units_written_ = false;
   std::string region_;
   std::string label_ = "ATOMS";
   std::vector<std::string> col_format_;  // per-column user format ("" = none)
   std::string int_format_, float_format_;
   std::vector<std::string> line_format_;
-  std::vector<Format> formats_;          // resolved, one per column
-  std::FILE* fp_ = nullptr;              // single-file mode, open on rank 0
-  std::string columns_;                  // header column names
+  std::vector<Format> formats_;  // resolved, one per column
+  std::FILE* fp_ = nullptr;      // single-file mode, open on rank 0
+  std::string columns_;          // header column names
 };
 
 }  // namespace granary

@@ -52,9 +52,8 @@ struct Triple {
   const char* name;
 };
 const Triple kTriples[] = {
-    {"vx", "vy", "vz", "v"},          {"fx", "fy", "fz", "f"},
-    {"omegax", "omegay", "omegaz", "omega"}, {"tqx", "tqy", "tqz", "tq"},
-    {"ix", "iy", "iz", "image"},      {"xu", "yu", "zu", "x_unwrapped"},
+    {"vx", "vy", "vz", "v"},        {"fx", "fy", "fz", "f"},     {"omegax", "omegay", "omegaz", "omega"},
+    {"tqx", "tqy", "tqz", "tq"},    {"ix", "iy", "iz", "image"}, {"xu", "yu", "zu", "x_unwrapped"},
     {"xs", "ys", "zs", "x_scaled"},
 };
 
@@ -69,26 +68,35 @@ std::string probe(const std::string& file) {
 }  // namespace
 
 DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
-    : Dump(engine, args), fields_(engine, [&] {
-        // positions come first (they become the points), then the other fields
-        Args words{"x", "y", "z"};
-        for (std::size_t k = 5; k < args.size(); ++k)
-          if (args[k] != "x" && args[k] != "y" && args[k] != "z") words.push_back(args[k]);
-        return words;
-      }(), "dump " + args[0]) {
+    : Dump(engine, args),
+      fields_(
+          engine,
+          [&] {
+            // positions come first (they become the points), then the other fields
+            Args words{"x", "y", "z"};
+            for (std::size_t k = 5; k < args.size(); ++k)
+              if (args[k] != "x" && args[k] != "y" && args[k] != "z") words.push_back(args[k]);
+            return words;
+          }(),
+          "dump " + args[0]) {
   const std::string ext = extension(filename);
-  if (ext == ".vtp" || ext == ".pvtp") kind_ = Kind::kPolyData;
-  else if (ext == ".vtu" || ext == ".pvtu") kind_ = Kind::kUnstructured;
-  else if (ext == ".vtk") kind_ = Kind::kLegacy;
+  if (ext == ".vtp" || ext == ".pvtp")
+    kind_ = Kind::kPolyData;
+  else if (ext == ".vtu" || ext == ".pvtu")
+    kind_ = Kind::kUnstructured;
+  else if (ext == ".vtk")
+    kind_ = Kind::kLegacy;
   else {
-    throw InputError("dump " + id + ": custom/vtk needs a file name ending in .vtp, .vtu, .pvtp, .pvtu or .vtk, got '" +
+    throw InputError("dump " + id +
+                     ": custom/vtk needs a file name ending in .vtp, .vtu, .pvtp, .pvtu or .vtk, got '" +
                      filename + "'");
   }
   parallel_ext_ = ext == ".pvtp" || ext == ".pvtu";
   if (filename.find('%') != std::string::npos) {
-    throw InputError("dump " + id + ": '%' is not needed in custom/vtk file names: on several ranks every rank "
-                     "writes its own piece and rank 0 the ." + std::string(kind_ == Kind::kUnstructured ? "pvtu" : "pvtp") +
-                     " index");
+    throw InputError("dump " + id +
+                     ": '%' is not needed in custom/vtk file names: on several ranks every rank "
+                     "writes its own piece and rank 0 the ." +
+                     std::string(kind_ == Kind::kUnstructured ? "pvtu" : "pvtp") + " index");
   }
   dumpio::check_directory(engine.world, filename, "dump " + id);
 
@@ -114,10 +122,12 @@ DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
         a.cols = {ia, ib, ic};
       }
     }
-    for (int col : a.cols) used[col] = true;
+    for (int col : a.cols)
+      used[col] = true;
     if (std::find(names.begin(), names.end(), a.name) != names.end()) continue;  // e.g. "type type"
     names.push_back(a.name);
-    if (f.integer) a.type = (f.name == "id" || f.name == "body" || f.name == "mol" || f.name == "id_multisphere") ? 2 : 1;
+    if (f.integer)
+      a.type = (f.name == "id" || f.name == "body" || f.name == "mol" || f.name == "id_multisphere") ? 2 : 1;
     arrays_.push_back(a);
   }
 }
@@ -144,8 +154,10 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
     return 2;
   }
   if (key == "region" && has1) {
-    if (args[k + 1] == "none") region_.clear();
-    else region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
+    if (args[k + 1] == "none")
+      region_.clear();
+    else
+      region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
     return 2;
   }
   if (key == "pvd" && has1) {
@@ -156,10 +168,12 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
       return 2;
     }
     if (kind_ == Kind::kLegacy) {
-      throw InputError(where + ": legacy .vtk files cannot be listed in a .pvd (ParaView reads XML files from "
+      throw InputError(where +
+                       ": legacy .vtk files cannot be listed in a .pvd (ParaView reads XML files from "
                        "it); use a .vtp file name, or open the numbered .vtk files as a series");
     }
-    if (extension(v) != ".pvd") throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
+    if (extension(v) != ".pvd")
+      throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
     dumpio::check_directory(engine_.world, v, where);
     pvd_.path = v;
     pvd_.clear();
@@ -172,7 +186,9 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
   return 0;
 }
 
-void DumpCustomVTK::init() { fields_.init(); }
+void DumpCustomVTK::init() {
+  fields_.init();
+}
 
 namespace {
 
@@ -190,26 +206,33 @@ vtkSmartPointer<DataSet> build_dataset(const std::vector<double>& rows, std::int
   }
   auto conn = vtkSmartPointer<vtkIdTypeArray>::New();
   conn->SetNumberOfValues(nrows);
-  for (std::int64_t k = 0; k < nrows; ++k) conn->SetValue(k, k);
+  for (std::int64_t k = 0; k < nrows; ++k)
+    conn->SetValue(k, k);
   auto cells = vtkSmartPointer<vtkCellArray>::New();
   cells->SetData(1, conn);
 
   auto ds = vtkSmartPointer<DataSet>::New();
   ds->SetPoints(points);
-  if constexpr (std::is_same_v<DataSet, vtkPolyData>) ds->SetVerts(cells);
-  else ds->SetCells(VTK_VERTEX, cells);
+  if constexpr (std::is_same_v<DataSet, vtkPolyData>)
+    ds->SetVerts(cells);
+  else
+    ds->SetCells(VTK_VERTEX, cells);
 
   for (const auto& a : arrays) {
     vtkSmartPointer<vtkDataArray> arr;
-    if (a.type == 1) arr = vtkSmartPointer<vtkIntArray>::New();
-    else if (a.type == 2) arr = vtkSmartPointer<vtkTypeInt64Array>::New();
-    else arr = vtkSmartPointer<vtkDoubleArray>::New();
+    if (a.type == 1)
+      arr = vtkSmartPointer<vtkIntArray>::New();
+    else if (a.type == 2)
+      arr = vtkSmartPointer<vtkTypeInt64Array>::New();
+    else
+      arr = vtkSmartPointer<vtkDoubleArray>::New();
     const int nc = static_cast<int>(a.cols.size());
     arr->SetName(a.name.c_str());
     arr->SetNumberOfComponents(nc);
     arr->SetNumberOfTuples(nrows);
     for (std::int64_t k = 0; k < nrows; ++k)
-      for (int c = 0; c < nc; ++c) arr->SetComponent(k, c, rows[k * ncols + a.cols[c]]);
+      for (int c = 0; c < nc; ++c)
+        arr->SetComponent(k, c, rows[k * ncols + a.cols[c]]);
     ds->GetPointData()->AddArray(arr);
   }
   // simulated time and step as field data (ParaView reads TimeValue)
@@ -226,7 +249,8 @@ vtkSmartPointer<DataSet> build_dataset(const std::vector<double>& rows, std::int
 
 }  // namespace
 
-std::string DumpCustomVTK::write_xml(const std::string& frame, const std::vector<double>& rows, std::int64_t nrows) {
+std::string DumpCustomVTK::write_xml(const std::string& frame, const std::vector<double>& rows,
+                                     std::int64_t nrows) {
   const double time = engine_.update->time();
   const std::int64_t step = engine_.update->ntimestep;
   const int ncols = fields_.ncols();
@@ -236,7 +260,8 @@ std::string DumpCustomVTK::write_xml(const std::string& frame, const std::vector
   // In the parallel format every rank writes its piece <stem>_<rank>.vtp (.vtu)
   // with the serial writer; rank 0 writes the index afterwards (write_index).
   const std::string file =
-      parallel ? strip_extension(frame) + "_" + std::to_string(engine_.rank) + (poly ? ".vtp" : ".vtu") : frame;
+      parallel ? strip_extension(frame) + "_" + std::to_string(engine_.rank) + (poly ? ".vtp" : ".vtu")
+               : frame;
   if (std::string e = probe(file); !e.empty()) return e;
   int ok = 0;
   if (poly) {
@@ -262,11 +287,12 @@ std::string DumpCustomVTK::write_index(const std::string& frame, const std::stri
   const std::string type = poly ? "PPolyData" : "PUnstructuredGrid";
   const std::string piece_stem = fs::path(strip_extension(frame)).filename().string();
   static const char* kTypeNames[] = {"Float64", "Int32", "Int64"};
-  std::string text = "<?xml version=\"1.0\"?>\n<VTKFile type=\"" + type +
-                     "\" version=\"1.0\" byte_order=\"" + byte_order() + "\" header_type=\"UInt64\">\n";
+  std::string text = "<?xml version=\"1.0\"?>\n<VTKFile type=\"" + type + "\" version=\"1.0\" byte_order=\"" +
+                     byte_order() + "\" header_type=\"UInt64\">\n";
   text += "  <" + type + " GhostLevel=\"0\">\n    <PPointData>\n";
   for (const auto& a : arrays_) {
-    text += "      <PDataArray type=\"" + std::string(kTypeNames[a.type]) + "\" Name=\"" + xml_escape(a.name) + "\"";
+    text += "      <PDataArray type=\"" + std::string(kTypeNames[a.type]) + "\" Name=\"" +
+            xml_escape(a.name) + "\"";
     if (a.cols.size() > 1) text += " NumberOfComponents=\"" + std::to_string(a.cols.size()) + "\"";
     text += "/>\n";
   }
@@ -274,19 +300,22 @@ std::string DumpCustomVTK::write_index(const std::string& frame, const std::stri
   text += "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n";
   text += "    </PPoints>\n";
   for (int r = 0; r < engine_.nprocs; ++r) {
-    text += "    <Piece Source=\"" + xml_escape(piece_stem + "_" + std::to_string(r) + (poly ? ".vtp" : ".vtu")) +
-            "\"/>\n";
+    text += "    <Piece Source=\"" +
+            xml_escape(piece_stem + "_" + std::to_string(r) + (poly ? ".vtp" : ".vtu")) + "\"/>\n";
   }
   text += "  </" + type + ">\n</VTKFile>\n";
   return write_text(index, text);
 }
 
-std::string DumpCustomVTK::write_legacy(const std::string& frame, const std::vector<double>& rows, std::int64_t nrows) {
+std::string DumpCustomVTK::write_legacy(const std::string& frame, const std::vector<double>& rows,
+                                        std::int64_t nrows) {
   if (std::string e = probe(frame); !e.empty()) return e;
   auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
   w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
-  if (binary_) w->SetFileTypeToBinary();
-  else w->SetFileTypeToASCII();
+  if (binary_)
+    w->SetFileTypeToBinary();
+  else
+    w->SetFileTypeToASCII();
   w->SetHeader(("Granary dump " + id + ", step " + std::to_string(engine_.update->ntimestep)).c_str());
   w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, fields_.ncols(), arrays_, engine_.update->time(),
                                              engine_.update->ntimestep));
@@ -315,7 +344,8 @@ void DumpCustomVTK::write() {
   err = dumpio::first_error(engine_.world, err);
   if (err.empty() && (parallel || !pvd_.path.empty())) {
     if (engine_.rank == 0 && parallel) err = write_index(frame, listed);
-    if (engine_.rank == 0 && err.empty() && !pvd_.path.empty()) err = pvd_.add(listed, engine_.update->time());
+    if (engine_.rank == 0 && err.empty() && !pvd_.path.empty())
+      err = pvd_.add(listed, engine_.update->time());
     err = dumpio::first_error(engine_.world, err);
   }
   if (!err.empty()) throw RunError("dump " + id + ": " + err);

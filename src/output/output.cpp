@@ -49,7 +49,8 @@ void Dump::modify(const Args& args) {
 Output::Output(Engine& engine) : engine_(engine) {}
 
 Output::~Output() {
-  for (auto& d : dumps) d->finish();
+  for (auto& d : dumps)
+    d->finish();
 }
 
 void Output::add_dump(const Args& args) {
@@ -108,7 +109,8 @@ void Output::schedule(std::int64_t step) {
     const std::int64_t due = (step / every + 1) * every;
     if (n < 0 || due < n) n = due;
   };
-  for (const auto& d : dumps) consider(d->every);
+  for (const auto& d : dumps)
+    consider(d->every);
   consider(restart_every);
   next = n;
 }
@@ -144,13 +146,19 @@ void Output::write(std::int64_t step) {
   schedule(step);
 }
 
-void cmd_dump(Engine& e, const Args& a) { e.output->add_dump(a); }
+void cmd_dump(Engine& e, const Args& a) {
+  e.output->add_dump(a);
+}
 void cmd_undump(Engine& e, const Args& a) {
   require_args(a, 1, 1, "undump ID");
   e.output->delete_dump(a[0]);
 }
-void cmd_dump_modify(Engine& e, const Args& a) { e.output->modify_dump(a); }
-void cmd_restart(Engine& e, const Args& a) { e.output->restart_command(a); }
+void cmd_dump_modify(Engine& e, const Args& a) {
+  e.output->modify_dump(a);
+}
+void cmd_restart(Engine& e, const Args& a) {
+  e.output->restart_command(a);
+}
 GRANARY_COMMAND("dump", cmd_dump);
 GRANARY_COMMAND("undump", cmd_undump);
 GRANARY_COMMAND("dump_modify", cmd_dump_modify);

@@ -57,13 +57,15 @@ std::uint32_t crc32(const char* data, std::size_t n) {
     std::array<std::uint32_t, 256> t{};
     for (std::uint32_t i = 0; i < 256; ++i) {
       std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      for (int k = 0; k < 8; ++k)
+        c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
       t[i] = c;
     }
     return t;
   }();
   std::uint32_t c = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < n; ++i) c = table[(c ^ static_cast<unsigned char>(data[i])) & 0xFF] ^ (c >> 8);
+  for (std::size_t i = 0; i < n; ++i)
+    c = table[(c ^ static_cast<unsigned char>(data[i])) & 0xFF] ^ (c >> 8);
   return c ^ 0xFFFFFFFFu;
 }
 
@@ -123,7 +125,8 @@ std::vector<double> gather_doubles(Engine& e, const std::vector<double>& mine) {
   MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, e.world);
   std::vector<double> all;
   if (e.rank == 0) {
-    for (int r = 1; r < e.nprocs; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    for (int r = 1; r < e.nprocs; ++r)
+      displs[r] = displs[r - 1] + counts[r - 1];
     all.resize(static_cast<std::size_t>(displs.back()) + counts.back());
   }
   MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, e.world);
@@ -169,7 +172,8 @@ std::string global_section(Engine& e, long long natoms) {
   s << "atimestep " << u.atimestep << "\n";
   s << "dt " << fmt(u.dt) << "\n";
   s << "boundary";
-  for (int k = 0; k < 3; ++k) s << " " << d.boundary[k][0] << d.boundary[k][1];
+  for (int k = 0; k < 3; ++k)
+    s << " " << d.boundary[k][0] << d.boundary[k][1];
   s << "\n";
   s << "boxlo " << fmt(d.boxlo[0]) << " " << fmt(d.boxlo[1]) << " " << fmt(d.boxlo[2]) << "\n";
   s << "boxhi " << fmt(d.boxhi[0]) << " " << fmt(d.boxhi[1]) << " " << fmt(d.boxhi[2]) << "\n";
@@ -195,7 +199,8 @@ std::string particles_section(Engine& e) {
     mine.push_back(p.type[i]);
     mine.push_back(p.mask[i]);
     for (const auto* a : {&p.x, &p.v, &p.omega, &p.f, &p.torque})
-      for (int d = 0; d < 3; ++d) mine.push_back((*a)[i][d]);
+      for (int d = 0; d < 3; ++d)
+        mine.push_back((*a)[i][d]);
     mine.push_back(p.radius[i]);
     mine.push_back(p.density[i]);
     mine.push_back(p.rmass[i]);
@@ -324,7 +329,8 @@ std::string load(const std::string& file, FileSections& out) {
   std::memcpy(&nsections, bytes.data() + 24, 4);
   std::memcpy(&table_crc, bytes.data() + 28, 4);
   if (order != kByteOrder) {
-    return "restart file '" + file + "' was written on a machine with the other byte order; "
+    return "restart file '" + file +
+           "' was written on a machine with the other byte order; "
            "convert it there with write_dump or rewrite it on a machine like this one";
   }
   if (version != kVersion) {
@@ -351,7 +357,8 @@ std::string load(const std::string& file, FileSections& out) {
              std::to_string(offset + size) + " but the file has " + std::to_string(bytes.size());
     }
     if (crc32(bytes.data() + offset, size) != crc) {
-      return "restart file '" + file + "' is corrupted: the checksum of section '" + name + "' does not match";
+      return "restart file '" + file + "' is corrupted: the checksum of section '" + name +
+             "' does not match";
     }
     out.sections[name] = bytes.substr(offset, size);
   }
@@ -371,7 +378,8 @@ std::map<std::string, std::vector<std::string>> parse_global(const std::string& 
     std::string key, w;
     ls >> key;
     std::vector<std::string> words;
-    while (ls >> w) words.push_back(w);
+    while (ls >> w)
+      words.push_back(w);
     if (key == "group") key += "#" + std::to_string(group_line++);
     kv[key] = words;
   }
@@ -387,7 +395,8 @@ std::string expand_step(const std::string& file, std::int64_t step) {
 }
 
 void write_restart(Engine& e, const std::string& file) {
-  if (!e.domain->box_exist) throw InputError("write_restart needs a box and particles: create_box or read_restart first");
+  if (!e.domain->box_exist)
+    throw InputError("write_restart needs a box and particles: create_box or read_restart first");
   std::vector<std::pair<std::string, std::string>> sections;
   const long long natoms = e.update->count_global();
   sections.emplace_back("global", e.rank == 0 ? global_section(e, natoms) : "");
@@ -449,7 +458,8 @@ void read_restart(Engine& e, const std::string& file) {
   std::uint32_t n = static_cast<std::uint32_t>(fs.sections.size());
   MPI_Bcast(&n, 1, MPI_UINT32_T, 0, e.world);
   std::vector<std::string> names;
-  for (const auto& kv : fs.sections) names.push_back(kv.first);
+  for (const auto& kv : fs.sections)
+    names.push_back(kv.first);
   names.resize(n);
   for (std::uint32_t k = 0; k < n; ++k) {
     bcast_string(e, names[k]);
@@ -568,7 +578,8 @@ void read_restart(Engine& e, const std::string& file) {
 
   Particles& p = *e.particles;
   std::vector<int> field(nextra);
-  for (std::uint32_t k = 0; k < nextra; ++k) field[k] = p.add_field(fnames[k], fncomp[k], false, true);
+  for (std::uint32_t k = 0; k < nextra; ++k)
+    field[k] = p.add_field(fnames[k], fncomp[k], false, true);
   auto& stored = e.update->restart_forces;
   stored.clear();
   for (std::uint64_t r = 0; r < count; ++r) {
@@ -598,7 +609,8 @@ void read_restart(Engine& e, const std::string& file) {
   e.modify->restart_states = std::move(states);
   e.modify->restart_materials = std::move(materials);
   char buf[256];
-  std::snprintf(buf, sizeof buf, "Read restart file %s: %lld particles at step %lld, time %g s (written on %s rank(s))\n",
+  std::snprintf(buf, sizeof buf,
+                "Read restart file %s: %lld particles at step %lld, time %g s (written on %s rank(s))\n",
                 file.c_str(), static_cast<long long>(p.natoms), static_cast<long long>(step), u.time(),
                 g.count("written_on_ranks") ? g["written_on_ranks"][0].c_str() : "?");
   e.logger->print(buf);

@@ -17,7 +17,9 @@
 
 namespace granary {
 
-Thermo::Thermo(Engine& engine) : engine_(engine) { wall_start = MPI_Wtime(); }
+Thermo::Thermo(Engine& engine) : engine_(engine) {
+  wall_start = MPI_Wtime();
+}
 
 void Thermo::style_command(const Args& args) {
   if (args.empty()) throw InputError("usage: thermo_style one|custom keyword ...");
@@ -32,10 +34,11 @@ void Thermo::style_command(const Args& args) {
   for (const auto& k : keywords) {
     if (k.rfind("c_", 0) == 0 || k.rfind("f_", 0) == 0 || k.rfind("v_", 0) == 0) continue;
     static const std::vector<std::string> known = {
-        "step", "elapsed", "elaplong", "dt", "time", "cpu", "atoms", "ke", "vol",
-        "lx", "ly", "lz", "xlo", "xhi", "ylo", "yhi", "zlo", "zhi", "spcpu", "cpuremain", "part"};
+        "step", "elapsed", "elaplong", "dt",  "time", "cpu", "atoms", "ke",    "vol",       "lx",  "ly",
+        "lz",   "xlo",     "xhi",      "ylo", "yhi",  "zlo", "zhi",   "spcpu", "cpuremain", "part"};
     bool ok = false;
-    for (const auto& n : known) ok |= n == k;
+    for (const auto& n : known)
+      ok |= n == k;
     if (!ok) {
       const std::string hint = did_you_mean(k, known);
       throw InputError("unknown thermo keyword '" + k + "'" + (hint.empty() ? "" : "; " + hint));
@@ -50,10 +53,14 @@ void Thermo::modify_command(const Args& args) {
     if (k + 1 >= args.size()) throw InputError("thermo_modify " + w + " needs a value");
     const std::string& v = args[++k];
     if (w == "lost") {
-      if (v == "error") lost = Lost::Error;
-      else if (v == "warn") lost = Lost::Warn;
-      else if (v == "ignore") lost = Lost::Ignore;
-      else throw InputError("thermo_modify lost takes error, warn or ignore, got '" + v + "'");
+      if (v == "error")
+        lost = Lost::Error;
+      else if (v == "warn")
+        lost = Lost::Warn;
+      else if (v == "ignore")
+        lost = Lost::Ignore;
+      else
+        throw InputError("thermo_modify lost takes error, warn or ignore, got '" + v + "'");
     } else if (w == "norm") {
       norm = parse_bool(v, "thermo_modify norm");
     } else if (w == "flush") {
@@ -124,7 +131,8 @@ double Thermo::keyword_value(const std::string& key, bool& found) {
   if (key == "ke") {
     const Particles& p = *e.particles;
     double local = 0.0, total = 0.0;
-    for (int i = 0; i < p.nlocal; ++i) local += 0.5 * p.rmass[i] * p.v[i].squaredNorm();
+    for (int i = 0; i < p.nlocal; ++i)
+      local += 0.5 * p.rmass[i] * p.v[i].squaredNorm();
     MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, e.world);
     if (norm) {
       const double n = static_cast<double>(u.count_global());
@@ -180,8 +188,10 @@ void Thermo::line() {
       integer = k == "step" || k == "atoms" || k == "elapsed" || k == "elaplong";
     }
     char buf[64];
-    if (integer) std::snprintf(buf, sizeof buf, format_int.c_str(), static_cast<long long>(value));
-    else std::snprintf(buf, sizeof buf, format_float.c_str(), value);
+    if (integer)
+      std::snprintf(buf, sizeof buf, format_int.c_str(), static_cast<long long>(value));
+    else
+      std::snprintf(buf, sizeof buf, format_float.c_str(), value);
     out += (out.empty() ? "" : " ");
     out += buf;
   }
@@ -220,8 +230,12 @@ void cmd_thermo(Engine& e, const Args& a) {
   if (n < 0) throw InputError("thermo needs N >= 0");
   e.thermo->every = static_cast<int>(n);
 }
-void cmd_thermo_style(Engine& e, const Args& a) { e.thermo->style_command(a); }
-void cmd_thermo_modify(Engine& e, const Args& a) { e.thermo->modify_command(a); }
+void cmd_thermo_style(Engine& e, const Args& a) {
+  e.thermo->style_command(a);
+}
+void cmd_thermo_modify(Engine& e, const Args& a) {
+  e.thermo->modify_command(a);
+}
 GRANARY_COMMAND("thermo", cmd_thermo);
 GRANARY_COMMAND("thermo_style", cmd_thermo_style);
 GRANARY_COMMAND("thermo_modify", cmd_thermo_modify);

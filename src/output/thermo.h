@@ -19,7 +19,7 @@ class Thermo {
 
   int every = 0;  // 0: first and last step only
   std::vector<std::string> keywords{"step", "atoms", "ke"};
-  bool norm = false;   // LIGGGHTS default for granular runs (see doc)
+  bool norm = false;  // LIGGGHTS default for granular runs (see doc)
   bool flush = false;
   Lost lost = Lost::Error;
   std::string format_float = "%14.8g";

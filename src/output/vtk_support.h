@@ -32,11 +32,20 @@ inline std::string xml_escape(const std::string& text) {
   std::string out;
   for (char ch : text) {
     switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += ch;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += ch;
     }
   }
   return out;
@@ -90,10 +99,14 @@ void configure_writer(Writer* w, bool binary, const std::string& compressor) {
   }
   w->SetDataModeToAppended();
   w->SetEncodeAppendedData(false);
-  if (compressor == "none") w->SetCompressorTypeToNone();
-  else if (compressor == "lz4") w->SetCompressorTypeToLZ4();
-  else if (compressor == "lzma") w->SetCompressorTypeToLZMA();
-  else w->SetCompressorTypeToZLib();
+  if (compressor == "none")
+    w->SetCompressorTypeToNone();
+  else if (compressor == "lz4")
+    w->SetCompressorTypeToLZ4();
+  else if (compressor == "lzma")
+    w->SetCompressorTypeToLZMA();
+  else
+    w->SetCompressorTypeToZLib();
 }
 
 /// A ParaView collection file (one rank writes it).
@@ -112,16 +125,18 @@ class PvdCollection {
     namespace fs = std::filesystem;
     // paths in a .pvd are relative to the .pvd's own directory
     const fs::path dir = fs::absolute(fs::path(path)).lexically_normal().parent_path();
-    const std::string rel = fs::absolute(fs::path(frame)).lexically_normal().lexically_relative(dir).generic_string();
-    for (auto it = entries_.begin(); it != entries_.end();) it = it->file == rel ? entries_.erase(it) : it + 1;
+    const std::string rel =
+        fs::absolute(fs::path(frame)).lexically_normal().lexically_relative(dir).generic_string();
+    for (auto it = entries_.begin(); it != entries_.end();)
+      it = it->file == rel ? entries_.erase(it) : it + 1;
     entries_.push_back({time, rel});
 
     std::string text = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"";
     text += byte_order();
     text += "\">\n  <Collection>\n";
     for (const auto& e : entries_) {
-      text += "    <DataSet timestep=\"" + exact_text(e.time) + "\" group=\"\" part=\"0\" file=\"" + xml_escape(e.file) +
-              "\"/>\n";
+      text += "    <DataSet timestep=\"" + exact_text(e.time) + "\" group=\"\" part=\"0\" file=\"" +
+              xml_escape(e.file) + "\"/>\n";
     }
     text += "  </Collection>\n</VTKFile>\n";
 

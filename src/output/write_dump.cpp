@@ -16,7 +16,8 @@ void cmd_write_dump(Engine& e, const Args& a) {
   if (a.size() < 3) {
     throw InputError("usage: write_dump group-ID style file fields... [modify keyword value ...]");
   }
-  if (!e.domain->box_exist) throw InputError("write_dump: the box does not exist yet (create_box or read_restart first)");
+  if (!e.domain->box_exist)
+    throw InputError("write_dump: the box does not exist yet (create_box or read_restart first)");
   const auto& registry = DumpRegistry::instance();
   const DumpFactory* factory = registry.find(a[1]);
   if (!factory) {
@@ -26,12 +27,14 @@ void cmd_write_dump(Engine& e, const Args& a) {
   // the same arguments as `dump write_dump GROUP STYLE 1 FILE fields...`
   Args dump_args{"write_dump", a[0], a[1], "1", a[2]};
   std::size_t k = 3;
-  for (; k < a.size() && a[k] != "modify"; ++k) dump_args.push_back(a[k]);
+  for (; k < a.size() && a[k] != "modify"; ++k)
+    dump_args.push_back(a[k]);
   std::unique_ptr<Dump> dump = (*factory)(e, dump_args);
 
   Args modify_args{"write_dump"};
   if (a[1] == "custom/vtk") modify_args.insert(modify_args.end(), {"pvd", "no"});  // one file, no collection
-  for (++k; k < a.size(); ++k) modify_args.push_back(a[k]);
+  for (++k; k < a.size(); ++k)
+    modify_args.push_back(a[k]);
   if (modify_args.size() > 1) dump->modify(modify_args);
 
   dump->init();

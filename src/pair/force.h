@@ -19,7 +19,7 @@ class Force {
   void create_pair(const Args& args);
   std::unique_ptr<Pair> pair;
   std::string pair_style = "none";
-  Args pair_words;  // the words after the style name
+  Args pair_words;           // the words after the style name
   bool newton_pair = false;  // `newton on|off`; see doc/architecture.md
   /// Contact history read from a restart file (ContactHistory::pack_all
   /// layout), taken by the pair style when it first initialises.

@@ -58,16 +58,16 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
       for (int b = a + 1; b <= n; ++b)
         if (prop->per_pair(a, b) != prop->per_pair(b, a)) {
           throw InputError(user + ": " + prop->name + " must be symmetric, but the value for types " +
-                           std::to_string(a) + "," + std::to_string(b) + " differs from " + std::to_string(b) +
-                           "," + std::to_string(a) + " (fix " + prop->id + ")");
+                           std::to_string(a) + "," + std::to_string(b) + " differs from " +
+                           std::to_string(b) + "," + std::to_string(a) + " (fix " + prop->id + ")");
         }
   }
   for (int a = 1; a <= n; ++a) {
     for (int b = 1; b <= n; ++b) {
       try {
-        table_[a * stride_ + b] = contact::mix_materials(youngs_[a], poisson_[a], youngs_[b], poisson_[b],
-                                                         e->per_pair(a, b), mu ? mu->per_pair(a, b) : 0.0,
-                                                         mur ? mur->per_pair(a, b) : 0.0, vchar);
+        table_[a * stride_ + b] =
+            contact::mix_materials(youngs_[a], poisson_[a], youngs_[b], poisson_[b], e->per_pair(a, b),
+                                   mu ? mu->per_pair(a, b) : 0.0, mur ? mur->per_pair(a, b) : 0.0, vchar);
       } catch (const std::invalid_argument& ex) {
         throw InputError(user + ": material of types " + std::to_string(a) + " and " + std::to_string(b) +
                          ": " + ex.what());

@@ -37,7 +37,9 @@ contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
         words.push_back(args[k + 1]);
       }
     }
-    if (args.size() % 2) throw InputError("pair_style hertz/rolling takes keyword/value pairs; '" + args.back() + "' has no value");
+    if (args.size() % 2)
+      throw InputError("pair_style hertz/rolling takes keyword/value pairs; '" + args.back() +
+                       "' has no value");
   } else {
     words = args;
   }
@@ -69,8 +71,9 @@ void PairGranular::coeff(const Args& args) {
   for (int k = 0; k < 2; ++k) {
     parse_type_range(args[k], n, lo, hi);
     if (lo != 1 || hi != n) {
-      throw InputError("granular pair styles take their parameters from fix property/global for all "
-                       "types at once; use pair_coeff * *");
+      throw InputError(
+          "granular pair styles take their parameters from fix property/global for all "
+          "types at once; use pair_coeff * *");
     }
   }
   coeff_set_ = true;
@@ -167,7 +170,8 @@ void PairGranular::loop() {
         if constexpr (nh > 0) {
           if (touch[k]) {
             touch[k] = 0;
-            for (int q = 0; q < nh; ++q) h[q] = 0.0;
+            for (int q = 0; q < nh; ++q)
+              h[q] = 0.0;
           }
         }
         continue;

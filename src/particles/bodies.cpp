@@ -16,7 +16,8 @@ void put(std::string& out, const T& v) {
   out.append(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 void put_vec(std::string& out, const Vec3& v) {
-  for (int d = 0; d < 3; ++d) put<double>(out, v[d]);
+  for (int d = 0; d < 3; ++d)
+    put<double>(out, v[d]);
 }
 
 class Cursor {
@@ -32,7 +33,8 @@ class Cursor {
   }
   Vec3 vec() {
     Vec3 v;
-    for (int d = 0; d < 3; ++d) v[d] = get<double>();
+    for (int d = 0; d < 3; ++d)
+      v[d] = get<double>();
     return v;
   }
   bool done() const { return pos_ == s_.size(); }
@@ -74,7 +76,8 @@ int Bodies::add(tagint id, tagint first, int atom_type, double m, double vol, do
   // shares could be adjusted), leaving the sphere positions unchanged.
   const std::vector<double> shares = mass_shares(body_offsets, body_radii);
   Vec3 shift = Vec3::Zero();
-  for (int k = 0; k < ns; ++k) shift += shares[k] * body_offsets[k];
+  for (int k = 0; k < ns; ++k)
+    shift += shares[k] * body_offsets[k];
   tag.insert(tag.begin() + b, id);
   first_id.insert(first_id.begin() + b, first);
   type.insert(type.begin() + b, atom_type);
@@ -92,12 +95,15 @@ int Bodies::add(tagint id, tagint first, int atom_type, double m, double vol, do
   fcm.insert(fcm.begin() + b, Vec3::Zero());
   torque.insert(torque.begin() + b, Vec3::Zero());
   offsets.insert(offsets.begin() + at, body_offsets.begin(), body_offsets.end());
-  for (int k = 0; k < ns; ++k) offsets[at + k] -= shift;
+  for (int k = 0; k < ns; ++k)
+    offsets[at + k] -= shift;
   radii.insert(radii.begin() + at, body_radii.begin(), body_radii.end());
   mass_share.insert(mass_share.begin() + at, shares.begin(), shares.end());
   sphere_start.insert(sphere_start.begin() + b + 1, at + ns);
-  for (std::size_t k = b + 2; k < sphere_start.size(); ++k) sphere_start[k] += ns;
-  for (int k = 0; k < ns; ++k) bounding_radius[b] = std::max(bounding_radius[b], offsets[at + k].norm() + radii[at + k]);
+  for (std::size_t k = b + 2; k < sphere_start.size(); ++k)
+    sphere_start[k] += ns;
+  for (int k = 0; k < ns; ++k)
+    bounding_radius[b] = std::max(bounding_radius[b], offsets[at + k].norm() + radii[at + k]);
   angmom[b] = angmom_from_omega(b, w);
   omega[b] = omega_from_angmom(b);
   if (b == size() - 1 && dense_ && id < static_cast<tagint>(8 * size() + 1024)) {
@@ -113,7 +119,8 @@ void Bodies::remove(const std::vector<char>& doomed) {
   const int n = size();
   std::vector<char> sphere_doomed(offsets.size(), 0);
   for (int b = 0; b < n; ++b)
-    if (doomed[b]) std::fill(sphere_doomed.begin() + sphere_start[b], sphere_doomed.begin() + sphere_start[b + 1], 1);
+    if (doomed[b])
+      std::fill(sphere_doomed.begin() + sphere_start[b], sphere_doomed.begin() + sphere_start[b + 1], 1);
   erase_marked(offsets, sphere_doomed);
   erase_marked(radii, sphere_doomed);
   erase_marked(mass_share, sphere_doomed);
@@ -134,7 +141,8 @@ void Bodies::remove(const std::vector<char>& doomed) {
   erase_marked(fcm, doomed);
   erase_marked(torque, doomed);
   sphere_start.assign(1, 0);
-  for (int ns : nspheres) sphere_start.push_back(sphere_start.back() + ns);
+  for (int ns : nspheres)
+    sphere_start.push_back(sphere_start.back() + ns);
   rebuild_index();
 }
 
@@ -149,7 +157,8 @@ void Bodies::rebuild_index() {
   index_.clear();
   if (!dense_) return;
   index_.assign(static_cast<std::size_t>(top + 1), -1);
-  for (int b = 0; b < size(); ++b) index_[tag[b]] = b;
+  for (int b = 0; b < size(); ++b)
+    index_[tag[b]] = b;
 }
 
 int Bodies::find_sorted(tagint id) const {
@@ -161,8 +170,10 @@ std::vector<double> Bodies::mass_shares(const std::vector<Vec3>& d, const std::v
   const std::size_t n = r.size();
   std::vector<double> w0(n), w(n);
   double sum = 0.0;
-  for (std::size_t k = 0; k < n; ++k) sum += w0[k] = r[k] * r[k] * r[k];
-  for (double& x : w0) x /= sum;
+  for (std::size_t k = 0; k < n; ++k)
+    sum += w0[k] = r[k] * r[k] * r[k];
+  for (double& x : w0)
+    x /= sum;
   // Smallest relative change (sum of (w - w0)^2 / w0) with sum w = 1 and
   // sum w d = 0: w_k = w0_k (1 + a + b.d_k), a = -b.m0, (M2 - m0 m0^T) b = -m0,
   // where m0 = sum w0 d and M2 = sum w0 d d^T.
@@ -191,7 +202,8 @@ std::vector<double> Bodies::mass_shares(const std::vector<Vec3>& d, const std::v
 Vec3 Bodies::omega_from_angmom(int b) const {
   const Eigen::Matrix3d r = rotation(b);
   Vec3 lb = r.transpose() * angmom[b];
-  for (int d = 0; d < 3; ++d) lb[d] = inertia[b][d] > 0.0 ? lb[d] / inertia[b][d] : 0.0;
+  for (int d = 0; d < 3; ++d)
+    lb[d] = inertia[b][d] > 0.0 ? lb[d] / inertia[b][d] : 0.0;
   return r * lb;
 }
 
@@ -254,7 +266,8 @@ void Bodies::unpack(const std::string& in) {
     }
     int b;
     try {
-      b = add(id, first, t, m, vol, rho, moments, off, rad, x, Eigen::Quaterniond(qw, qx, qy, qz), v, Vec3::Zero());
+      b = add(id, first, t, m, vol, rho, moments, off, rad, x, Eigen::Quaterniond(qw, qx, qy, qz), v,
+              Vec3::Zero());
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(std::string("multisphere body data: ") + e.what());
     }

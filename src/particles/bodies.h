@@ -22,27 +22,27 @@ class Bodies {
   int size() const { return static_cast<int>(tag.size()); }
 
   // ---- per-body arrays (index b in [0, size()))
-  std::vector<tagint> tag;         // body id (the `body` field of its sub-spheres)
-  std::vector<tagint> first_id;    // particle id of sub-sphere 0 when created
-  std::vector<int> type;           // atom type of the sub-spheres
-  std::vector<int> nspheres;       // number of sub-spheres
-  std::vector<int> sphere_start;   // size()+1 offsets into `offsets` / `radii`
-  std::vector<double> mass;        // [kg]
-  std::vector<double> volume;      // solid volume [m^3]
-  std::vector<double> density;     // [kg/m^3]
-  std::vector<double> bounding_radius;  // [m]
-  std::vector<Vec3> inertia;       // principal moments [kg m^2]
-  std::vector<Vec3> xcm;           // centre of mass, unwrapped across periodic boundaries [m]
-  std::vector<Vec3> vcm;           // centre-of-mass velocity [m/s]
-  std::vector<Vec3> angmom;        // angular momentum about the centre, space frame [kg m^2/s]
-  std::vector<Vec3> omega;         // angular velocity, space frame (follows angmom and quat) [1/s]
+  std::vector<tagint> tag;               // body id (the `body` field of its sub-spheres)
+  std::vector<tagint> first_id;          // particle id of sub-sphere 0 when created
+  std::vector<int> type;                 // atom type of the sub-spheres
+  std::vector<int> nspheres;             // number of sub-spheres
+  std::vector<int> sphere_start;         // size()+1 offsets into `offsets` / `radii`
+  std::vector<double> mass;              // [kg]
+  std::vector<double> volume;            // solid volume [m^3]
+  std::vector<double> density;           // [kg/m^3]
+  std::vector<double> bounding_radius;   // [m]
+  std::vector<Vec3> inertia;             // principal moments [kg m^2]
+  std::vector<Vec3> xcm;                 // centre of mass, unwrapped across periodic boundaries [m]
+  std::vector<Vec3> vcm;                 // centre-of-mass velocity [m/s]
+  std::vector<Vec3> angmom;              // angular momentum about the centre, space frame [kg m^2/s]
+  std::vector<Vec3> omega;               // angular velocity, space frame (follows angmom and quat) [1/s]
   std::vector<Eigen::Quaterniond> quat;  // body frame -> space frame
-  std::vector<Vec3> fcm;           // total force of the last force evaluation [N]
-  std::vector<Vec3> torque;        // total torque about the centre, space frame [N m]
+  std::vector<Vec3> fcm;                 // total force of the last force evaluation [N]
+  std::vector<Vec3> torque;              // total torque about the centre, space frame [N m]
 
   // ---- per-sub-sphere arrays (CSR: sphere_start[b] .. sphere_start[b+1])
-  std::vector<Vec3> offsets;       // sub-sphere centres in the body frame [m]
-  std::vector<double> radii;       // [m]
+  std::vector<Vec3> offsets;  // sub-sphere centres in the body frame [m]
+  std::vector<double> radii;  // [m]
   /// Share of the body mass each sub-sphere carries (its rmass / body mass):
   /// about r^3 / sum r^3, adjusted so that the shares sum to 1 and their first
   /// moment about the centre of mass vanishes. What the adjustment cannot remove
@@ -85,7 +85,8 @@ class Bodies {
  private:
   void rebuild_index();
   /// Mass shares of one body's sub-spheres (see mass_share).
-  static std::vector<double> mass_shares(const std::vector<Vec3>& body_offsets, const std::vector<double>& body_radii);
+  static std::vector<double> mass_shares(const std::vector<Vec3>& body_offsets,
+                                         const std::vector<double>& body_radii);
   int find_sorted(tagint id) const;
   bool dense_ = true;       // ids are compact enough for a direct table
   std::vector<int> index_;  // body id -> index (dense_)

@@ -15,8 +15,8 @@ constexpr int kImageMax = 1 << (kImageBits - 1);
 Particles::Particles() = default;
 
 int Particles::image_pack(int ix, int iy, int iz) {
-  return ((iz + kImageMax) & kImageMask) << (2 * kImageBits) |
-         ((iy + kImageMax) & kImageMask) << kImageBits | ((ix + kImageMax) & kImageMask);
+  return ((iz + kImageMax) & kImageMask) << (2 * kImageBits) | ((iy + kImageMax) & kImageMask) << kImageBits |
+         ((ix + kImageMax) & kImageMask);
 }
 
 void Particles::image_unpack(int image, int& ix, int& iy, int& iz) {
@@ -25,7 +25,9 @@ void Particles::image_unpack(int image, int& ix, int& iy, int& iz) {
   iz = ((image >> (2 * kImageBits)) & kImageMask) - kImageMax;
 }
 
-double Particles::sphere_mass(double r, double rho) { return 4.0 / 3.0 * M_PI * r * r * r * rho; }
+double Particles::sphere_mass(double r, double rho) {
+  return 4.0 / 3.0 * M_PI * r * r * r * rho;
+}
 
 void Particles::resize(int n) {
   id.resize(n);
@@ -41,7 +43,8 @@ void Particles::resize(int n) {
   rmass.resize(n);
   body.resize(n);
   image.resize(n);
-  for (auto& e : extras) e.data.resize(static_cast<std::size_t>(n) * e.ncomp);
+  for (auto& e : extras)
+    e.data.resize(static_cast<std::size_t>(n) * e.ncomp);
 }
 
 int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, double density_) {
@@ -60,7 +63,8 @@ int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, 
   rmass[i] = sphere_mass(radius_, density_);
   body[i] = -1;
   image[i] = image_pack(0, 0, 0);
-  for (auto& e : extras) std::fill_n(e.data.begin() + static_cast<std::size_t>(i) * e.ncomp, e.ncomp, 0.0);
+  for (auto& e : extras)
+    std::fill_n(e.data.begin() + static_cast<std::size_t>(i) * e.ncomp, e.ncomp, 0.0);
   ++nlocal;
   return i;
 }
@@ -101,7 +105,8 @@ namespace {
 template <class T>
 void reorder(std::vector<T>& a, const std::vector<int>& order, std::vector<T>& tmp) {
   tmp.resize(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = a[order[k]];
+  for (std::size_t k = 0; k < order.size(); ++k)
+    tmp[k] = a[order[k]];
   std::copy(tmp.begin(), tmp.end(), a.begin());
 }
 }  // namespace
@@ -119,7 +124,8 @@ void Particles::permute(const std::vector<int>& order) {
   reorder(radius, order, td);
   reorder(density, order, td);
   reorder(rmass, order, td);
-  for (auto* a : {&x, &v, &f, &omega, &torque}) reorder(*a, order, tv);
+  for (auto* a : {&x, &v, &f, &omega, &torque})
+    reorder(*a, order, tv);
   for (auto& e : extras) {
     td.resize(order.size() * e.ncomp);
     for (std::size_t k = 0; k < order.size(); ++k)
@@ -140,9 +146,12 @@ void Particles::pack_exchange(int i, std::vector<double>& buf) const {
   buf.push_back(static_cast<double>(id[i]));
   buf.push_back(type[i]);
   buf.push_back(mask[i]);
-  for (int d = 0; d < 3; ++d) buf.push_back(x[i][d]);
-  for (int d = 0; d < 3; ++d) buf.push_back(v[i][d]);
-  for (int d = 0; d < 3; ++d) buf.push_back(omega[i][d]);
+  for (int d = 0; d < 3; ++d)
+    buf.push_back(x[i][d]);
+  for (int d = 0; d < 3; ++d)
+    buf.push_back(v[i][d]);
+  for (int d = 0; d < 3; ++d)
+    buf.push_back(omega[i][d]);
   buf.push_back(radius[i]);
   buf.push_back(density[i]);
   buf.push_back(rmass[i]);
@@ -166,9 +175,12 @@ int Particles::unpack_exchange(const double* buf) {
   id[i] = static_cast<tagint>(buf[m++]);
   type[i] = static_cast<int>(buf[m++]);
   mask[i] = static_cast<int>(buf[m++]);
-  for (int d = 0; d < 3; ++d) x[i][d] = buf[m++];
-  for (int d = 0; d < 3; ++d) v[i][d] = buf[m++];
-  for (int d = 0; d < 3; ++d) omega[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d)
+    x[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d)
+    v[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d)
+    omega[i][d] = buf[m++];
   radius[i] = buf[m++];
   density[i] = buf[m++];
   rmass[i] = buf[m++];
@@ -201,9 +213,12 @@ void Particles::pack_border(int i, const Vec3& shift, std::vector<double>& buf) 
   buf.push_back(static_cast<double>(id[i]));
   buf.push_back(type[i]);
   buf.push_back(mask[i]);
-  for (int d = 0; d < 3; ++d) buf.push_back(x[i][d] + shift[d]);
-  for (int d = 0; d < 3; ++d) buf.push_back(v[i][d]);
-  for (int d = 0; d < 3; ++d) buf.push_back(omega[i][d]);
+  for (int d = 0; d < 3; ++d)
+    buf.push_back(x[i][d] + shift[d]);
+  for (int d = 0; d < 3; ++d)
+    buf.push_back(v[i][d]);
+  for (int d = 0; d < 3; ++d)
+    buf.push_back(omega[i][d]);
   buf.push_back(radius[i]);
   buf.push_back(density[i]);
   buf.push_back(rmass[i]);
@@ -222,9 +237,12 @@ int Particles::unpack_border(const double* buf) {
   id[i] = static_cast<tagint>(buf[m++]);
   type[i] = static_cast<int>(buf[m++]);
   mask[i] = static_cast<int>(buf[m++]);
-  for (int d = 0; d < 3; ++d) x[i][d] = buf[m++];
-  for (int d = 0; d < 3; ++d) v[i][d] = buf[m++];
-  for (int d = 0; d < 3; ++d) omega[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d)
+    x[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d)
+    v[i][d] = buf[m++];
+  for (int d = 0; d < 3; ++d)
+    omega[i][d] = buf[m++];
   radius[i] = buf[m++];
   density[i] = buf[m++];
   rmass[i] = buf[m++];
@@ -248,14 +266,18 @@ int Particles::unpack_border(const double* buf) {
 void Particles::map_build(tagint max_id) {
   map_.assign(static_cast<std::size_t>(max_id + 1), -1);
   // ghosts first, so owned copies overwrite them
-  for (int i = size() - 1; i >= 0; --i) map_[id[i]] = i;
+  for (int i = size() - 1; i >= 0; --i)
+    map_[id[i]] = i;
 }
 
-void Particles::map_clear() { map_.clear(); }
+void Particles::map_clear() {
+  map_.clear();
+}
 
 tagint Particles::max_local_id() const {
   tagint m = 0;
-  for (int i = 0; i < nlocal; ++i) m = std::max(m, id[i]);
+  for (int i = 0; i < nlocal; ++i)
+    m = std::max(m, id[i]);
   return m;
 }
 

@@ -22,9 +22,9 @@ using tagint = std::int64_t;
 struct ExtraField {
   std::string name;
   int ncomp = 1;
-  bool ghost = false;    // copied to ghosts when they are built (borders)
-  bool exchange = true;  // migrates with the particle
-  bool history = false;  // contact history: not advanced by the force pass at run setup
+  bool ghost = false;        // copied to ghosts when they are built (borders)
+  bool exchange = true;      // migrates with the particle
+  bool history = false;      // contact history: not advanced by the force pass at run setup
   std::vector<double> data;  // ncomp values per particle
 };
 
@@ -44,8 +44,8 @@ class Particles {
   std::vector<int> mask;  // group bits; bit 0 = group "all"
   std::vector<Vec3> x, v, f, omega, torque;
   std::vector<double> radius, density, rmass;
-  std::vector<tagint> body;   // clump id, -1 for a free sphere
-  std::vector<int> image;     // periodic image flags packed 10 bits per dimension
+  std::vector<tagint> body;  // clump id, -1 for a free sphere
+  std::vector<int> image;    // periodic image flags packed 10 bits per dimension
 
   int size() const { return nlocal + nghost; }
   /// Resize every field to hold n particles (owned + ghost).
@@ -74,9 +74,7 @@ class Particles {
 
   // id -> local index map (owned copies win over ghosts); -1 when absent.
   void map_build(tagint max_id);
-  int map(tagint tag) const {
-    return (tag >= 0 && tag < static_cast<tagint>(map_.size())) ? map_[tag] : -1;
-  }
+  int map(tagint tag) const { return (tag >= 0 && tag < static_cast<tagint>(map_.size())) ? map_[tag] : -1; }
   void map_clear();
   /// Largest id anywhere (collective over the engine's ranks is done by the caller).
   tagint max_local_id() const;

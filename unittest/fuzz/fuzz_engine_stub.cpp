@@ -65,18 +65,26 @@ double Engine::thermo_keyword(const std::string& name, bool& found) {
   return 0.0;
 }
 
-double Engine::compute_value(const std::string& id, int) { throw InputError("no compute " + id); }
-double Engine::fix_value(const std::string& id, int) { throw InputError("no fix " + id); }
+double Engine::compute_value(const std::string& id, int) {
+  throw InputError("no compute " + id);
+}
+double Engine::fix_value(const std::string& id, int) {
+  throw InputError("no fix " + id);
+}
 double Engine::group_function(const std::string& name, const Args& args) {
   if (args.empty()) throw InputError(name + "() needs a group");
   return static_cast<double>(args.size());
 }
 
 bool Engine::atom_vector(const std::string& name, std::vector<double>& out) {
-  if (name == "id") out = {1, 2, 3};
-  else if (name == "x") out = {0.5, -1.0, 2.0};
-  else if (name == "mass") out = {1.0, 2.0, 0.0};
-  else return false;
+  if (name == "id")
+    out = {1, 2, 3};
+  else if (name == "x")
+    out = {0.5, -1.0, 2.0};
+  else if (name == "mass")
+    out = {1.0, 2.0, 0.0};
+  else
+    return false;
   return true;
 }
 

@@ -33,9 +33,12 @@ struct Atoms : granary::Resolver {
     return true;
   }
   bool atom_vector(const std::string& name, std::vector<double>& out) override {
-    if (name == "id") out = {1, 2};
-    else if (name == "x") out = {0.0, -2.0};
-    else return false;
+    if (name == "id")
+      out = {1, 2};
+    else if (name == "x")
+      out = {0.0, -2.0};
+    else
+      return false;
     return true;
   }
   std::size_t nlocal() override { return 2; }
@@ -61,7 +64,9 @@ void expect_input_errors(F f) {
 
 // Memory that the MPI library keeps until the process ends is not ours: leaks
 // are checked after each input (by libFuzzer), not at exit.
-extern "C" const char* __asan_default_options() { return "leak_check_at_exit=0"; }
+extern "C" const char* __asan_default_options() {
+  return "leak_check_at_exit=0";
+}
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
   MPI_Init(argc, argv);
