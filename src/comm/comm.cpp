@@ -227,7 +227,7 @@ void Comm::exchange(ContactHistory* history) {
         std::size_t m = 0;
         while (m < recv.size()) {
           m += p.unpack_exchange(&recv[m]);
-          if (history) m += history->unpack_particle(&recv[m]);
+          if (history) m += history->unpack_particle(p.id[p.nlocal - 1], &recv[m]);
         }
       }
       MPI_Allreduce(&moved_local, &moved, 1, MPI_INT, MPI_MAX, engine_.world);

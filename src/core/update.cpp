@@ -296,8 +296,11 @@ void Update::report() {
                   run_wall_time > 0 ? 100.0 * tmax / run_wall_time : 0.0);
     e.logger->print(line);
   }
-  std::snprintf(line, sizeof line, "%-7s | %9.4g | %5.1f\n\n", "Other", std::max(0.0, other),
+  std::snprintf(line, sizeof line, "%-7s | %9.4g | %5.1f\n", "Other", std::max(0.0, other),
                 run_wall_time > 0 ? 100.0 * std::max(0.0, other) / run_wall_time : 0.0);
+  e.logger->print(line);
+  std::snprintf(line, sizeof line, "Neighbor list builds = %lld\n\n",
+                static_cast<long long>(e.neighbor->nbuilds));
   e.logger->print(line);
   e.logger->flush();
 }

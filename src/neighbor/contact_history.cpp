@@ -1,6 +1,7 @@
 #include "neighbor/contact_history.h"
 
 #include <algorithm>
+#include <map>
 
 #include "neighbor/neighbor.h"
 
@@ -12,95 +13,139 @@ void ContactHistory::configure(int nvalues, const std::vector<double>& swap_sign
   swap_signs_.resize(nvalues, -1.0);
 }
 
+void ContactHistory::clear_store() {
+  rows_.clear();
+  partner_.clear();
+  vals_.clear();
+  row_of_.clear();
+}
+
+void ContactHistory::add_row(tagint tag, int count, const tagint* partners, const double* vals) {
+  const int start = static_cast<int>(partner_.size());
+  partner_.insert(partner_.end(), partners, partners + count);
+  vals_.insert(vals_.end(), vals, vals + static_cast<std::size_t>(count) * nvalues_);
+  row_of_[tag] = static_cast<int>(rows_.size());
+  rows_.push_back({tag, start, count});
+}
+
+const ContactHistory::Row* ContactHistory::find_row(tagint tag) const {
+  auto it = row_of_.find(tag);
+  return it == row_of_.end() ? nullptr : &rows_[it->second];
+}
+
+// Two passes over the list: count each owned particle's touched contacts (as
+// first particle, and as second when that one is owned too), then write them.
 void ContactHistory::save(const Neighbor& list, const Particles& p) {
-  store_.clear();
-  by_particle_.clear();
+  clear_store();
   if (nvalues_ == 0 || list.offset.empty()) return;
-  std::vector<double> vals(nvalues_);
-  for (int i = 0; i < p.nlocal; ++i) {
+  const int nlocal = p.nlocal;
+  const std::size_t nlist = std::min(touch_.size(), list.neigh.size());
+  std::vector<int> count(nlocal, 0);
+  for (int i = 0; i < nlocal; ++i) {
     for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= touch_.size() || !touch_[k]) continue;
+      if (static_cast<std::size_t>(k) >= nlist || !touch_[k]) continue;
+      ++count[i];
       const int j = list.neigh[k];
-      tagint a = p.id[i], b = p.id[j];
+      if (j < nlocal) ++count[j];
+    }
+  }
+  std::vector<int> start(nlocal + 1, 0);
+  for (int i = 0; i < nlocal; ++i)
+    start[i + 1] = start[i] + count[i];
+  partner_.resize(start[nlocal]);
+  vals_.resize(static_cast<std::size_t>(start[nlocal]) * nvalues_);
+  rows_.reserve(nlocal);
+  row_of_.reserve(nlocal);
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int i = 0; i < nlocal; ++i) {
+    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
+      if (static_cast<std::size_t>(k) >= nlist || !touch_[k]) continue;
+      const int j = list.neigh[k];
       const double* h = &values_[static_cast<std::size_t>(k) * nvalues_];
-      if (a < b) {
-        vals.assign(h, h + nvalues_);
-      } else {
-        std::swap(a, b);
+      int e = fill[i]++;
+      partner_[e] = p.id[j];
+      std::copy_n(h, nvalues_, &vals_[static_cast<std::size_t>(e) * nvalues_]);
+      if (j < nlocal) {
+        e = fill[j]++;
+        partner_[e] = p.id[i];
+        double* out = &vals_[static_cast<std::size_t>(e) * nvalues_];
         for (int c = 0; c < nvalues_; ++c)
-          vals[c] = swap_signs_[c] * h[c];
-      }
-      const auto kk = key(a, b);
-      if (store_.emplace(kk, vals).second) {
-        by_particle_.emplace(a, kk);
-        by_particle_.emplace(b, kk);
+          out[c] = swap_signs_[c] * h[c];
       }
     }
   }
+  for (int i = 0; i < nlocal; ++i) {
+    if (count[i] == 0) continue;
+    row_of_[p.id[i]] = static_cast<int>(rows_.size());
+    rows_.push_back({p.id[i], start[i], count[i]});
+  }
 }
 
+// A contact is looked up in the row of the list's first particle, then (for
+// contacts stored only with the other one, e.g. with newton on after a
+// migration) in the second particle's row with the swap signs.
 void ContactHistory::restore(const Neighbor& list, const Particles& p) {
   const std::size_t npairs = list.neigh.size();
   touch_.assign(npairs, 0);
   values_.assign(npairs * nvalues_, 0.0);
-  if (nvalues_ == 0 || store_.empty()) {
-    store_.clear();
-    by_particle_.clear();
-    return;
-  }
-  for (int i = 0; i < p.nlocal; ++i) {
-    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      const int j = list.neigh[k];
-      const tagint a = p.id[i], b = p.id[j];
-      const bool swapped = a > b;
-      auto it = store_.find(swapped ? key(b, a) : key(a, b));
-      if (it == store_.end()) continue;
-      double* h = &values_[static_cast<std::size_t>(k) * nvalues_];
-      for (int c = 0; c < nvalues_; ++c)
-        h[c] = swapped ? swap_signs_[c] * it->second[c] : it->second[c];
-      touch_[k] = 1;
+  auto find = [&](const Row* row, tagint partner) -> const double* {
+    if (!row) return nullptr;
+    for (int e = 0; e < row->count; ++e)
+      if (partner_[row->start + e] == partner)
+        return &vals_[static_cast<std::size_t>(row->start + e) * nvalues_];
+    return nullptr;
+  };
+  if (nvalues_ > 0 && !rows_.empty()) {
+    for (int i = 0; i < p.nlocal; ++i) {
+      const tagint idi = p.id[i];
+      const Row* row = find_row(idi);
+      for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
+        const tagint idj = p.id[list.neigh[k]];
+        double* out = &values_[k * static_cast<std::size_t>(nvalues_)];
+        if (const double* v = find(row, idj)) {
+          std::copy_n(v, nvalues_, out);
+          touch_[k] = 1;
+        } else if (const double* w = find(find_row(idj), idi)) {
+          for (int c = 0; c < nvalues_; ++c)
+            out[c] = swap_signs_[c] * w[c];
+          touch_[k] = 1;
+        }
+      }
     }
   }
-  store_.clear();
-  by_particle_.clear();
+  clear_store();
 }
 
+// Buffer: count, then per contact the partner id and the values seen from `tag`.
 void ContactHistory::pack_particle(tagint tag, std::vector<double>& buf) const {
-  const std::size_t count_at = buf.size();
-  buf.push_back(0.0);
-  int count = 0;
-  auto range = by_particle_.equal_range(tag);
-  for (auto it = range.first; it != range.second; ++it) {
-    auto entry = store_.find(it->second);
-    if (entry == store_.end()) continue;
-    buf.push_back(static_cast<double>(entry->first >> 32));
-    buf.push_back(static_cast<double>(entry->first & 0xffffffffu));
-    buf.insert(buf.end(), entry->second.begin(), entry->second.end());
-    ++count;
+  const Row* row = find_row(tag);
+  const int count = row ? row->count : 0;
+  buf.push_back(count);
+  for (int e = 0; e < count; ++e) {
+    buf.push_back(static_cast<double>(partner_[row->start + e]));
+    const double* v = &vals_[static_cast<std::size_t>(row->start + e) * nvalues_];
+    buf.insert(buf.end(), v, v + nvalues_);
   }
-  buf[count_at] = count;
 }
 
-int ContactHistory::unpack_particle(const double* buf) {
+int ContactHistory::unpack_particle(tagint tag, const double* buf) {
   const int count = static_cast<int>(buf[0]);
   int m = 1;
-  for (int c = 0; c < count; ++c) {
-    const auto a = static_cast<tagint>(buf[m]), b = static_cast<tagint>(buf[m + 1]);
-    m += 2;
-    const auto kk = key(a, b);
-    if (store_.emplace(kk, std::vector<double>(buf + m, buf + m + nvalues_)).second) {
-      by_particle_.emplace(a, kk);
-      by_particle_.emplace(b, kk);
+  if (count > 0) {
+    std::vector<tagint> partners(count);
+    std::vector<double> vals(static_cast<std::size_t>(count) * nvalues_);
+    for (int e = 0; e < count; ++e) {
+      partners[e] = static_cast<tagint>(buf[m++]);
+      std::copy_n(buf + m, nvalues_, &vals[static_cast<std::size_t>(e) * nvalues_]);
+      m += nvalues_;
     }
-    m += nvalues_;
+    add_row(tag, count, partners.data(), vals.data());
   }
   return m;
 }
 
 void ContactHistory::forget_particle(tagint tag) {
-  auto range = by_particle_.equal_range(tag);
-  for (auto it = range.first; it != range.second; ++it)
-    store_.erase(it->second);
+  row_of_.erase(tag);
 }
 
 void ContactHistory::retain(const std::vector<long long>& sorted_ids, bool renumber) {
@@ -108,31 +153,55 @@ void ContactHistory::retain(const std::vector<long long>& sorted_ids, bool renum
     auto it = std::lower_bound(sorted_ids.begin(), sorted_ids.end(), static_cast<long long>(id));
     return (it != sorted_ids.end() && *it == id) ? it - sorted_ids.begin() : -1;
   };
-  std::unordered_map<std::uint64_t, std::vector<double>> kept;
-  by_particle_.clear();
-  for (auto& kv : store_) {
-    tagint a = static_cast<tagint>(kv.first >> 32), b = static_cast<tagint>(kv.first & 0xffffffffu);
-    const long long ia = index(a), ib = index(b);
-    if (ia < 0 || ib < 0) continue;
-    if (renumber) {
-      a = ia + 1;  // order is kept, so (a, b) stays (smaller, larger)
-      b = ib + 1;
+  std::vector<Row> rows;
+  rows.swap(rows_);
+  std::vector<tagint> partners;
+  partners.swap(partner_);
+  std::vector<double> vals;
+  vals.swap(vals_);
+  std::unordered_map<tagint, int> live;
+  live.swap(row_of_);
+  std::vector<tagint> keep_p;
+  std::vector<double> keep_v;
+  for (const auto& kv : live) {
+    const Row& row = rows[kv.second];
+    const long long ti = index(row.tag);
+    if (ti < 0) continue;
+    keep_p.clear();
+    keep_v.clear();
+    for (int e = 0; e < row.count; ++e) {
+      const long long ui = index(partners[row.start + e]);
+      if (ui < 0) continue;
+      keep_p.push_back(renumber ? ui + 1 : partners[row.start + e]);
+      const double* v = &vals[static_cast<std::size_t>(row.start + e) * nvalues_];
+      keep_v.insert(keep_v.end(), v, v + nvalues_);
     }
-    const auto k = key(a, b);
-    kept[k] = std::move(kv.second);
-    by_particle_.emplace(a, k);
-    by_particle_.emplace(b, k);
+    if (!keep_p.empty()) {
+      add_row(renumber ? ti + 1 : row.tag, static_cast<int>(keep_p.size()), keep_p.data(), keep_v.data());
+    }
   }
-  store_.swap(kept);
 }
 
+// Restart layout: count, nvalues, then per contact (smaller id, larger id,
+// values seen from the smaller id). A contact stored in both of its rows is
+// written twice; the reader keeps one.
 void ContactHistory::pack_all(std::vector<double>& buf) const {
-  buf.push_back(static_cast<double>(store_.size()));
+  std::size_t count = 0;
+  for (const auto& kv : row_of_)
+    count += rows_[kv.second].count;
+  buf.push_back(static_cast<double>(count));
   buf.push_back(nvalues_);
-  for (const auto& kv : store_) {
-    buf.push_back(static_cast<double>(kv.first >> 32));
-    buf.push_back(static_cast<double>(kv.first & 0xffffffffu));
-    buf.insert(buf.end(), kv.second.begin(), kv.second.end());
+  for (const auto& kv : row_of_) {
+    const Row& row = rows_[kv.second];
+    for (int e = 0; e < row.count; ++e) {
+      const tagint u = partner_[row.start + e];
+      const double* v = &vals_[static_cast<std::size_t>(row.start + e) * nvalues_];
+      const bool own = row.tag < u;
+      buf.push_back(static_cast<double>(own ? row.tag : u));
+      buf.push_back(static_cast<double>(own ? u : row.tag));
+      for (int c = 0; c < nvalues_; ++c)
+        buf.push_back(own ? v[c] : swap_signs_[c] * v[c]);
+    }
   }
 }
 
@@ -140,15 +209,30 @@ void ContactHistory::unpack_all(const std::vector<double>& buf) {
   if (buf.size() < 2) return;
   const auto count = static_cast<std::size_t>(buf[0]);
   const int nv = static_cast<int>(buf[1]);
+  if (nv != nvalues_) return;
+  // gather both directions of every contact by particle, then make rows
+  std::map<tagint, std::vector<std::pair<tagint, std::size_t>>> by_tag;
+  std::map<std::pair<tagint, tagint>, std::size_t> seen;
   std::size_t m = 2;
-  for (std::size_t c = 0; c < count && m + 2 + nv <= buf.size(); ++c) {
+  for (std::size_t c = 0; c < count && m + 2 + nv <= buf.size(); ++c, m += 2 + nv) {
     const auto a = static_cast<tagint>(buf[m]), b = static_cast<tagint>(buf[m + 1]);
-    m += 2;
-    const auto kk = key(a, b);
-    store_[kk] = std::vector<double>(buf.begin() + m, buf.begin() + m + nv);
-    by_particle_.emplace(a, kk);
-    by_particle_.emplace(b, kk);
-    m += nv;
+    if (!seen.emplace(std::make_pair(a, b), m).second) continue;
+    by_tag[a].push_back({b, m + 2});
+    by_tag[b].push_back({a, m + 2});
+  }
+  std::vector<tagint> partners;
+  std::vector<double> vals;
+  for (const auto& kv : by_tag) {
+    partners.clear();
+    vals.clear();
+    for (const auto& entry : kv.second) {
+      partners.push_back(entry.first);
+      const double* v = &buf[entry.second];
+      const bool smaller = kv.first < entry.first;  // stored as seen from the smaller id
+      for (int c = 0; c < nv; ++c)
+        vals.push_back(smaller ? v[c] : swap_signs_[c] * v[c]);
+    }
+    add_row(kv.first, static_cast<int>(partners.size()), partners.data(), vals.data());
   }
 }
 

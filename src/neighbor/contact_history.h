@@ -2,10 +2,12 @@
 //
 // During a run the values live in an array aligned with the neighbour list, so
 // the pair loop reads them by position. Before a rebuild they are saved into a
-// store keyed by the pair of global ids; entries travel with migrating
-// particles; after the rebuild they are put back at the new list positions.
-// The store key is (smaller id, larger id) and values are stored as seen from
-// the smaller id; a pair met in the other order gets the swap signs applied.
+// store with one row per particle, listing the contacts it takes part in as
+// (partner id, values seen from this particle); rows travel with migrating
+// particles, and after the rebuild each list entry finds its values in the row
+// of its first particle (a handful of partners to search). Values seen from the
+// other particle get the swap signs applied. Saving and restoring are linear
+// passes over the list: no hashing per contact.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +38,7 @@ class ContactHistory {
 
   // migration of store entries with particle `tag`
   void pack_particle(tagint tag, std::vector<double>& buf) const;
-  int unpack_particle(const double* buf);
+  int unpack_particle(tagint tag, const double* buf);
   /// Drop every entry of a particle that was deleted or lost.
   void forget_particle(tagint tag);
   /// Between runs, after particles were deleted: keep only entries whose two
@@ -47,17 +49,25 @@ class ContactHistory {
   // restart: every stored entry
   void pack_all(std::vector<double>& buf) const;
   void unpack_all(const std::vector<double>& buf);
-  std::size_t stored() const { return store_.size(); }
+  /// Number of stored (row, partner) entries; a contact between two owned particles counts twice.
+  std::size_t stored() const { return partner_.size(); }
 
  private:
-  static std::uint64_t key(tagint a, tagint b) {
-    return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
-  }
+  struct Row {
+    tagint tag;
+    int start, count;  // entries [start, start + count) of partner_ / vals_
+  };
+  /// Append a row (entries copied) and index it by its particle id.
+  void add_row(tagint tag, int count, const tagint* partners, const double* vals);
+  const Row* find_row(tagint tag) const;
+  void clear_store();
+
   int nvalues_ = 0;
   std::vector<double> swap_signs_;
-  std::unordered_map<std::uint64_t, std::vector<double>> store_;
-  // index from particle id to the keys it takes part in (built by save)
-  std::unordered_multimap<tagint, std::uint64_t> by_particle_;
+  std::vector<Row> rows_;
+  std::vector<tagint> partner_;
+  std::vector<double> vals_;  // nvalues_ per entry
+  std::unordered_map<tagint, int> row_of_;
 };
 
 }  // namespace granary
