@@ -48,21 +48,7 @@ int DumpBodiesVTK::modify_param(const Args& args, std::size_t k) {
   const std::string& key = args[k];
   const bool has1 = k + 1 < args.size();
   const std::string where = "dump_modify " + id + " " + key;
-  if (key == "binary" && has1) return binary_ = parse_bool(args[k + 1], where), 2;
-  if (key == "compression" && has1) {
-    const std::string& v = args[k + 1];
-    if (v != "zlib" && v != "none" && v != "lz4" && v != "lzma") {
-      throw InputError(where + ": expected zlib, lz4, lzma or none, got '" + v + "'");
-    }
-    compressor_ = v;
-    return 2;
-  }
-  if (key == "pad" && has1) {
-    const long long n = parse_int(args[k + 1], where);
-    if (n < 0 || n > 30) throw InputError(where + ": pad must be 0..30");
-    pad_ = static_cast<int>(n);
-    return 2;
-  }
+  if (const int used = options_.parse(args, k, where)) return used;
   if (key == "pvd" && has1) {
     const std::string& v = args[k + 1];
     if (v == "no" || v == "off" || v == "none") {
@@ -175,7 +161,7 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
   else
     return dumpio::open_error(frame);
   auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-  vtkio::configure_writer(w.Get(), binary_, compressor_);
+  vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
   w->SetInputData(ds);
   w->SetFileName(frame.c_str());
   if (!w->Write()) return "VTK could not write '" + frame + "'";
@@ -204,7 +190,7 @@ void DumpBodiesVTK::write() {
 
   std::string err;
   if (engine_.rank == 0)
-    err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, pad_), selected);
+    err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), selected);
   err = dumpio::first_error(engine_.world, err);
   if (!err.empty()) throw RunError("dump " + id + ": " + err);
 }

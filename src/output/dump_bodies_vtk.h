@@ -28,9 +28,7 @@ class DumpBodiesVTK : public Dump {
   /// Rank 0: write the frame's .vtp; returns an error message or "".
   std::string write_frame(const std::string& frame, const std::vector<char>& selected);
 
-  bool binary_ = true;
-  std::string compressor_ = "zlib";
-  int pad_ = 0;
+  vtkio::WriteOptions options_;
   vtkio::PvdCollection pvd_;
 };
 

@@ -138,21 +138,7 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
   const std::string& key = args[k];
   const bool has1 = k + 1 < args.size();
   const std::string where = "dump_modify " + id + " " + key;
-  if (key == "binary" && has1) return binary_ = parse_bool(args[k + 1], where), 2;
-  if (key == "compression" && has1) {
-    const std::string& v = args[k + 1];
-    if (v != "zlib" && v != "none" && v != "lz4" && v != "lzma") {
-      throw InputError(where + ": expected zlib, lz4, lzma or none, got '" + v + "'");
-    }
-    compressor_ = v;
-    return 2;
-  }
-  if (key == "pad" && has1) {
-    const long long n = parse_int(args[k + 1], where);
-    if (n < 0 || n > 30) throw InputError(where + ": pad must be 0..30");
-    pad_ = static_cast<int>(n);
-    return 2;
-  }
+  if (const int used = options_.parse(args, k, where)) return used;
   if (key == "region" && has1) {
     if (args[k + 1] == "none")
       region_.clear();
@@ -266,13 +252,13 @@ std::string DumpCustomVTK::write_xml(const std::string& frame, const std::vector
   int ok = 0;
   if (poly) {
     auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    vtkio::configure_writer(w.Get(), binary_, compressor_);
+    vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
     w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, ncols, arrays_, time, step));
     w->SetFileName(file.c_str());
     ok = w->Write();
   } else {
     auto w = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-    vtkio::configure_writer(w.Get(), binary_, compressor_);
+    vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
     w->SetInputData(build_dataset<vtkUnstructuredGrid>(rows, nrows, ncols, arrays_, time, step));
     w->SetFileName(file.c_str());
     ok = w->Write();
@@ -312,7 +298,7 @@ std::string DumpCustomVTK::write_legacy(const std::string& frame, const std::vec
   if (std::string e = probe(frame); !e.empty()) return e;
   auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
   w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
-  if (binary_)
+  if (options_.binary)
     w->SetFileTypeToBinary();
   else
     w->SetFileTypeToASCII();
@@ -328,7 +314,7 @@ void DumpCustomVTK::write() {
   fields_.select(groupbit, region_, sel);
   std::vector<double> local;
   fields_.pack(sel, false, local);
-  const std::string frame = dumpio::expand(filename, engine_.update->ntimestep, pad_);
+  const std::string frame = dumpio::expand(filename, engine_.update->ntimestep, options_.pad);
 
   std::string err;
   const bool parallel = kind_ != Kind::kLegacy && (parallel_ext_ || engine_.nprocs > 1);

@@ -52,9 +52,7 @@ class DumpCustomVTK : public Dump {
   std::vector<Array> arrays_;
   Kind kind_ = Kind::kPolyData;
   bool parallel_ext_ = false;  // .pvtp/.pvtu given
-  bool binary_ = true;
-  std::string compressor_ = "zlib";
-  int pad_ = 0;
+  vtkio::WriteOptions options_;
   std::string region_;
   vtkio::PvdCollection pvd_;
 };

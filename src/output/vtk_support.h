@@ -13,6 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "core/utils.h"
+
 namespace granary {
 namespace vtkio {
 
@@ -108,6 +111,38 @@ void configure_writer(Writer* w, bool binary, const std::string& compressor) {
   else
     w->SetCompressorTypeToZLib();
 }
+
+/// How frames are written, set by dump_modify binary / compression / pad.
+struct WriteOptions {
+  bool binary = true;
+  std::string compressor = "zlib";
+  int pad = 0;  // zero-padding of the step in file names
+
+  /// Parse one of those keywords at args[k]; returns the words used (0: not one of them).
+  int parse(const Args& args, std::size_t k, const std::string& where) {
+    const std::string& key = args[k];
+    if (k + 1 >= args.size()) return 0;
+    const std::string& v = args[k + 1];
+    if (key == "binary") {
+      binary = parse_bool(v, where);
+      return 2;
+    }
+    if (key == "compression") {
+      if (v != "zlib" && v != "none" && v != "lz4" && v != "lzma") {
+        throw InputError(where + ": expected zlib, lz4, lzma or none, got '" + v + "'");
+      }
+      compressor = v;
+      return 2;
+    }
+    if (key == "pad") {
+      const long long n = parse_int(v, where);
+      if (n < 0 || n > 30) throw InputError(where + ": pad must be 0..30");
+      pad = static_cast<int>(n);
+      return 2;
+    }
+    return 0;
+  }
+};
 
 /// A ParaView collection file (one rank writes it).
 class PvdCollection {
