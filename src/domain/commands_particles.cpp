@@ -19,6 +19,7 @@
 
 #include <Eigen/Dense>
 
+#include "comm/collectives.h"
 #include "core/engine.h"
 #include "neighbor/contact_history.h"
 #include "pair/pair.h"
@@ -263,14 +264,7 @@ void create_random(Engine& e, int type, const Args& a) {
     for (int i = 0; i < p.nlocal; ++i)
       for (int d = 0; d < 3; ++d)
         mine.push_back(p.x[i][d]);
-    int count = static_cast<int>(mine.size());
-    std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
-    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                   e.world);
+    std::vector<double> all = allgather(e.world, mine);
     for (std::size_t k = 0; k + 2 < all.size(); k += 3)
       grid->add(Vec3(all[k], all[k + 1], all[k + 2]), 0.5 * overlap);
   }
@@ -401,14 +395,7 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
   }
 
   // rank of each key among all created points
-  int count = static_cast<int>(keys.size());
-  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r)
-    displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<long long> all(static_cast<std::size_t>(displs.back()) + counts.back());
-  MPI_Allgatherv(keys.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
-                 e.world);
+  std::vector<long long> all = allgather(e.world, keys);
   std::sort(all.begin(), all.end());
 
   const tagint base = next_id(e);
@@ -869,14 +856,7 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     std::vector<long long> bodies;
     for (int i = 0; i < p.nlocal; ++i)
       if (doomed[i] && p.body[i] >= 0) bodies.push_back(static_cast<long long>(p.body[i]));
-    int count = static_cast<int>(bodies.size());
-    std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    std::vector<long long> all(static_cast<std::size_t>(displs.back()) + counts.back());
-    MPI_Allgatherv(bodies.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(),
-                   MPI_LONG_LONG, e.world);
+    std::vector<long long> all = allgather(e.world, bodies);
     const std::unordered_set<long long> gone(all.begin(), all.end());
     for (int i = 0; i < p.nlocal; ++i)
       if (p.body[i] >= 0 && gone.count(static_cast<long long>(p.body[i]))) doomed[i] = 1;
@@ -892,14 +872,7 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     std::vector<long long> mine(p.nlocal);
     for (int i = 0; i < p.nlocal; ++i)
       mine[i] = static_cast<long long>(p.id[i]);
-    int count = p.nlocal;
-    std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    std::vector<long long> all(static_cast<std::size_t>(displs.back()) + counts.back());
-    MPI_Allgatherv(mine.data(), count, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
-                   e.world);
+    std::vector<long long> all = allgather(e.world, mine);
     std::sort(all.begin(), all.end());
     // contact history between runs is keyed by ids: drop entries of deleted
     // particles (their ids may be used again) and follow the renumbering

@@ -1,3 +1,4 @@
+#include "comm/collectives.h"
 #include "fix/fix_insert_pack.h"
 
 #include <mpi.h>
@@ -420,14 +421,7 @@ void FixInsert::count_in_region(double& number, double& mass, double& volume) co
   }
   MPI_Allreduce(local, all, 3, MPI_DOUBLE, MPI_SUM, engine_.world);
   // a multisphere particle counts once, whichever ranks hold its spheres
-  int nb = static_cast<int>(bodies.size());
-  std::vector<int> counts(engine_.nprocs), displs(engine_.nprocs, 0);
-  MPI_Allgather(&nb, 1, MPI_INT, counts.data(), 1, MPI_INT, engine_.world);
-  for (int r = 1; r < engine_.nprocs; ++r)
-    displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<long long> allb(static_cast<std::size_t>(displs.back() + counts.back()));
-  MPI_Allgatherv(bodies.data(), nb, MPI_LONG_LONG, allb.data(), counts.data(), displs.data(), MPI_LONG_LONG,
-                 engine_.world);
+  std::vector<long long> allb = allgather(engine_.world, bodies);
   std::sort(allb.begin(), allb.end());
   const double nbodies = static_cast<double>(std::unique(allb.begin(), allb.end()) - allb.begin());
   number = all[0] + nbodies;
@@ -494,14 +488,7 @@ FixInsert::Result FixInsert::insert(long long n) {
       if (!near) continue;
       mine.insert(mine.end(), {x[0], x[1], x[2], p.radius[i]});
     }
-    int count = static_cast<int>(mine.size());
-    std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-    for (int r = 1; r < e.nprocs; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
-    MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                   e.world);
+    std::vector<double> all = allgather(e.world, mine);
     for (std::size_t k = 0; k + 3 < all.size(); k += 4)
       grid.add(Vec3(all[k], all[k + 1], all[k + 2]), all[k + 3]);
     for (const auto& f : e.modify->fixes)

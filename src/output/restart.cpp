@@ -25,6 +25,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "comm/collectives.h"
 #include "comm/comm.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -118,21 +119,6 @@ class Reader {
   std::size_t pos_ = 0;
 };
 
-// Gather variable-length double arrays to rank 0, in rank order.
-std::vector<double> gather_doubles(Engine& e, const std::vector<double>& mine) {
-  int n = static_cast<int>(mine.size());
-  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, e.world);
-  std::vector<double> all;
-  if (e.rank == 0) {
-    for (int r = 1; r < e.nprocs; ++r)
-      displs[r] = displs[r - 1] + counts[r - 1];
-    all.resize(static_cast<std::size_t>(displs.back()) + counts.back());
-  }
-  MPI_Gatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, 0, e.world);
-  return all;
-}
-
 void bcast_string(Engine& e, std::string& s) {
   std::uint64_t n = s.size();
   MPI_Bcast(&n, 1, MPI_UINT64_T, 0, e.world);
@@ -212,7 +198,7 @@ std::string particles_section(Engine& e) {
       mine.insert(mine.end(), src, src + f.ncomp);
     }
   }
-  std::vector<double> all = gather_doubles(e, mine);
+  std::vector<double> all = gather_to_root(e.world, mine);
   std::string out;
   if (e.rank != 0) return out;
   int per = kCoreFields;
@@ -245,7 +231,7 @@ std::string history_section(Engine& e) {
   }
   // each rank: count, nvalues, entries; merge on rank 0 (newton off keeps
   // cross-rank contacts on both ranks: identical entries, kept once)
-  std::vector<double> all = gather_doubles(e, mine);
+  std::vector<double> all = gather_to_root(e.world, mine);
   std::string out;
   if (e.rank != 0) return out;
   std::map<std::pair<long long, long long>, std::vector<double>> merged;
