@@ -29,3 +29,18 @@ struct ScriptEngine {
 };
 
 }  // namespace granary::test
+
+#include <filesystem>
+
+namespace granary::test {
+
+/// A mkstemp/mkdtemp template ("<temp dir>/<prefix>XXXXXX") as a writable,
+/// zero-terminated buffer.
+inline std::vector<char> temp_template(const std::string& prefix) {
+  const std::string t = (std::filesystem::temp_directory_path() / (prefix + "XXXXXX")).string();
+  std::vector<char> buf(t.begin(), t.end());
+  buf.push_back('\0');
+  return buf;
+}
+
+}  // namespace granary::test

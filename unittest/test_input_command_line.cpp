@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+
+#include "script_engine.h"
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -19,9 +21,9 @@ struct Result {
 struct Scratch {
   std::string dir;
   Scratch() {
-    char tmpl[] = "/tmp/granary_cli_XXXXXX";
-    REQUIRE(::mkdtemp(tmpl) != nullptr);
-    dir = tmpl;
+    auto tmpl = granary::test::temp_template("granary_cli_");
+    REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
+    dir = tmpl.data();
   }
   ~Scratch() { std::system(("rm -rf '" + dir + "'").c_str()); }
   std::string write(const std::string& name, const std::string& text) const {

@@ -4,6 +4,8 @@
 #include <mpi.h>
 
 #include <catch2/catch.hpp>
+
+#include "script_engine.h"
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -26,10 +28,10 @@ struct Scratch {
   int rank = 0;
   Scratch() {
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    char tmpl[] = "/tmp/granary_input_XXXXXX";
-    if (rank == 0) REQUIRE(::mkdtemp(tmpl) != nullptr);
-    MPI_Bcast(tmpl, sizeof(tmpl), MPI_CHAR, 0, MPI_COMM_WORLD);
-    dir = tmpl;
+    auto tmpl = granary::test::temp_template("granary_input_");
+    if (rank == 0) REQUIRE(::mkdtemp(tmpl.data()) != nullptr);
+    MPI_Bcast(tmpl.data(), static_cast<int>(tmpl.size()), MPI_CHAR, 0, MPI_COMM_WORLD);
+    dir = tmpl.data();
   }
   ~Scratch() {
     MPI_Barrier(MPI_COMM_WORLD);

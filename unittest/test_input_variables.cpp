@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/error.h"
 #include "core/expression.h"
 #include "core/variable.h"
@@ -135,7 +136,8 @@ TEST_CASE("string, equal, format, internal and getenv styles", "[input][variable
 }
 
 TEST_CASE("file-style variables read one value per line", "[input][variable]") {
-  char path[] = "/tmp/granary_varfile_XXXXXX";
+  auto tmpl = granary::test::temp_template("granary_varfile_");
+  char* path = tmpl.data();
   const int fd = ::mkstemp(path);
   REQUIRE(fd >= 0);
   ::close(fd);

@@ -50,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
 #include "core/engine.h"
 #include "core/input.h"
 #include "core/logger.h"
@@ -222,9 +223,9 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
     WARN("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found: test skipped");
     return;
   }
-  char dir_template[] = "/tmp/granary_stone_XXXXXX";
-  REQUIRE(mkdtemp(dir_template) != nullptr);
-  const std::string dir = dir_template;
+  auto dir_template = granary::test::temp_template("granary_stone_");
+  REQUIRE(mkdtemp(dir_template.data()) != nullptr);
+  const std::string dir = dir_template.data();
   REQUIRE(fetch(input, dir + "/in.multisphere"));
   REQUIRE(fetch(stone, dir + "/stone1.multisphere"));
   // the variant keeps the tutorial's sphere file and scale
