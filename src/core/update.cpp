@@ -32,7 +32,6 @@ void Update::set_timestep(double new_dt) {
   atime = time();
   atimestep = ntimestep;
   dt = new_dt;
-  dt_set = true;
   if (engine_.modify) engine_.modify->reset_dt();
 }
 
@@ -134,7 +133,6 @@ void Update::setup() {
   e.logger->print("Setting up run ...\n");
   std::fill(std::begin(timers), std::end(timers), 0.0);
   e.particles->natoms = count_global();
-  e.thermo->natoms_expected = e.particles->natoms;
   if (e.force->pair) e.force->pair->init();
   e.neighbor->init();
   e.modify->init();

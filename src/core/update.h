@@ -17,7 +17,6 @@ class Update {
   explicit Update(Engine& engine);
 
   double dt = 1.0e-8;  // [s]; LAMMPS' default for units si
-  bool dt_set = false;
   std::int64_t ntimestep = 0;  // current step
   double atime = 0.0;          // simulated time at step atimestep
   std::int64_t atimestep = 0;

@@ -545,7 +545,6 @@ void read_restart(Engine& e, const std::string& file) {
   u.atime = atime;
   u.atimestep = atimestep;
   u.dt = dt;
-  u.dt_set = true;
   e.force->newton_pair = need("newton", 1)[0] == "on";
   Neighbor& ne = *e.neighbor;
   ne.skin = parse_double(nb[0], "skin");

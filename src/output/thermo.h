@@ -35,7 +35,6 @@ class Thermo {
   /// Value of one keyword (collective).
   double keyword_value(const std::string& key, bool& found);
 
-  std::int64_t natoms_expected = 0;
   double wall_start = 0.0;
 
  private:
