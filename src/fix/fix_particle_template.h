@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "core/vec3.h"
@@ -47,6 +48,14 @@ class FixParticleTemplate : public Fix {
 
   int atom_type = 1;
   unsigned seed = 0;
+
+ protected:
+  /// The SEED argument (args[3]): a positive integer.
+  unsigned parse_seed(const std::string& what) const;
+  /// The keywords every template takes, `atom_type T` and `density constant
+  /// RHO`, at args[k]: sets atom_type or `density`, leaves k on the last word
+  /// used and returns true; returns false for any other keyword.
+  bool parse_common_keyword(std::size_t& k, const std::string& what, double& density);
 };
 
 /// Implemented by fix multisphere. Insertion decides the same new particles on

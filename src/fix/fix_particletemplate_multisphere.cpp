@@ -81,9 +81,7 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
     : FixParticleTemplate(engine, args) {
   const std::string what = "fix " + id + " particletemplate/multisphere";
   if (args.size() < 4) throw InputError(std::string("wrong number of arguments; usage: ") + kUsage);
-  const long long s = parse_int(args[3], what + " seed");
-  if (s <= 0) throw InputError(what + ": the seed must be a positive integer");
-  seed = static_cast<unsigned>(s);
+  seed = parse_seed(what);
 
   double density = 1.0, mass_given = -1.0, volume_limit = 0.0;
   long long nspheres = -1, ntry = 1000000;
@@ -91,25 +89,13 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
   std::vector<double> values;  // x y z r per sphere
   Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
   for (std::size_t k = 4; k < args.size(); ++k) {
+    if (parse_common_keyword(k, what, density)) continue;
     const std::string& w = args[k];
     auto value = [&](const char* name) -> const std::string& {
       if (k + 1 >= args.size()) throw InputError(what + ": keyword '" + w + "' needs " + name);
       return args[++k];
     };
-    if (w == "atom_type") {
-      const long long t = parse_int(value("a type"), what + " atom_type");
-      if (t < 1 || (engine.domain->box_exist && t > engine.particles->ntypes)) {
-        throw InputError(what + ": atom_type " + std::to_string(t) + " is outside 1.." +
-                         std::to_string(engine.particles->ntypes) +
-                         " (the number of atom types given to create_box)");
-      }
-      atom_type = static_cast<int>(t);
-    } else if (w == "density") {
-      const std::string& style = value("a style (constant)");
-      if (style != "constant") throw InputError(what + ": density takes 'constant RHO', got '" + style + "'");
-      density = parse_double(value("a value"), what + " density");
-      if (!(density > 0.0)) throw InputError(what + ": the density must be positive");
-    } else if (w == "nspheres") {
+    if (w == "nspheres") {
       nspheres = parse_int(value("a count"), what + " nspheres");
       if (nspheres < 1) throw InputError(what + ": nspheres must be at least 1");
     } else if (w == "ntry") {
@@ -200,7 +186,7 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
                        "; radii must be positive");
     }
   }
-  props_ = sphere_union_properties(centres_, radii, ntry, static_cast<std::uint64_t>(s));
+  props_ = sphere_union_properties(centres_, radii, ntry, static_cast<std::uint64_t>(seed));
 
   // mass, density and volume (LIGGGHTS: mass with use_volume sets the density,
   // with use_density the volume)

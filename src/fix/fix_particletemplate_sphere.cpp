@@ -32,35 +32,18 @@ std::string num(double v) {
 FixParticleTemplateSphere::FixParticleTemplateSphere(Engine& engine, const Args& args)
     : FixParticleTemplate(engine, args) {
   if (args.size() < 4) throw InputError(std::string("wrong number of arguments; usage: ") + kUsage);
-  const long long s = parse_int(args[3], "fix " + id + " particletemplate/sphere seed");
-  if (s <= 0) throw InputError("fix " + id + " particletemplate/sphere: the seed must be a positive integer");
-  seed = static_cast<unsigned>(s);
-  gen_.seed(static_cast<std::uint64_t>(s));
-  restart_global = true;
   const std::string what = "fix " + id + " particletemplate/sphere";
+  seed = parse_seed(what);
+  gen_.seed(static_cast<std::uint64_t>(seed));
+  restart_global = true;
   for (std::size_t k = 4; k < args.size(); ++k) {
+    if (parse_common_keyword(k, what, density_)) continue;
     const std::string& w = args[k];
     auto value = [&](const char* name) -> const std::string& {
       if (k + 1 >= args.size()) throw InputError(what + ": keyword '" + w + "' needs " + name);
       return args[++k];
     };
-    if (w == "atom_type") {
-      const long long t = parse_int(value("a type"), what + " atom_type");
-      if (t < 1) throw InputError(what + ": atom_type must be at least 1");
-      if (engine.domain->box_exist && t > engine.particles->ntypes) {
-        throw InputError(what + ": atom_type " + std::to_string(t) + " is outside 1.." +
-                         std::to_string(engine.particles->ntypes) +
-                         " (the number of atom types given to create_box)");
-      }
-      atom_type = static_cast<int>(t);
-    } else if (w == "density") {
-      const std::string& style = value("a style (constant)");
-      if (style != "constant") {
-        throw InputError(what + ": density takes 'constant RHO', got '" + style + "'");
-      }
-      density_ = parse_double(value("a value"), what + " density");
-      if (!(density_ > 0.0)) throw InputError(what + ": the density must be positive");
-    } else if (w == "radius") {
+    if (w == "radius") {
       const std::string& style = value("a style (constant or uniform)");
       if (style == "constant") {
         radius_ = parse_double(value("a value"), what + " radius");
