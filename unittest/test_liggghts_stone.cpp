@@ -96,6 +96,31 @@ bool fetch(const std::string& src, const std::string& dst) {
   return std::system(cmd.c_str()) == 0;
 }
 
+/// The tutorial's input and stone files, and a fresh working directory.
+struct Tutorial {
+  std::string input, stone, dir;
+};
+
+/// Find LIGGGHTS and the tutorial (package liggghts-doc); false, with a
+/// warning, when either is missing, so the test is skipped.
+bool locate_tutorial(Tutorial& t, const std::string& dir_prefix) {
+  if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
+    WARN("liggghts not found: test skipped");
+    return false;
+  }
+  const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
+  t.input = find_tutorial_file(listing, "multisphere_stone_restitution/in.multisphere");
+  t.stone = find_tutorial_file(listing, "multisphere_stone_restitution/data/stone1.multisphere");
+  if (t.input.empty() || t.stone.empty()) {
+    WARN("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found: test skipped");
+    return false;
+  }
+  auto dir_template = granary::test::temp_template(dir_prefix);
+  REQUIRE(mkdtemp(dir_template.data()) != nullptr);
+  t.dir = dir_template.data();
+  return true;
+}
+
 std::string file_text(const std::string& path) {
   std::ifstream in(path);
   std::stringstream s;
@@ -211,21 +236,9 @@ double first_rebound_apex(const std::vector<double>& z) {
 
 TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone follows LIGGGHTS",
           "[multisphere][liggghts]") {
-  if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
-    WARN("liggghts not found: LIGGGHTS agreement test skipped");
-    return;
-  }
-  const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
-  const std::string input = find_tutorial_file(listing, "multisphere_stone_restitution/in.multisphere");
-  const std::string stone =
-      find_tutorial_file(listing, "multisphere_stone_restitution/data/stone1.multisphere");
-  if (input.empty() || stone.empty()) {
-    WARN("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found: test skipped");
-    return;
-  }
-  auto dir_template = granary::test::temp_template("granary_stone_");
-  REQUIRE(mkdtemp(dir_template.data()) != nullptr);
-  const std::string dir = dir_template.data();
+  Tutorial t;
+  if (!locate_tutorial(t, "granary_stone_")) return;
+  const std::string &input = t.input, &stone = t.stone, &dir = t.dir;
   REQUIRE(fetch(input, dir + "/in.multisphere"));
   REQUIRE(fetch(stone, dir + "/stone1.multisphere"));
   // the variant keeps the tutorial's sphere file and scale
@@ -397,21 +410,9 @@ std::vector<double> last_thermo_row(const std::string& path, std::size_t columns
 // masses (their numerical integrations of the template agree to about 1e-4).
 TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution runs unchanged (shortened) in both programs",
           "[multisphere][liggghts]") {
-  if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
-    WARN("liggghts not found: test skipped");
-    return;
-  }
-  const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
-  const std::string input = find_tutorial_file(listing, "multisphere_stone_restitution/in.multisphere");
-  const std::string stone =
-      find_tutorial_file(listing, "multisphere_stone_restitution/data/stone1.multisphere");
-  if (input.empty() || stone.empty()) {
-    WARN("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found: test skipped");
-    return;
-  }
-  auto dir_template = granary::test::temp_template("granary_stone_tutorial_");
-  REQUIRE(mkdtemp(dir_template.data()) != nullptr);
-  const std::string dir = dir_template.data();
+  Tutorial t;
+  if (!locate_tutorial(t, "granary_stone_tutorial_")) return;
+  const std::string &input = t.input, &stone = t.stone, &dir = t.dir;
   std::vector<double> rows[2];
   const std::string programs[2] = {GRANARY_BINARY, "liggghts"};
   for (int k = 0; k < 2; ++k) {
