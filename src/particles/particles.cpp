@@ -135,81 +135,9 @@ void Particles::permute(const std::vector<int>& order) {
   }
 }
 
-int Particles::exchange_size() const {
-  int n = 19;
-  for (const auto& e : extras)
-    if (e.exchange) n += e.ncomp;
-  return n;
-}
-
-void Particles::pack_exchange(int i, std::vector<double>& buf) const {
-  buf.push_back(static_cast<double>(id[i]));
-  buf.push_back(type[i]);
-  buf.push_back(mask[i]);
-  for (int d = 0; d < 3; ++d)
-    buf.push_back(x[i][d]);
-  for (int d = 0; d < 3; ++d)
-    buf.push_back(v[i][d]);
-  for (int d = 0; d < 3; ++d)
-    buf.push_back(omega[i][d]);
-  buf.push_back(radius[i]);
-  buf.push_back(density[i]);
-  buf.push_back(rmass[i]);
-  buf.push_back(static_cast<double>(body[i]));
-  buf.push_back(image[i]);
-  // forces are recomputed after migration, but keep the layout fixed-size
-  buf.push_back(0.0);
-  buf.push_back(0.0);
-  for (const auto& e : extras) {
-    if (!e.exchange) continue;
-    const double* src = &e.data[static_cast<std::size_t>(i) * e.ncomp];
-    buf.insert(buf.end(), src, src + e.ncomp);
-  }
-}
-
-int Particles::unpack_exchange(const double* buf) {
-  // called only while there are no ghosts (exchange runs before borders)
-  const int i = nlocal;
-  resize(nlocal + 1);
-  int m = 0;
-  id[i] = static_cast<tagint>(buf[m++]);
-  type[i] = static_cast<int>(buf[m++]);
-  mask[i] = static_cast<int>(buf[m++]);
-  for (int d = 0; d < 3; ++d)
-    x[i][d] = buf[m++];
-  for (int d = 0; d < 3; ++d)
-    v[i][d] = buf[m++];
-  for (int d = 0; d < 3; ++d)
-    omega[i][d] = buf[m++];
-  radius[i] = buf[m++];
-  density[i] = buf[m++];
-  rmass[i] = buf[m++];
-  body[i] = static_cast<tagint>(buf[m++]);
-  image[i] = static_cast<int>(buf[m++]);
-  m += 2;
-  f[i].setZero();
-  torque[i].setZero();
-  for (auto& e : extras) {
-    double* dst = &e.data[static_cast<std::size_t>(i) * e.ncomp];
-    if (e.exchange) {
-      std::copy_n(buf + m, e.ncomp, dst);
-      m += e.ncomp;
-    } else {
-      std::fill_n(dst, e.ncomp, 0.0);
-    }
-  }
-  ++nlocal;
-  return m;
-}
-
-int Particles::border_size() const {
-  int n = 16;
-  for (const auto& e : extras)
-    if (e.ghost) n += e.ncomp;
-  return n;
-}
-
-void Particles::pack_border(int i, const Vec3& shift, std::vector<double>& buf) const {
+// The fields every particle record starts with (migration and ghosts alike):
+// id type mask x(3) v(3) omega(3) radius density rmass body = 16 doubles.
+void Particles::pack_core(int i, const Vec3& shift, std::vector<double>& buf) const {
   buf.push_back(static_cast<double>(id[i]));
   buf.push_back(type[i]);
   buf.push_back(mask[i]);
@@ -223,16 +151,9 @@ void Particles::pack_border(int i, const Vec3& shift, std::vector<double>& buf) 
   buf.push_back(density[i]);
   buf.push_back(rmass[i]);
   buf.push_back(static_cast<double>(body[i]));
-  for (const auto& e : extras) {
-    if (!e.ghost) continue;
-    const double* src = &e.data[static_cast<std::size_t>(i) * e.ncomp];
-    buf.insert(buf.end(), src, src + e.ncomp);
-  }
 }
 
-int Particles::unpack_border(const double* buf) {
-  const int i = nlocal + nghost;
-  resize(i + 1);
+int Particles::unpack_core(int i, const double* buf) {
   int m = 0;
   id[i] = static_cast<tagint>(buf[m++]);
   type[i] = static_cast<int>(buf[m++]);
@@ -247,18 +168,62 @@ int Particles::unpack_border(const double* buf) {
   density[i] = buf[m++];
   rmass[i] = buf[m++];
   body[i] = static_cast<tagint>(buf[m++]);
-  image[i] = image_pack(0, 0, 0);
   f[i].setZero();
   torque[i].setZero();
+  return m;
+}
+
+// Extra fields with the given flag, appended to / read from a record.
+void Particles::pack_extras(int i, bool ExtraField::*flag, std::vector<double>& buf) const {
+  for (const auto& e : extras) {
+    if (!(e.*flag)) continue;
+    const double* src = &e.data[static_cast<std::size_t>(i) * e.ncomp];
+    buf.insert(buf.end(), src, src + e.ncomp);
+  }
+}
+
+int Particles::unpack_extras(int i, bool ExtraField::*flag, const double* buf) {
+  int m = 0;
   for (auto& e : extras) {
     double* dst = &e.data[static_cast<std::size_t>(i) * e.ncomp];
-    if (e.ghost) {
+    if (e.*flag) {
       std::copy_n(buf + m, e.ncomp, dst);
       m += e.ncomp;
     } else {
       std::fill_n(dst, e.ncomp, 0.0);
     }
   }
+  return m;
+}
+
+void Particles::pack_exchange(int i, std::vector<double>& buf) const {
+  pack_core(i, Vec3::Zero(), buf);
+  buf.push_back(image[i]);
+  pack_extras(i, &ExtraField::exchange, buf);
+}
+
+int Particles::unpack_exchange(const double* buf) {
+  // called only while there are no ghosts (exchange runs before borders)
+  const int i = nlocal;
+  resize(nlocal + 1);
+  int m = unpack_core(i, buf);
+  image[i] = static_cast<int>(buf[m++]);
+  m += unpack_extras(i, &ExtraField::exchange, buf + m);
+  ++nlocal;
+  return m;
+}
+
+void Particles::pack_border(int i, const Vec3& shift, std::vector<double>& buf) const {
+  pack_core(i, shift, buf);
+  pack_extras(i, &ExtraField::ghost, buf);
+}
+
+int Particles::unpack_border(const double* buf) {
+  const int i = nlocal + nghost;
+  resize(i + 1);
+  int m = unpack_core(i, buf);
+  image[i] = image_pack(0, 0, 0);
+  m += unpack_extras(i, &ExtraField::ghost, buf + m);
   ++nghost;
   return m;
 }

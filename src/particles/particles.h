@@ -61,14 +61,13 @@ class Particles {
   /// Reorder the owned particles (no ghosts present): new slot k takes old slot order[k].
   void permute(const std::vector<int>& order);
 
-  /// Number of doubles pack_exchange writes for one particle.
-  int exchange_size() const;
+  /// Migration record of particle i (all fields that migrate).
   void pack_exchange(int i, std::vector<double>& buf) const;
   /// Append an owned particle from a buffer written by pack_exchange; returns doubles read.
   int unpack_exchange(const double* buf);
 
-  /// Ghost border data (everything a neighbour rank needs to compute contacts).
-  int border_size() const;
+  /// Ghost record (everything a neighbour rank needs to compute contacts),
+  /// with the position shifted by a periodic image.
   void pack_border(int i, const Vec3& shift, std::vector<double>& buf) const;
   int unpack_border(const double* buf);  // appends a ghost
 
@@ -92,6 +91,10 @@ class Particles {
   static void image_unpack(int image, int& ix, int& iy, int& iz);
 
  private:
+  void pack_core(int i, const Vec3& shift, std::vector<double>& buf) const;
+  int unpack_core(int i, const double* buf);
+  void pack_extras(int i, bool ExtraField::*flag, std::vector<double>& buf) const;
+  int unpack_extras(int i, bool ExtraField::*flag, const double* buf);
   std::vector<int> map_;
 };
 
