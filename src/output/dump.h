@@ -39,6 +39,11 @@ class Dump {
   std::int64_t last_step = -1;
 
  protected:
+  /// `dump_modify ID region R|none` for styles that write particles: returns
+  /// the words used (0 when args[k] is not `region`).
+  int parse_region(const Args& args, std::size_t k, const std::string& where);
+  std::string region_;  // only particles inside this region are written ("" = all)
+
   Engine& engine_;
   Args args_;
 };

@@ -608,13 +608,7 @@ int DumpCustom::modify_param(const Args& args, std::size_t k) {
   if (key == "units" && has1) return units_flag_ = parse_bool(args[k + 1], where), 2;
   if (key == "flush" && has1) return parse_bool(args[k + 1], where), 2;  // frames are always flushed
   if (key == "label" && has1) return label_ = args[k + 1], 2;
-  if (key == "region" && has1) {
-    if (args[k + 1] == "none")
-      region_.clear();
-    else
-      region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
-    return 2;
-  }
+  if (const int used = parse_region(args, k, where)) return used;
   return 0;
 }
 

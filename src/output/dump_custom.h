@@ -108,7 +108,6 @@ class DumpCustom : public Dump {
   static constexpr int kSortId = 1 << 30;
   int precision_ = 0;  // significant digits of the default float format (0 = %g)
   bool time_flag_ = false, units_flag_ = false, units_written_ = false;
-  std::string region_;
   std::string label_ = "ATOMS";
   std::vector<std::string> col_format_;  // per-column user format ("" = none)
   std::string int_format_, float_format_;

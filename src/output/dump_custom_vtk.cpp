@@ -139,13 +139,7 @@ int DumpCustomVTK::modify_param(const Args& args, std::size_t k) {
   const bool has1 = k + 1 < args.size();
   const std::string where = "dump_modify " + id + " " + key;
   if (const int used = options_.parse(args, k, where)) return used;
-  if (key == "region" && has1) {
-    if (args[k + 1] == "none")
-      region_.clear();
-    else
-      region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
-    return 2;
-  }
+  if (const int used = parse_region(args, k, where)) return used;
   if (key == "pvd" && has1) {
     const std::string& v = args[k + 1];
     if (v == "no" || v == "off" || v == "none") {

@@ -53,7 +53,6 @@ class DumpCustomVTK : public Dump {
   Kind kind_ = Kind::kPolyData;
   bool parallel_ext_ = false;  // .pvtp/.pvtu given
   vtkio::WriteOptions options_;
-  std::string region_;
   vtkio::PvdCollection pvd_;
 };
 

@@ -6,7 +6,9 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "core/update.h"
+#include "domain/domain.h"
 #include "domain/groups.h"
+#include "domain/region.h"
 #include "output/dump.h"
 #include "output/restart.h"
 
@@ -44,6 +46,15 @@ void Dump::modify(const Args& args) {
     }
     k += used;
   }
+}
+
+int Dump::parse_region(const Args& args, std::size_t k, const std::string& where) {
+  if (args[k] != "region" || k + 1 >= args.size()) return 0;
+  if (args[k + 1] == "none")
+    region_.clear();
+  else
+    region_ = engine_.domain->region_or_error(args[k + 1], where)->id;
+  return 2;
 }
 
 Output::Output(Engine& engine) : engine_(engine) {}
