@@ -264,6 +264,7 @@ void Update::run(std::int64_t n, bool pre, bool post) {
   step_loop(n);
   run_wall_time = MPI_Wtime() - t0;
   running = false;
+  forces_current = true;
   // Keep contact history keyed by particle ids between runs (particles may be
   // added, deleted or moved before the next run rebuilds the lists).
   if (e.force->pair && e.force->pair->history()) e.force->pair->history()->save(*e.neighbor, *e.particles);

@@ -16,7 +16,7 @@ class Update {
  public:
   explicit Update(Engine& engine);
 
-  double dt = 1.0e-8;  // [s]; LAMMPS' default for units si
+  double dt = 1.0e-8;          // [s]; LAMMPS' default for units si
   std::int64_t ntimestep = 0;  // current step
   double atime = 0.0;          // simulated time at step atimestep
   std::int64_t atimestep = 0;
@@ -46,6 +46,15 @@ class Update {
   /// run after read_restart uses them in place of the recomputed ones when the
   /// two agree to round-off, so a restarted run continues bit for bit.
   std::unordered_map<std::int64_t, std::array<double, 6>> restart_forces;
+  /// True while the stored forces belong to the current particle state: set at
+  /// the end of a run (and by read_restart from the file), cleared by commands
+  /// that change particles between runs (create_atoms, set, velocity,
+  /// delete_atoms, create_clump). write_restart records it; a file written
+  /// after such a change makes the next run recompute its forces, as the
+  /// uninterrupted script does at its next run's setup.
+  bool forces_current = false;
+  /// Called by commands that add, remove or change particles between runs.
+  void particles_changed() { forces_current = false; }
 
   enum TimerSlot { kPair, kNeigh, kComm, kModify, kOutput, kNumTimers };
   double timers[kNumTimers] = {0, 0, 0, 0, 0};

@@ -32,6 +32,7 @@
 #include "domain/domain.h"
 #include "domain/sphere_grid.h"
 #include "domain/groups.h"
+#include "core/update.h"
 #include "domain/region.h"
 #include "particles/particles.h"
 
@@ -410,6 +411,7 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
 }
 
 void cmd_create_atoms(Engine& e, const Args& a) {
+  e.update->particles_changed();
   const char* usage =
       "create_atoms TYPE single X Y Z | random N SEED REGION | box | region REGION [keywords]";
   if (a.size() < 2) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
@@ -503,6 +505,7 @@ std::string variable_ref(Engine& e, const std::string& word, const std::string& 
 }
 
 void cmd_set(Engine& e, const Args& a) {
+  e.update->particles_changed();
   const char* usage =
       "set atom|type|group|region ID keyword value ...  (keywords: type, type/fraction, diameter, density, "
       "mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, omega, image)";
@@ -640,6 +643,7 @@ void cmd_set(Engine& e, const Args& a) {
 // --------------------------------------------------------------- velocity
 
 void cmd_velocity(Engine& e, const Args& a) {
+  e.update->particles_changed();
   const char* usage =
       "velocity GROUP set VX VY VZ | setAngular WX WY WZ | ramp vx|vy|vz VLO VHI x|y|z CLO CHI | "
       "zero linear|angular  [sum yes|no] [units box|lattice]";
@@ -797,6 +801,7 @@ void cmd_velocity(Engine& e, const Args& a) {
 // ----------------------------------------------------------- delete_atoms
 
 void cmd_delete_atoms(Engine& e, const Args& a) {
+  e.update->particles_changed();
   const char* usage =
       "delete_atoms group GROUP | region REGION | porosity REGION FRACTION SEED  [compress yes|no] [mol "
       "yes|no]";

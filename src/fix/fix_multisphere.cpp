@@ -438,6 +438,7 @@ namespace {
 
 // create_clump TEMPLATE-ID x y z [quat w i j k] [vel vx vy vz] [omega wx wy wz] [frame principal|file]
 void cmd_create_clump(Engine& e, const Args& a) {
+  e.update->particles_changed();
   const std::string usage =
       "create_clump TEMPLATE-ID X Y Z [quat W I J K] [vel VX VY VZ] [omega WX WY WZ] [frame principal|file]";
   if (a.size() < 4) throw InputError("wrong number of arguments; usage: " + usage);

@@ -157,6 +157,8 @@ std::string global_section(Engine& e, long long natoms) {
   s << "atime " << fmt(u.atime) << "\n";
   s << "atimestep " << u.atimestep << "\n";
   s << "dt " << fmt(u.dt) << "\n";
+  // whether the stored forces belong to the stored state (see Update::forces_current)
+  s << "forces_current " << (u.forces_current ? 1 : 0) << "\n";
   s << "boundary";
   for (int k = 0; k < 3; ++k)
     s << " " << d.boundary[k][0] << d.boundary[k][1];
@@ -470,6 +472,9 @@ void read_restart(Engine& e, const std::string& file) {
   const double atime = parse_double(need("atime", 1)[0], "atime");
   const auto atimestep = parse_int(need("atimestep", 1)[0], "atimestep");
   const double dt = parse_double(need("dt", 1)[0], "dt");
+  // (files without the key predate it and were always written after a run)
+  const bool forces_current =
+      !g.count("forces_current") || g["forces_current"].empty() || g["forces_current"][0] == "1";
   const auto& bnd = need("boundary", 3);
   const Vec3 boxlo = vec("boxlo"), boxhi = vec("boxhi"), minlo = vec("minlo"), minhi = vec("minhi");
   const int ntypes = static_cast<int>(parse_int(need("ntypes", 1)[0], "ntypes"));
@@ -590,6 +595,10 @@ void read_restart(Engine& e, const std::string& file) {
     stored[p.id[i]] = {rec[12], rec[13], rec[14], rec[15], rec[16], rec[17]};
   }
   p.natoms = u.count_global();
+  // forces stored after particles were changed between runs are not those of
+  // the stored state: the next run recomputes them
+  if (!forces_current) stored.clear();
+  u.forces_current = forces_current;
   e.force->restart_history = std::move(history);
   e.modify->restart_states = std::move(states);
   e.modify->restart_materials = std::move(materials);
