@@ -88,7 +88,7 @@ Snapshot run_box(MPI_Comm comm, const std::string& file) {
       "cad",
       "fix integr all nve/sphere",
       "thermo 500",
-      "run 2500",
+      "run 1200",
   };
   for (const auto& l : script)
     e.input->one(l);
