@@ -1,7 +1,7 @@
 // A small silo bottom for the clog-detect tests, without mesh walls: a floor
 // of fixed spheres (type 2, not integrated) on a square lattice, periodic in x
-// and y, with a hole of 3 x 3 floor spheres (an opening about 3 grain
-// diameters wide) that is plugged while frictional grains (type 1) are poured
+// and y, with a hole of 3 x 3 floor spheres (an opening 6 mm wide between
+// the floor spheres, 2.2 grain diameters) that is plugged while frictional grains (type 1) are poured
 // and settle, then opened. Bodies that fall through reach region `out` below
 // the floor; region `arch` covers the opening from below the floor to two
 // grain layers above it.
@@ -12,9 +12,9 @@
 
 namespace clog_scene {
 
-constexpr double kDiameter = 0.002;   // grains and floor spheres [m]
-constexpr double kDensity = 2500.0;   // [kg/m^3]
-constexpr double kTimestep = 5.0e-5;  // [s]
+constexpr double kGrainDiameter = 0.0027;  // [m]; floor spheres: 0.002 m
+constexpr double kDensity = 2500.0;        // [kg/m^3]
+constexpr double kTimestep = 5.0e-5;       // [s]
 
 /// Pair style, materials, integration: what a script defines again after read_restart.
 inline std::vector<std::string> physics() {
@@ -35,9 +35,9 @@ inline std::vector<std::string> physics() {
 /// Regions used by the fix (not stored in restart files).
 inline std::vector<std::string> regions() {
   return {
-      "region out block 0 0.016 0 0.016 -0.02 -0.0015 units box",
-      "region arch cylinder z 0.008 0.008 0.005 -0.0015 0.004 units box",
-      "region bed block 0 0.016 0 0.016 0.0005 0.03 units box",
+      "region out block 0 0.02 0 0.02 -0.02 -0.0015 units box",
+      "region arch cylinder z 0.01 0.01 0.006 -0.0015 0.005 units box",
+      "region bed block 0 0.02 0 0.02 0.0005 0.04 units box",
   };
 }
 
@@ -51,20 +51,20 @@ inline std::vector<std::string> filled(int ngrains) {
       "boundary p p f",
       "newton off",
       "processors * * 1",
-      "region box block 0 0.016 0 0.016 -0.02 0.03 units box",
+      "region box block 0 0.02 0 0.02 -0.02 0.04 units box",
       "create_box 2 box",
   };
   for (const auto& l : physics())
     s.push_back(l);
   for (const auto& l : std::vector<std::string>{
            "lattice sc 0.002",
-           "region floor block 0 0.016 0 0.016 -0.0001 0.0001 units box",
+           "region floor block 0 0.02 0 0.02 -0.0001 0.0001 units box",
            "create_atoms 2 region floor",
-           "region hole cylinder z 0.008 0.008 0.0035 -0.001 0.001 units box",
+           "region hole cylinder z 0.01 0.01 0.0035 -0.001 0.001 units box",
            "group plug region hole",
-           "region fill block 0 0.016 0 0.016 0.0025 0.025 units box",
-           "create_atoms 1 random " + std::to_string(ngrains) + " 4242 fill overlap 0.0021 maxtry 200",
-           "set type 1 diameter 0.002 density 2500",
+           "region fill block 0 0.02 0 0.02 0.003 0.035 units box",
+           "create_atoms 1 random " + std::to_string(ngrains) + " 4242 fill overlap 0.0028 maxtry 200",
+           "set type 1 diameter 0.0027 density 2500",
            "set type 2 diameter 0.002 density 2500",
            "group grains type 1",
            "fix grav grains gravity 9.81 vector 0 0 -1",
