@@ -1,5 +1,7 @@
 #include "fix/fix_wall_gran.h"
 
+#include <mpi.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -8,6 +10,7 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "core/update.h"
+#include "fix/fix_mesh_surface.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -25,9 +28,37 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   }
   if (pos >= words.size()) throw InputError("fix wall/gran needs a wall; usage: " + usage);
   if (words[pos] == "mesh") {
-    throw InputError(
-        "fix wall/gran mesh walls need fix mesh/surface, which is not available yet; "
-        "use a primitive wall");
+    // mesh n_meshes N meshes M1 ... MN
+    const std::string mesh_usage = "fix ID group wall/gran model ... mesh n_meshes N meshes M1 M2 ...";
+    ++pos;
+    if (pos + 1 >= words.size() || words[pos] != "n_meshes")
+      throw InputError("fix wall/gran mesh needs 'n_meshes N'; usage: " + mesh_usage);
+    const long long n = parse_int(words[pos + 1], "fix wall/gran n_meshes");
+    if (n < 1) throw InputError("fix wall/gran: n_meshes must be at least 1");
+    pos += 2;
+    if (pos >= words.size() || words[pos] != "meshes")
+      throw InputError("fix wall/gran mesh needs 'meshes M1 ...' after n_meshes; usage: " + mesh_usage);
+    ++pos;
+    if (words.size() - pos != static_cast<std::size_t>(n)) {
+      throw InputError("fix wall/gran: n_meshes is " + std::to_string(n) + " but " +
+                       std::to_string(words.size() - pos) + " mesh ID(s) follow 'meshes'");
+    }
+    for (; pos < words.size(); ++pos) {
+      FixMeshSurface::find(*engine.modify, words[pos], "fix " + id + " wall/gran");
+      mesh_ids_.push_back(words[pos]);
+    }
+    mesh_ = true;
+    size_vector = 3;
+    nhist_ = contact::history_size(spec_);
+    if (nhist_ > 0) {
+      // slots of (triangle key, contact point, history); the name records the layout
+      const int ncomp = kMeshSlots * (kSlotHeader + nhist_);
+      field_name_ =
+          "mesh_wall_history/" + id + "/" + std::to_string(kMeshSlots) + "/" + std::to_string(nhist_);
+      field_ = engine.particles->add_field(field_name_, ncomp, false, true);
+      engine.particles->extras[field_].history = true;
+    }
+    return;
   }
   if (words[pos] != "primitive") {
     throw InputError("fix wall/gran: expected 'primitive', got '" + words[pos] + "'; usage: " + usage);
@@ -67,15 +98,37 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
     throw InputError("fix wall/gran: unexpected word '" + words[pos] + "'; usage: " + usage);
   nhist_ = contact::history_size(spec_);
   if (nhist_ > 0) {
-    field_ =
-        engine.particles->add_field("wall_history/" + id + "/" + std::to_string(nhist_), nhist_, false, true);
+    field_name_ = "wall_history/" + id + "/" + std::to_string(nhist_);
+    field_ = engine.particles->add_field(field_name_, nhist_, false, true);
     engine.particles->extras[field_].history = true;
   }
 }
 
 void FixWallGran::init() {
   materials_.build(engine_, spec_, "fix " + id + " wall/gran");
-  if (nhist_ > 0) field_ = engine_.particles->find_field("wall_history/" + id + "/" + std::to_string(nhist_));
+  if (nhist_ > 0) field_ = engine_.particles->find_field(field_name_);
+  if (mesh_) {
+    meshes_.clear();
+    key_base_.clear();
+    int base = 0;
+    for (const auto& m : mesh_ids_) {
+      FixMeshSurface& fm = FixMeshSurface::find(*engine_.modify, m, "fix " + id + " wall/gran");
+      if (fm.wall_type > materials_.ntypes()) {
+        throw InputError("fix " + id + " wall/gran: mesh " + m + " has type " + std::to_string(fm.wall_type) +
+                         ", which has no material");
+      }
+      meshes_.push_back(&fm);
+      key_base_.push_back(base);
+      base += fm.mesh.ntri();
+    }
+  }
+}
+
+double FixWallGran::compute_vector(int i) {
+  if (!mesh_ || i < 0 || i > 2) return 0.0;
+  double all[3];
+  MPI_Allreduce(force_, all, 3, MPI_DOUBLE, MPI_SUM, engine_.world);
+  return all[i];
 }
 
 bool FixWallGran::contact(const Vec3& x, double r, double& overlap, Vec3& n) const {
@@ -99,6 +152,10 @@ bool FixWallGran::contact(const Vec3& x, double r, double& overlap, Vec3& n) con
 }
 
 void FixWallGran::post_force() {
+  if (mesh_) {
+    post_force_mesh();
+    return;
+  }
   Particles& p = *engine_.particles;
   const double dt = engine_.update->history_dt();
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
@@ -176,6 +233,216 @@ void FixWallGran::post_force() {
       torque[i] += res.torque_i;
     }
   });
+}
+
+// Sphere-triangle contacts of the mesh form. For each particle: the triangles
+// near its centre (bin grid), the closest point on each, and then the contacts
+// the sphere physically has, in this order:
+//  1. face contacts (closest point inside a triangle): normal = the
+//     triangle's normal (towards the centre), overlap = r - plane distance,
+//     exactly as for a plane;
+//  2. edge and corner contacts, only where the centre lies in the Voronoi
+//     region of that edge or corner on the whole mesh (TriMesh::contact_valid:
+//     an edge between coplanar triangles never counts), normal from the
+//     closest point to the centre;
+//  a contact is dropped when its point coincides with one already kept, and an
+//  edge or corner contact also when its point lies on a triangle with a face
+//  contact. So a sphere on a flat region made of many triangles has one
+//  contact, in a concave corner one per face, on a convex edge one edge contact.
+// History: up to kMeshSlots contacts per particle, each stored with its
+// triangle key and contact point. A contact continues the history of the same
+// triangle; a new contact without one takes over the history of the nearest
+// contact of the previous step that ended (within half a radius), so a sphere
+// rolling or sliding onto a neighbouring triangle keeps its tangential spring.
+void FixWallGran::post_force_mesh() {
+  Particles& p = *engine_.particles;
+  const double dt = engine_.update->history_dt();
+  const int body_mass_field = p.find_field("body_mass");
+  const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
+  const Vec3* const x = p.x.data();
+  const Vec3* const v = p.v.data();
+  const Vec3* const omega = p.omega.data();
+  Vec3* const f = p.f.data();
+  Vec3* const torque = p.torque.data();
+  const double* const radius = p.radius.data();
+  const double* const rmass = p.rmass.data();
+  const int* const mask = p.mask.data();
+  const int* const type = p.type.data();
+  const int bit = groupbit;
+  const int nmesh = static_cast<int>(meshes_.size());
+  const contact::ModelSpec spec = spec_;
+  const MaterialTable& materials = materials_;
+  Vec3 total = Vec3::Zero();
+
+  // candidate contacts of one particle (fixed storage: no allocation per step)
+  constexpr int kMaxCandidates = 64;
+  struct Candidate {
+    int mesh, tri;
+    bool face;
+    double overlap;
+    Vec3 point, n;
+  };
+  Candidate cand[kMaxCandidates];
+  int kept[kMaxCandidates];
+
+  contact::dispatch_model(spec, [&](auto kernel) {
+    using K = decltype(kernel);
+    constexpr int nh = K::history_size;
+    constexpr int stride = kSlotHeader + nh;
+    contact::ContactState c;
+    contact::ContactResult res;
+    c.dt = dt;
+    c.r_j = 0.0;
+    c.omega_j.setZero();
+    double fresh[kMeshSlots * stride + 1];  // this step's slots, written back at the end
+    double zeros[nh > 0 ? nh : 1] = {};
+    const int nlocal = p.nlocal;
+    for (int i = 0; i < nlocal; ++i) {
+      if (!(mask[i] & bit)) continue;
+      const double r = radius[i];
+      const Vec3 xi = x[i];
+      double* h = nh > 0 ? hist_base + static_cast<std::size_t>(i) * kMeshSlots * stride : nullptr;
+      int ncand = 0;
+      for (int m = 0; m < nmesh; ++m) {
+        TriMesh& mesh = meshes_[m]->mesh;
+        mesh.ensure_margin(r);
+        int nnear = 0;
+        const int* near = mesh.near(xi, nnear);
+        for (int q = 0; q < nnear; ++q) {
+          const int t = near[q];
+          const double dn = (xi - mesh.corner(t, 0)).dot(mesh.normal(t));
+          if (dn >= r || dn <= -r) continue;  // beyond the triangle's plane reach
+          TriMesh::Feature feature;
+          const Vec3 cp = mesh.closest_point(t, xi, feature);
+          const Vec3 d = xi - cp;
+          const double d2 = d.squaredNorm();
+          if (d2 >= r * r) continue;
+          Candidate cd;
+          cd.mesh = m;
+          cd.tri = t;
+          cd.point = cp;
+          cd.face = feature == TriMesh::kFace;
+          if (cd.face) {
+            cd.overlap = r - std::fabs(dn);
+            cd.n = dn >= 0 ? mesh.normal(t) : Vec3(-mesh.normal(t));
+          } else {
+            if (!mesh.contact_valid(t, feature, cp, xi, 1e-10)) continue;
+            const double dist = std::sqrt(d2);
+            if (!(dist > 0.0)) continue;  // centre on the mesh: no direction
+            cd.overlap = r - dist;
+            cd.n = d * (1.0 / dist);
+          }
+          if (ncand == kMaxCandidates) {
+            throw RunError("fix " + id + " wall/gran: particle " + std::to_string(p.id[i]) +
+                           " touches more than " + std::to_string(kMaxCandidates) +
+                           " mesh triangles; the mesh is much finer than the particles");
+          }
+          cand[ncand++] = cd;
+        }
+      }
+      if (ncand == 0) {
+        if constexpr (nh > 0) {
+          if (h[0] != 0.0)  // slots are filled from the first one: first empty = all empty
+            for (int q = 0; q < kMeshSlots * stride; ++q)
+              h[q] = 0.0;
+        }
+        continue;
+      }
+      // faces first, then edges and corners; drop duplicates
+      const double eps = 1e-9 * r;
+      int nkept = 0;
+      for (int pass = 0; pass < 2; ++pass) {
+        for (int a = 0; a < ncand; ++a) {
+          const Candidate& ca = cand[a];
+          if (ca.face != (pass == 0)) continue;
+          bool drop = false;
+          for (int b = 0; b < nkept && !drop; ++b) {
+            const Candidate& cb = cand[kept[b]];
+            if ((ca.point - cb.point).squaredNorm() <= eps * eps) drop = true;
+            if (!drop && !ca.face && cb.face) {
+              TriMesh::Feature ft;
+              const TriMesh& mb = meshes_[cb.mesh]->mesh;
+              drop = (mb.closest_point(cb.tri, ca.point, ft) - ca.point).squaredNorm() <= eps * eps;
+            }
+          }
+          if (!drop) kept[nkept++] = a;
+        }
+      }
+      if (nkept > kMeshSlots) {
+        throw RunError("fix " + id + " wall/gran: particle " + std::to_string(p.id[i]) + " has " +
+                       std::to_string(nkept) + " mesh contacts at once, more than the " +
+                       std::to_string(kMeshSlots) + " this fix keeps history for");
+      }
+      // match this step's contacts with the stored ones
+      int source[kMeshSlots];
+      bool used[kMeshSlots] = {};
+      if constexpr (nh > 0) {
+        for (int k = 0; k < nkept; ++k) {
+          const Candidate& ck = cand[kept[k]];
+          const double key = key_base_[ck.mesh] + ck.tri + 1;
+          source[k] = -1;
+          for (int s = 0; s < kMeshSlots && h[s * stride] != 0.0; ++s)
+            if (!used[s] && h[s * stride] == key) {
+              source[k] = s;
+              used[s] = true;
+              break;
+            }
+        }
+        for (int k = 0; k < nkept; ++k) {
+          if (source[k] >= 0) continue;
+          const Vec3& pk = cand[kept[k]].point;
+          double best = 0.25 * r * r;
+          for (int s = 0; s < kMeshSlots && h[s * stride] != 0.0; ++s) {
+            if (used[s]) continue;
+            const double dd =
+                (Vec3(h[s * stride + 1], h[s * stride + 2], h[s * stride + 3]) - pk).squaredNorm();
+            if (dd < best) {
+              best = dd;
+              source[k] = s;
+            }
+          }
+          if (source[k] >= 0) used[source[k]] = true;
+        }
+      }
+      c.r_i = r;
+      c.r_eff = r;
+      c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
+      c.omega_i = omega[i];
+      for (int k = 0; k < nkept; ++k) {
+        const Candidate& ck = cand[kept[k]];
+        TriMesh& mesh = meshes_[ck.mesh]->mesh;
+        double* hk = zeros;
+        if constexpr (nh > 0) {
+          double* slot = fresh + k * stride;
+          slot[0] = key_base_[ck.mesh] + ck.tri + 1;
+          slot[1] = ck.point[0];
+          slot[2] = ck.point[1];
+          slot[3] = ck.point[2];
+          hk = slot + kSlotHeader;
+          const double* src = source[k] >= 0 ? h + source[k] * stride + kSlotHeader : nullptr;
+          for (int q = 0; q < nh; ++q)
+            hk[q] = src ? src[q] : 0.0;
+        }
+        c.n = ck.n;
+        c.overlap = ck.overlap;
+        c.v_rel = v[i] - mesh.velocity;
+        K::evaluate(spec, c, materials(type[i], meshes_[ck.mesh]->wall_type), hk, res);
+        f[i] += res.force;
+        torque[i] += res.torque_i;
+        total -= res.force;
+        mesh.tri_force[ck.tri] -= res.force;
+      }
+      if constexpr (nh > 0) {
+        for (int q = 0; q < nkept * stride; ++q)
+          h[q] = fresh[q];
+        for (int q = nkept * stride; q < kMeshSlots * stride; ++q)
+          h[q] = 0.0;
+      }
+    }
+  });
+  for (int d = 0; d < 3; ++d)
+    force_[d] = total[d];
 }
 
 GRANARY_FIX_STYLE("wall/gran", FixWallGran);

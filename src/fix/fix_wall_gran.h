@@ -2,9 +2,14 @@
 //   fix ID group wall/gran model hertz tangential history [rolling_friction cdt]
 //       primitive type T xplane|yplane|zplane POS
 //   fix ID group wall/gran ... primitive type T zcylinder RADIUS CX CY
+//   fix ID group wall/gran model hertz tangential history [rolling_friction cdt]
+//       mesh n_meshes N meshes M1 M2 ...
 // The wall is a material of atom type T (its Young's modulus, Poisson ratio
 // and the pair coefficients of T with each particle type apply). Contact
-// history is kept per particle per wall and migrates with the particle.
+// history is kept per particle per wall and migrates with the particle. Mesh
+// walls (fix mesh/surface) keep a fixed number of contact slots per particle,
+// keyed by triangle; see doc/architecture.md for how the contacts of a sphere
+// with neighbouring triangles are reduced to the physical ones.
 #pragma once
 
 #include "contact/contact_model.h"
@@ -12,7 +17,12 @@
 #include "fix/fix.h"
 #include "pair/materials.h"
 
+#include <string>
+#include <vector>
+
 namespace granary {
+
+class FixMeshSurface;
 
 class FixWallGran : public Fix {
  public:
@@ -21,6 +31,13 @@ class FixWallGran : public Fix {
   void init() override;
   void post_force() override;
   void setup() override {}
+  /// Mesh form: total force of the particles on the meshes (x, y, z), summed over ranks [N].
+  double compute_vector(int i) override;
+
+  /// Mesh walls: contact slots per particle, and doubles per slot before the
+  /// contact history (triangle key, contact point x y z).
+  static constexpr int kMeshSlots = 6;
+  static constexpr int kSlotHeader = 4;
 
   /// Signed distance-based contact with the primitive: overlap and unit normal
   /// pointing from the wall to the particle centre. Returns false without contact.
@@ -37,6 +54,15 @@ class FixWallGran : public Fix {
   double cyl_r_ = 0.0, cyl_cx_ = 0.0, cyl_cy_ = 0.0;
   int field_ = -1;  // per-particle history field
   int nhist_ = 0;
+  std::string field_name_;
+
+  // mesh form
+  void post_force_mesh();
+  bool mesh_ = false;
+  std::vector<std::string> mesh_ids_;
+  std::vector<FixMeshSurface*> meshes_;  // resolved by init
+  std::vector<int> key_base_;            // triangle keys of mesh m start at key_base_[m] + 1
+  double force_[3] = {0, 0, 0};          // on the meshes, this rank, last step
 };
 
 }  // namespace granary

@@ -1,0 +1,293 @@
+#include "fix/fix_mesh_surface.h"
+
+#include <mpi.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCellArray.h>
+#include <vtkCommand.h>
+#include <vtkIdList.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSTLReader.h>
+#include <vtkSmartPointer.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "fix/modify.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+
+const char* kUsage =
+    "fix ID group mesh/surface file F.stl type T [scale S] [move dx dy dz] "
+    "[rotate axis ax ay az angle DEG] [curvature_tolerant yes|no]";
+
+// VTK reports problems through error events: collect their text instead of
+// letting VTK print them.
+void collect_error(vtkObject*, unsigned long, void* client, void* call) {
+  auto* text = static_cast<std::string*>(client);
+  if (text->empty() && call) *text = static_cast<const char*>(call);
+}
+
+// Rank 0: read the triangle corners of an STL file (ASCII or binary); returns
+// "" or what is wrong, with the way to fix it.
+std::string read_stl(const std::string& file, std::vector<Vec3>& corners) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return "STL file '" + file + "' does not exist; check the name and directory";
+  if (!fs::is_regular_file(file, ec)) return "'" + file + "' is not a regular file";
+  if (!std::ifstream(file, std::ios::binary)) return "cannot open STL file '" + file + "' for reading";
+  std::string vtk_error;
+  auto observer = vtkSmartPointer<vtkCallbackCommand>::New();
+  observer->SetCallback(collect_error);
+  observer->SetClientData(&vtk_error);
+  auto reader = vtkSmartPointer<vtkSTLReader>::New();
+  reader->AddObserver(vtkCommand::ErrorEvent, observer);
+  reader->AddObserver(vtkCommand::WarningEvent, observer);
+  reader->SetMerging(0);  // corners are merged by TriMesh, which also detects degenerate triangles
+  reader->SetFileName(file.c_str());
+  const int display = vtkObject::GetGlobalWarningDisplay();
+  vtkObject::GlobalWarningDisplayOff();  // pipeline messages: the error below says it all
+  reader->Update();
+  vtkObject::SetGlobalWarningDisplay(display);
+  vtkPolyData* poly = reader->GetOutput();
+  const std::string fix_hint =
+      "; the file must be an ASCII STL (solid ... facet normal ... endsolid) or a binary STL";
+  if (!vtk_error.empty() || reader->GetErrorCode() != 0) {
+    // keep the first line of VTK's message
+    std::string why = vtk_error.substr(0, vtk_error.find('\n'));
+    return "cannot read STL file '" + file + "'" + (why.empty() ? "" : " (" + why + ")") + fix_hint;
+  }
+  vtkCellArray* polys = poly ? poly->GetPolys() : nullptr;
+  if (!polys || polys->GetNumberOfCells() == 0)
+    return "STL file '" + file + "' holds no triangles" + fix_hint;
+  vtkPoints* pts = poly->GetPoints();
+  auto ids = vtkSmartPointer<vtkIdList>::New();
+  polys->InitTraversal();
+  while (polys->GetNextCell(ids)) {
+    if (ids->GetNumberOfIds() != 3)
+      return "STL file '" + file + "' has a facet that is not a triangle" + fix_hint;
+    for (int c = 0; c < 3; ++c) {
+      double v[3];
+      pts->GetPoint(ids->GetId(c), v);
+      corners.emplace_back(v[0], v[1], v[2]);
+    }
+  }
+  for (const Vec3& v : corners)
+    if (!v.allFinite()) return "STL file '" + file + "' has a corner that is not a finite number";
+  return "";
+}
+
+void put_bytes(std::string& out, const void* p, std::size_t n) {
+  out.append(static_cast<const char*>(p), n);
+}
+
+}  // namespace
+
+FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, args) {
+  restart_global = true;
+  const std::string where = "fix " + id + " mesh/surface";
+  if (args.size() < 5) throw InputError(where + ": missing arguments; usage: " + std::string(kUsage));
+  if (args[3] != "file") {
+    throw InputError(where +
+                     ": the first keyword must be 'file' (a fix-generated mesh is not supported); usage: " +
+                     std::string(kUsage));
+  }
+  file = args[4];
+  // Transformations in the order given (LIGGGHTS applies them that way).
+  struct Transform {
+    char kind;  // 's' scale, 'm' move, 'r' rotate
+    Vec3 v;
+    double value;
+  };
+  std::vector<Transform> transforms;
+  bool have_type = false, heal = false;
+  std::size_t k = 5;
+  auto need = [&](std::size_t n, const std::string& key) {
+    if (k + n > args.size())
+      throw InputError(where + ": '" + key + "' needs " + std::to_string(n) + " value(s); usage: " + kUsage);
+  };
+  while (k < args.size()) {
+    const std::string& key = args[k];
+    if (key == "type") {
+      need(2, key);
+      wall_type = static_cast<int>(parse_int(args[k + 1], where + " type"));
+      if (wall_type < 1 || wall_type > engine.particles->ntypes) {
+        throw InputError(where + ": type " + args[k + 1] + " is outside 1.." +
+                         std::to_string(engine.particles->ntypes) + " (the atom types of create_box)");
+      }
+      have_type = true;
+      k += 2;
+    } else if (key == "scale") {
+      need(2, key);
+      const double s = parse_double(args[k + 1], where + " scale");
+      if (!(s > 0.0)) throw InputError(where + ": scale must be positive, got " + args[k + 1]);
+      transforms.push_back({'s', Vec3::Zero(), s});
+      k += 2;
+    } else if (key == "move") {
+      need(4, key);
+      Vec3 d;
+      for (int c = 0; c < 3; ++c)
+        d[c] = parse_double(args[k + 1 + c], where + " move");
+      transforms.push_back({'m', d, 0.0});
+      k += 4;
+    } else if (key == "rotate") {
+      need(7, key);
+      if (args[k + 1] != "axis" || args[k + 5] != "angle") {
+        throw InputError(where + ": expected 'rotate axis ax ay az angle DEG', got 'rotate " + args[k + 1] +
+                         " ...'");
+      }
+      Vec3 axis;
+      for (int c = 0; c < 3; ++c)
+        axis[c] = parse_double(args[k + 2 + c], where + " rotate axis");
+      if (!(axis.norm() > 0.0)) throw InputError(where + ": the rotation axis must not be zero");
+      transforms.push_back({'r', axis.normalized(), parse_double(args[k + 6], where + " rotate angle")});
+      k += 7;
+    } else if (key == "verbose" || key == "curvature_tolerant") {
+      need(2, key);
+      parse_bool(args[k + 1], where + " " + key);
+      k += 2;
+    } else if (key == "heal") {
+      need(2, key);
+      if (args[k + 1] != "auto_remove_duplicates" && args[k + 1] != "no")
+        throw InputError(where + ": heal takes auto_remove_duplicates or no, got '" + args[k + 1] + "'");
+      heal = args[k + 1] == "auto_remove_duplicates";
+      k += 2;
+    } else if (key == "curvature" || key == "precision") {
+      need(2, key);
+      const double v = parse_double(args[k + 1], where + " " + key);
+      if (!(v > 0.0)) throw InputError(where + ": " + key + " must be positive");
+      k += 2;
+    } else if (key == "region" || key == "element_exclusion_list" || key == "min_feature_length" ||
+               key == "temperature" || key == "mass_temperature" || key == "extrude_planar" ||
+               key == "surface_vel" || key == "surface_ang_vel") {
+      throw InputError(where + ": keyword '" + key +
+                       "' is not supported; see doc/fixes/mesh_surface.md for the keywords Granary reads");
+    } else {
+      throw InputError(where + ": unknown keyword '" + key + "'; usage: " + kUsage);
+    }
+  }
+  if (!have_type) throw InputError(where + ": missing 'type T' (the material of the wall); usage: " + kUsage);
+
+  // rank 0 reads, every rank gets the corners
+  std::vector<Vec3> corners;
+  std::string err;
+  if (engine.rank == 0) err = read_stl(file, corners);
+  int len = static_cast<int>(err.size());
+  MPI_Bcast(&len, 1, MPI_INT, 0, engine.world);
+  err.resize(len);
+  if (len > 0) MPI_Bcast(err.data(), len, MPI_CHAR, 0, engine.world);
+  if (!err.empty()) throw InputError(where + ": " + err);
+  long long n = static_cast<long long>(corners.size());
+  MPI_Bcast(&n, 1, MPI_LONG_LONG, 0, engine.world);
+  corners.resize(n);
+  MPI_Bcast(corners.data(), static_cast<int>(3 * n), MPI_DOUBLE, 0, engine.world);
+
+  for (const Transform& t : transforms) {
+    for (Vec3& v : corners) {
+      if (t.kind == 's')
+        v *= t.value;
+      else if (t.kind == 'm')
+        v += t.v;
+      else
+        v = Eigen::AngleAxisd(t.value * M_PI / 180.0, t.v) * v;
+    }
+  }
+  // duplicate triangles (the same three corners): removed with heal
+  // auto_remove_duplicates, an error otherwise (as in LIGGGHTS)
+  {
+    std::set<std::array<double, 9>> seen;
+    std::vector<Vec3> kept;
+    for (std::size_t t = 0; t < corners.size() / 3; ++t) {
+      std::array<std::array<double, 3>, 3> c;
+      for (int j = 0; j < 3; ++j)
+        c[j] = {corners[3 * t + j][0], corners[3 * t + j][1], corners[3 * t + j][2]};
+      std::sort(c.begin(), c.end());
+      std::array<double, 9> key;
+      for (int j = 0; j < 3; ++j)
+        for (int d = 0; d < 3; ++d)
+          key[3 * j + d] = c[j][d];
+      if (!seen.insert(key).second) {
+        if (heal) continue;
+        throw InputError(where + ": triangle " + std::to_string(t + 1) + " of '" + file +
+                         "' duplicates an earlier one; remove it from the file or add "
+                         "'heal auto_remove_duplicates'");
+      }
+      for (int j = 0; j < 3; ++j)
+        kept.push_back(corners[3 * t + j]);
+    }
+    corners.swap(kept);
+  }
+  try {
+    mesh.set_triangles(corners);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where + ": " + e.what() + " in '" + file +
+                     "'; repair the mesh in a CAD or mesh tool (or check scale)");
+  }
+}
+
+void FixMeshSurface::init() {
+  // fix move/mesh, if any, sets the velocity again in its init (called after this one)
+  mesh.velocity.setZero();
+}
+
+void FixMeshSurface::pre_force() {
+  for (Vec3& f : mesh.tri_force)
+    f.setZero();
+}
+
+void FixMeshSurface::pack_restart(std::string& out) const {
+  const std::uint64_t ntri = mesh.ntri(), nnodes = mesh.nnodes();
+  put_bytes(out, &ntri, sizeof ntri);
+  put_bytes(out, &nnodes, sizeof nnodes);
+  for (int k = 0; k < mesh.nnodes(); ++k)
+    put_bytes(out, mesh.node(k).data(), 3 * sizeof(double));
+}
+
+void FixMeshSurface::unpack_restart(const std::string& in) {
+  std::uint64_t ntri = 0, nnodes = 0;
+  if (in.size() < 2 * sizeof(std::uint64_t))
+    throw InputError("fix " + id + " mesh/surface: bad restart state");
+  std::memcpy(&ntri, in.data(), sizeof ntri);
+  std::memcpy(&nnodes, in.data() + sizeof ntri, sizeof nnodes);
+  if (ntri != static_cast<std::uint64_t>(mesh.ntri()) ||
+      nnodes != static_cast<std::uint64_t>(mesh.nnodes()) ||
+      in.size() != 2 * sizeof(std::uint64_t) + nnodes * 3 * sizeof(double)) {
+    throw InputError("fix " + id + " mesh/surface: the restart file holds a mesh of " + std::to_string(ntri) +
+                     " triangles (" + std::to_string(nnodes) + " nodes), but '" + file + "' has " +
+                     std::to_string(mesh.ntri()) + " (" + std::to_string(mesh.nnodes()) +
+                     "); define the fix with the file it had, or give it another ID");
+  }
+  std::vector<Vec3> nodes(nnodes);
+  std::memcpy(static_cast<void*>(nodes.data()), in.data() + 2 * sizeof(std::uint64_t),
+              nnodes * 3 * sizeof(double));
+  mesh.set_nodes(nodes);
+}
+
+FixMeshSurface& FixMeshSurface::find(const Modify& modify, const std::string& mesh_id,
+                                     const std::string& what) {
+  Fix* f = modify.fix_or_error(mesh_id, what);
+  auto* m = dynamic_cast<FixMeshSurface*>(f);
+  if (!m) {
+    throw InputError(what + ": fix " + mesh_id + " is a " + f->style +
+                     " fix, not a mesh/surface fix; give the ID of a fix mesh/surface");
+  }
+  return *m;
+}
+
+GRANARY_FIX_STYLE("mesh/surface", FixMeshSurface);
+
+}  // namespace granary

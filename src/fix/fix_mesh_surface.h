@@ -1,0 +1,38 @@
+// fix ID group mesh/surface file F.stl type T [scale S] [move dx dy dz]
+//     [rotate axis ax ay az angle DEG] [curvature_tolerant yes|no] ...
+// A triangle mesh read from an ASCII or binary STL file (with VTK's
+// vtkSTLReader on rank 0, broadcast to every rank), transformed by scale, move
+// and rotate in the order given, used as a granular wall by fix wall/gran
+// (mesh form), moved by fix move/mesh and written by dump mesh/vtk.
+// The current node positions go into restart files. See doc/fixes/mesh_surface.md.
+#pragma once
+
+#include <string>
+
+#include "fix/fix.h"
+#include "fix/tri_mesh.h"
+
+namespace granary {
+
+class Modify;
+
+class FixMeshSurface : public Fix {
+ public:
+  FixMeshSurface(Engine& engine, const Args& args);
+  unsigned hooks() const override { return PRE_FORCE; }
+  void init() override;
+  /// Per-triangle forces are summed afresh every step.
+  void pre_force() override;
+
+  void pack_restart(std::string& out) const override;
+  void unpack_restart(const std::string& in) override;
+
+  TriMesh mesh;
+  int wall_type = 1;  ///< atom type whose material the mesh has
+  std::string file;   ///< the STL file it was read from
+
+  /// The mesh/surface fix with this ID, or an InputError saying what needs it.
+  static FixMeshSurface& find(const Modify& modify, const std::string& id, const std::string& what);
+};
+
+}  // namespace granary

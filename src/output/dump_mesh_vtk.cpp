@@ -1,0 +1,215 @@
+// `dump ID group mesh/vtk N file.vtp [output face] [id] [vel] [area] [mesh-IDs ...]`:
+// the triangles of fix mesh/surface walls as VTK XML PolyData. Meshes are
+// replicated on every rank, so rank 0 writes the whole frame; per-triangle
+// forces are summed over the ranks first. Cell data: mesh (index of the mesh
+// in the dump's list, from 0), normal, velocity, force (of the particles on
+// the triangle on the last step) and area; field data TimeValue and Step.
+// A .pvd collection lists every frame with its simulated time. The group is
+// ignored. See doc/commands/dump.md.
+#include <mpi.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "fix/fix_mesh_surface.h"
+#include "fix/modify.h"
+#include "output/dump.h"
+#include "output/dump_custom.h"
+#include "output/vtk_support.h"
+
+namespace granary {
+
+namespace {
+
+class DumpMeshVTK : public Dump {
+ public:
+  DumpMeshVTK(Engine& engine, const Args& args) : Dump(engine, args) {
+    const std::string where = "dump " + id + " mesh/vtk";
+    if (vtkio::extension(filename) != ".vtp") {
+      throw InputError(where + ": needs a file name ending in .vtp (VTK XML PolyData), got '" + filename +
+                       "'; e.g. post/mesh_*.vtp");
+    }
+    if (filename.find('%') != std::string::npos)
+      throw InputError(where + ": writes one file per frame on rank 0; '%' is not allowed in '" + filename +
+                       "'");
+    for (std::size_t k = 5; k < args.size(); ++k) {
+      const std::string& w = args[k];
+      if (w == "output") {
+        if (k + 1 >= args.size() || args[k + 1] != "face")
+          throw InputError(where + ": only 'output face' is supported (values per triangle)");
+        ++k;
+      } else if (w == "id" || w == "vel" || w == "area" || w == "stress") {
+        // LIGGGHTS' dump identifiers: the mesh index, velocity, area and force are always written
+      } else if (engine.modify->find_fix(w)) {
+        FixMeshSurface::find(*engine.modify, w, where);
+        mesh_ids_.push_back(w);
+      } else {
+        throw InputError(
+            where + ": '" + w +
+            "' is neither the ID of a fix mesh/surface nor one of output, id, vel, area, stress");
+      }
+    }
+    dumpio::check_directory(engine.world, filename, "dump " + id);
+    pvd_.path = vtkio::pvd_name(filename, id);
+  }
+
+  int modify_param(const Args& args, std::size_t k) override {
+    const std::string& key = args[k];
+    const std::string where = "dump_modify " + id + " " + key;
+    if (const int used = options_.parse(args, k, where)) return used;
+    if (key == "pvd" && k + 1 < args.size()) {
+      const std::string& v = args[k + 1];
+      if (v == "no" || v == "off" || v == "none") {
+        pvd_.path.clear();
+      } else {
+        if (vtkio::extension(v) != ".pvd")
+          throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
+        dumpio::check_directory(engine_.world, v, where);
+        pvd_.path = v;
+      }
+      pvd_.clear();
+      return 2;
+    }
+    return 0;
+  }
+
+  void init() override {
+    if (meshes().empty()) throw InputError("dump " + id + " mesh/vtk: there is no fix mesh/surface to write");
+  }
+
+  void write() override {
+    std::vector<FixMeshSurface*> list = meshes();
+    // per-triangle forces of all ranks, summed on rank 0
+    std::vector<double> local, all;
+    for (FixMeshSurface* m : list)
+      for (const Vec3& f : m->mesh.tri_force)
+        local.insert(local.end(), f.data(), f.data() + 3);
+    all.resize(local.size());
+    MPI_Reduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, 0,
+               engine_.world);
+    std::string err;
+    if (engine_.rank == 0)
+      err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), list, all);
+    err = dumpio::first_error(engine_.world, err);
+    if (!err.empty()) throw RunError("dump " + id + ": " + err);
+  }
+
+ private:
+  std::vector<FixMeshSurface*> meshes() const {
+    std::vector<FixMeshSurface*> list;
+    if (mesh_ids_.empty()) {
+      for (const auto& f : engine_.modify->fixes)
+        if (auto* m = dynamic_cast<FixMeshSurface*>(f.get())) list.push_back(m);
+    } else {
+      for (const auto& m : mesh_ids_)
+        list.push_back(&FixMeshSurface::find(*engine_.modify, m, "dump " + id + " mesh/vtk"));
+    }
+    return list;
+  }
+
+  std::string write_frame(const std::string& frame, const std::vector<FixMeshSurface*>& list,
+                          const std::vector<double>& force) {
+    vtkIdType npts = 0, ncells = 0;
+    for (const FixMeshSurface* m : list) {
+      npts += m->mesh.nnodes();
+      ncells += m->mesh.ntri();
+    }
+    auto points = vtkSmartPointer<vtkPoints>::New();
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(npts);
+    auto offsets = vtkSmartPointer<vtkIdTypeArray>::New();
+    auto conn = vtkSmartPointer<vtkIdTypeArray>::New();
+    offsets->SetNumberOfValues(ncells + 1);
+    conn->SetNumberOfValues(3 * ncells);
+    auto make = [ncells](vtkDataArray* a, const char* name, int nc) {
+      a->SetName(name);
+      a->SetNumberOfComponents(nc);
+      a->SetNumberOfTuples(ncells);
+    };
+    auto index = vtkSmartPointer<vtkIntArray>::New();
+    auto normal = vtkSmartPointer<vtkDoubleArray>::New();
+    auto vel = vtkSmartPointer<vtkDoubleArray>::New();
+    auto fa = vtkSmartPointer<vtkDoubleArray>::New();
+    auto area = vtkSmartPointer<vtkDoubleArray>::New();
+    make(index, "mesh", 1);
+    make(normal, "normal", 3);
+    make(vel, "velocity", 3);
+    make(fa, "force", 3);
+    make(area, "area", 1);
+    vtkIdType p0 = 0, cell = 0;
+    for (std::size_t mi = 0; mi < list.size(); ++mi) {
+      const TriMesh& mesh = list[mi]->mesh;
+      for (int k = 0; k < mesh.nnodes(); ++k)
+        points->SetPoint(p0 + k, mesh.node(k).data());
+      for (int t = 0; t < mesh.ntri(); ++t, ++cell) {
+        offsets->SetValue(cell, 3 * cell);
+        for (int c = 0; c < 3; ++c)
+          conn->SetValue(3 * cell + c, p0 + mesh.tri(t)[c]);
+        index->SetValue(cell, static_cast<int>(mi));
+        normal->SetTypedTuple(cell, mesh.normal(t).data());
+        vel->SetTypedTuple(cell, mesh.velocity.data());
+        fa->SetTypedTuple(cell, force.data() + 3 * cell);
+        area->SetValue(
+            cell,
+            0.5 *
+                (mesh.corner(t, 1) - mesh.corner(t, 0)).cross(mesh.corner(t, 2) - mesh.corner(t, 0)).norm());
+      }
+      p0 += mesh.nnodes();
+    }
+    offsets->SetValue(ncells, 3 * ncells);
+    auto cells = vtkSmartPointer<vtkCellArray>::New();
+    cells->SetData(offsets, conn);
+    auto ds = vtkSmartPointer<vtkPolyData>::New();
+    ds->SetPoints(points);
+    ds->SetPolys(cells);
+    for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area})
+      ds->GetCellData()->AddArray(a);
+    auto tv = vtkSmartPointer<vtkDoubleArray>::New();
+    tv->SetName("TimeValue");
+    tv->InsertNextValue(engine_.update->time());
+    auto cycle = vtkSmartPointer<vtkTypeInt64Array>::New();
+    cycle->SetName("Step");
+    cycle->InsertNextValue(engine_.update->ntimestep);
+    ds->GetFieldData()->AddArray(tv);
+    ds->GetFieldData()->AddArray(cycle);
+
+    if (std::FILE* fp = std::fopen(frame.c_str(), "wb"))
+      std::fclose(fp);
+    else
+      return dumpio::open_error(frame);
+    auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+    vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
+    w->SetInputData(ds);
+    w->SetFileName(frame.c_str());
+    if (!w->Write()) return "VTK could not write '" + frame + "'";
+    if (!pvd_.path.empty()) return pvd_.add(frame, engine_.update->time());
+    return "";
+  }
+
+  std::vector<std::string> mesh_ids_;
+  vtkio::WriteOptions options_;
+  vtkio::PvdCollection pvd_;
+};
+
+}  // namespace
+
+GRANARY_DUMP_STYLE("mesh/vtk", DumpMeshVTK);
+
+}  // namespace granary

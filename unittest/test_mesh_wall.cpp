@@ -1,0 +1,346 @@
+// Mesh walls: fix mesh/surface, fix wall/gran mesh, fix move/mesh, dump mesh/vtk.
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "fix/fix_mesh_surface.h"
+#include "fix/modify.h"
+#include "mesh_files.h"
+#include "script_engine.h"
+
+using granary::Vec3;
+using granary::test::ScriptEngine;
+using mesh_files::Triangle;
+
+namespace {
+
+const std::string kDir = mesh_files::temp_dir();
+
+std::string path(const std::string& name) {
+  return kDir + "/" + name;
+}
+
+// A 0.08 m square floor at z = 0 made of 4 x 4 cells (32 triangles).
+std::string floor_file() {
+  static const std::string f = [] {
+    std::vector<Triangle> t;
+    mesh_files::add_rectangle(t, Vec3(-0.04, -0.04, 0), Vec3(0.08, 0, 0), Vec3(0, 0.08, 0), 4, 4);
+    mesh_files::write_ascii(path("floor.stl"), t);
+    return path("floor.stl");
+  }();
+  return f;
+}
+
+std::vector<std::string> scene(double mu_r = 0.1, const std::string& rolling = "rolling_friction cdt") {
+  return {
+      "units si",
+      "atom_style granular",
+      "boundary f f f",
+      "region box block -0.05 0.05 -0.05 0.05 -0.03 0.05 units box",
+      "create_box 2 box",
+      "neighbor 0.001 bin",
+      "neigh_modify delay 0",
+      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
+      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
+      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 " + std::to_string(mu_r) +
+          " " + std::to_string(mu_r) + " " + std::to_string(mu_r) + " " + std::to_string(mu_r),
+      "pair_style gran model hertz tangential history " + rolling,
+      "pair_coeff * *",
+      "timestep 1e-5",
+  };
+}
+
+struct Body {
+  Vec3 x, v, w;
+};
+Body body(const ScriptEngine& s, int i = 0) {
+  return {s.p().x[i], s.p().v[i], s.p().omega[i]};
+}
+
+double rel(const Vec3& a, const Vec3& b) {
+  return (a - b).norm() / std::max(1e-30, b.norm());
+}
+
+granary::FixMeshSurface& mesh_fix(ScriptEngine& s, const std::string& id) {
+  return granary::FixMeshSurface::find(*s.e.modify, id, "test");
+}
+
+const std::string kWallModel = "wall/gran model hertz tangential history rolling_friction cdt ";
+
+}  // namespace
+
+TEST_CASE("a sphere sliding and rolling over a floor of 32 triangles moves as on a zplane wall", "[mesh]") {
+  // One sphere starts on the floor with a tangential velocity and a spin; it
+  // slides, spins up and rolls across several triangle edges (cells are 2 cm,
+  // it travels more than 4 cm). Only a plane-like contact, with its tangential
+  // history carried from triangle to triangle, gives the primitive wall's
+  // trajectory; the tolerance 1e-12 allows round-off only.
+  std::vector<Body> ref, mesh;
+  for (int variant = 0; variant < 2; ++variant) {
+    ScriptEngine s;
+    s.cmds(scene());
+    s.cmds({"create_atoms 1 single 0.003 -0.002 0.00499 units box",
+            "set group all diameter 0.01 density 2500", "velocity all set 0.9 0.35 0.0 units box",
+            "set group all omega 10 -30 5", "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0"});
+    if (variant == 0) {
+      s.cmd("fix floor all " + kWallModel + "primitive type 2 zplane 0.0");
+    } else {
+      s.cmd("fix cad all mesh/surface file " + floor_file() + " type 2");
+      s.cmd("fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad");
+    }
+    s.cmd("fix integr all nve/sphere");
+    auto& out = variant == 0 ? ref : mesh;
+    for (int k = 0; k < 12; ++k) {
+      s.cmd("run 500");
+      out.push_back(body(s));
+    }
+  }
+  REQUIRE(ref.back().x[0] - 0.003 > 0.045);            // crossed at least two rows of cells
+  REQUIRE(std::fabs(ref.back().x[2] - 0.005) < 1e-4);  // in contact all along
+  double worst = 0;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    worst = std::max({worst, rel(mesh[k].x, ref[k].x), rel(mesh[k].v, ref[k].v), rel(mesh[k].w, ref[k].w)});
+  }
+  INFO("largest relative difference " << worst);
+  CHECK(worst < 1e-12);
+}
+
+TEST_CASE("a sphere on a convex edge is pushed away from the closest point", "[mesh]") {
+  // Top plate z = 0 for x < 0, and a vertical face x = 0 below it: the edge is
+  // the y axis. The sphere centre (3, 0, 2) mm, radius 5 mm, sees only the edge:
+  // one Hertz contact along (3, 0, 2)/|.|, overlap r - |(3, 0, 2)| mm.
+  std::vector<Triangle> t;
+  mesh_files::add_rectangle(t, Vec3(-0.04, -0.04, 0), Vec3(0.04, 0, 0), Vec3(0, 0.08, 0), 2, 3);
+  mesh_files::add_rectangle(t, Vec3(0, -0.04, 0), Vec3(0, 0, -0.02), Vec3(0, 0.08, 0), 2, 3);
+  mesh_files::write_ascii(path("step.stl"), t);
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmds({"create_atoms 1 single 0.003 0.001 0.002 units box", "set group all diameter 0.01 density 2500",
+          "fix cad all mesh/surface file " + path("step.stl") + " type 2",
+          "fix wall all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere", "run 0"});
+  const Vec3 d(0.003, 0.0, 0.002);
+  const double delta = 0.005 - d.norm();
+  const double Y = 1.0 / (2.0 * (1.0 - 0.45 * 0.45) / 5e6);
+  const double fn = 4.0 / 3.0 * Y * std::sqrt(0.005 * delta) * delta;
+  const Vec3 f = s.p().f[0];
+  CHECK(rel(f, fn * d.normalized()) < 1e-12);
+  CHECK(s.e.fix_value("wall", 3) == Approx(-f[2]).epsilon(1e-14));  // f_wall[3]: force on the mesh
+}
+
+TEST_CASE("a sphere in a concave corner feels two plane contacts", "[mesh]") {
+  std::vector<Triangle> t;
+  mesh_files::add_rectangle(t, Vec3(0, -0.04, 0), Vec3(0.04, 0, 0), Vec3(0, 0.08, 0), 3, 2);
+  mesh_files::add_rectangle(t, Vec3(0, -0.04, 0), Vec3(0, 0, 0.04), Vec3(0, 0.08, 0), 3, 2);
+  mesh_files::write_ascii(path("corner.stl"), t);
+  Vec3 force[2], torque[2];
+  for (int variant = 0; variant < 2; ++variant) {
+    ScriptEngine s;
+    s.cmds(scene());
+    s.cmds({"create_atoms 1 single 0.0041 0.001 0.0043 units box", "set group all diameter 0.01 density 2500",
+            "velocity all set 0.1 0.2 -0.1 units box", "set group all omega 3 1 -2"});
+    if (variant == 0) {
+      s.cmd("fix w1 all " + kWallModel + "primitive type 2 xplane 0.0");
+      s.cmd("fix w2 all " + kWallModel + "primitive type 2 zplane 0.0");
+    } else {
+      s.cmd("fix cad all mesh/surface file " + path("corner.stl") + " type 2");
+      s.cmd("fix w1 all " + kWallModel + "mesh n_meshes 1 meshes cad");
+    }
+    s.cmds({"fix integr all nve/sphere", "run 20"});
+    force[variant] = s.p().f[0];
+    torque[variant] = s.p().torque[0];
+  }
+  CHECK(force[0].norm() > 1.0);
+  CHECK(rel(force[1], force[0]) < 1e-12);
+  CHECK(rel(torque[1], torque[0]) < 1e-12);
+}
+
+TEST_CASE("mesh/surface reads ASCII and binary STL and applies scale, move, rotate in order", "[mesh]") {
+  const std::vector<Triangle> one = {{Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0)},
+                                     {Vec3(1, 0, 0), Vec3(1, 1, 0.5), Vec3(0, 1, 0)}};
+  mesh_files::write_ascii(path("t.stl"), one);
+  mesh_files::write_binary(path("tb.stl"), one);
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmd("fix a all mesh/surface file " + path("t.stl") + " type 1");
+  s.cmd("fix b all mesh/surface file " + path("tb.stl") + " type 1 verbose no heal auto_remove_duplicates");
+  const auto& ma = mesh_fix(s, "a").mesh;
+  const auto& mb = mesh_fix(s, "b").mesh;
+  REQUIRE(ma.ntri() == 2);
+  REQUIRE(ma.nnodes() == 4);  // shared corners merged
+  REQUIRE(mb.ntri() == 2);
+  for (int t = 0; t < 2; ++t)
+    for (int c = 0; c < 3; ++c) {
+      CHECK(ma.corner(t, c) == one[t][c]);
+      CHECK(mb.corner(t, c) == one[t][c]);
+    }
+  // scale 2 -> move (1, 0, 0) -> rotate 90 degrees about z: (x, y) -> (-y, x)
+  s.cmd("fix c all mesh/surface file " + path("t.stl") +
+        " type 1 scale 2 move 1 0 0 rotate axis 0 0 1 angle 90 curvature_tolerant yes");
+  const auto& mc = mesh_fix(s, "c").mesh;
+  const Vec3 expect[3] = {Vec3(0, 3, 0), Vec3(-2, 1, 0), Vec3(0, 1, 0)};
+  for (int c = 0; c < 3; ++c)
+    CHECK((mc.corner(0, c) - expect[c]).norm() < 1e-15);
+  CHECK((mc.normal(0) - Vec3(0, 0, 1)).norm() < 1e-15);
+}
+
+TEST_CASE("mesh/surface refuses missing, malformed, empty and degenerate files with the file name",
+          "[mesh]") {
+  ScriptEngine s;
+  s.cmds(scene());
+  auto error_of = [&](const std::string& line) {
+    try {
+      s.cmd(line);
+    } catch (const granary::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string missing = path("nothere.stl");
+  CHECK_THAT(error_of("fix a all mesh/surface file " + missing + " type 1"), Catch::Contains(missing));
+  { std::ofstream(path("bad.stl")) << "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 zero\n"; }
+  CHECK_THAT(error_of("fix a all mesh/surface file " + path("bad.stl") + " type 1"),
+             Catch::Contains(path("bad.stl")));
+  { std::ofstream(path("empty.stl")) << "solid x\nendsolid x\n"; }
+  CHECK_THAT(error_of("fix a all mesh/surface file " + path("empty.stl") + " type 1"),
+             Catch::Contains(path("empty.stl")));
+  mesh_files::write_ascii(path("degenerate.stl"), {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)}});
+  const std::string deg = error_of("fix a all mesh/surface file " + path("degenerate.stl") + " type 1");
+  CHECK_THAT(deg, Catch::Contains(path("degenerate.stl")) && Catch::Contains("degenerate"));
+  CHECK_THAT(error_of("fix a all mesh/surface file " + floor_file() + " type 1 wiggle 3"),
+             Catch::Contains("unknown keyword 'wiggle'"));
+  CHECK_THAT(error_of("fix a all mesh/surface file " + floor_file()), Catch::Contains("type"));
+  CHECK(s.e.modify->find_fix("a") == nullptr);
+}
+
+TEST_CASE("move/mesh linear moves the mesh by V t and a belt drags a sphere to 2/7 of its speed", "[mesh]") {
+  // In the belt's frame the sphere slides backwards at V and ends rolling at
+  // 5/7 of that (angular momentum about the contact point is conserved), so in
+  // the lab it ends at V - 5/7 V = 2/7 V. The lever arm r - delta/2 makes this
+  // exact only to O(delta/r) ~ 1e-3; tolerance 1%.
+  ScriptEngine s;
+  s.cmds(scene(0.0, ""));
+  s.cmds({"create_atoms 1 single 0.0 0.0 0.00499 units box", "set group all diameter 0.01 density 2500",
+          "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+          "fix cad all mesh/surface file " + floor_file() + " type 2",
+          "fix belt all move/mesh mesh cad linear 0.1 0.0 0.0",
+          "fix floor all wall/gran model hertz tangential history mesh n_meshes 1 meshes cad",
+          "fix integr all nve/sphere"});
+  const auto& mesh = mesh_fix(s, "cad").mesh;
+  std::vector<Vec3> x0;
+  for (int k = 0; k < mesh.nnodes(); ++k)
+    x0.push_back(mesh.node(k));
+  s.cmd("run 3000");
+  double worst = 0;
+  for (int k = 0; k < mesh.nnodes(); ++k)
+    worst = std::max(worst, (mesh.node(k) - (x0[k] + Vec3(0.1 * 0.03, 0, 0))).norm());
+  CHECK(worst < 1e-16);
+  CHECK(s.p().v[0][0] == Approx(2.0 / 7.0 * 0.1).epsilon(0.01));
+  CHECK(std::fabs(s.p().v[0][1]) < 1e-12);
+  // rolling on the belt: contact point moves with the belt
+  CHECK(s.p().v[0][0] + 0.005 * s.p().omega[0][1] == Approx(0.1).epsilon(0.01));
+  // after unfix the mesh stands still
+  s.cmd("unfix belt");
+  const Vec3 n0 = mesh.node(0);
+  s.cmd("run 100");
+  CHECK(mesh.node(0) == n0);
+  CHECK(mesh.velocity.norm() == 0.0);
+}
+
+TEST_CASE("dump mesh/vtk writes the triangles, normals and velocity as VTK PolyData", "[mesh]") {
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmds({"fix cad all mesh/surface file " + floor_file() + " type 2 rotate axis 1 0 0 angle 30",
+          "fix belt all move/mesh mesh cad linear 0.0 0.1 0.2",
+          "dump d all mesh/vtk 10 " + path("mesh_*.vtp") + " cad", "run 10"});
+  const auto& mesh = mesh_fix(s, "cad").mesh;
+  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  reader->SetFileName(path("mesh_10.vtp").c_str());
+  reader->Update();
+  vtkPolyData* pd = reader->GetOutput();
+  REQUIRE(pd->GetNumberOfPolys() == mesh.ntri());
+  REQUIRE(pd->GetNumberOfPoints() == mesh.nnodes());
+  double worst = 0;
+  for (int k = 0; k < mesh.nnodes(); ++k) {
+    double p[3];
+    pd->GetPoint(k, p);
+    worst = std::max(worst, (Vec3(p[0], p[1], p[2]) - mesh.node(k)).norm());
+  }
+  CHECK(worst == 0.0);
+  vtkDataArray* n = pd->GetCellData()->GetArray("normal");
+  vtkDataArray* v = pd->GetCellData()->GetArray("velocity");
+  REQUIRE(n);
+  REQUIRE(v);
+  for (int t = 0; t < mesh.ntri(); ++t) {
+    const double* nn = n->GetTuple3(t);
+    CHECK(Vec3(nn[0], nn[1], nn[2]) == mesh.normal(t));
+    const double* vv = v->GetTuple3(t);
+    CHECK(Vec3(vv[0], vv[1], vv[2]) == Vec3(0.0, 0.1, 0.2));
+  }
+  CHECK(std::filesystem::exists(path("mesh_.pvd")));
+}
+
+TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_restart", "[mesh][restart]") {
+  // A sphere sliding on a moving belt of 32 triangles: the run split by a
+  // restart file continues bit for bit (history slots and node positions).
+  auto setup = [&](ScriptEngine& s) {
+    s.cmds({"fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+            "fix cad all mesh/surface file " + floor_file() + " type 2",
+            "fix belt all move/mesh mesh cad linear 0.3 -0.1 0.0",
+            "fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere"});
+  };
+  auto fresh = [&](ScriptEngine& s) {
+    s.cmds(scene());
+    s.cmds({"create_atoms 1 single 0.001 0.002 0.00499 units box",
+            "create_atoms 1 single 0.02 0.01 0.005 units box", "set group all diameter 0.01 density 2500",
+            "velocity all set -0.4 0.2 0.0 units box"});
+    setup(s);
+  };
+  Body straight[2], restarted[2];
+  Vec3 node_straight, node_restarted;
+  {
+    ScriptEngine s;
+    fresh(s);
+    s.cmd("run 2000");
+    for (int i = 0; i < 2; ++i)
+      straight[s.p().id[i] - 1] = body(s, i);
+    node_straight = mesh_fix(s, "cad").mesh.node(0);
+  }
+  const std::string file = path("mesh.restart");
+  {
+    ScriptEngine s;
+    fresh(s);
+    s.cmd("run 1000");
+    s.cmd("write_restart " + file);
+  }
+  {
+    ScriptEngine s;
+    s.cmds({"atom_style granular", "read_restart " + file});
+    for (const auto& l : scene())
+      if (l.rfind("fix m", 0) == 0 || l.rfind("pair", 0) == 0 || l.rfind("timestep", 0) == 0 ||
+          l.rfind("neigh", 0) == 0)
+        s.cmd(l);
+    setup(s);
+    s.cmd("run 1000");
+    for (int i = 0; i < 2; ++i)
+      restarted[s.p().id[i] - 1] = body(s, i);
+    node_restarted = mesh_fix(s, "cad").mesh.node(0);
+  }
+  CHECK(node_restarted == node_straight);
+  for (int i = 0; i < 2; ++i) {
+    CHECK(restarted[i].x == straight[i].x);
+    CHECK(restarted[i].v == straight[i].v);
+    CHECK(restarted[i].w == straight[i].w);
+  }
+}

@@ -1,0 +1,140 @@
+// Mesh walls give the same physics on 1, 2 and 4 MPI ranks.
+//
+// Run by ctest at 1, 2 and 4 ranks. A few hundred spheres are poured into a
+// box made of one STL mesh: four side walls and a floor with a slit narrower
+// than the spheres, so that they rest on faces, in concave corners and on the
+// convex edges of the slit. Every rank first runs the whole system alone
+// (MPI_COMM_SELF) as the reference, then all ranks run it together.
+#include <mpi.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "comm/collectives.h"
+#include "core/engine.h"
+#include "core/input.h"
+#include "core/logger.h"
+#include "mesh_files.h"
+#include "particles/particles.h"
+
+using granary::Vec3;
+
+namespace {
+
+std::string box_file() {
+  // rank 0 writes the file, every rank learns its name
+  static std::string name;
+  if (!name.empty()) return name;
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  char buf[512] = {};
+  if (rank == 0) {
+    std::vector<mesh_files::Triangle> t;
+    const double a = 0.01, g = 0.00075, h = 0.03;
+    // floor with a slit |x| < g, the slit's side faces, and the four walls
+    mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(a - g, 0, 0), Vec3(0, 2 * a, 0), 3, 4);
+    mesh_files::add_rectangle(t, Vec3(g, -a, 0), Vec3(a - g, 0, 0), Vec3(0, 2 * a, 0), 3, 4);
+    mesh_files::add_rectangle(t, Vec3(-g, -a, 0), Vec3(0, 0, -0.004), Vec3(0, 2 * a, 0), 1, 4);
+    mesh_files::add_rectangle(t, Vec3(g, -a, 0), Vec3(0, 0, -0.004), Vec3(0, 2 * a, 0), 1, 4);
+    mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(0, 2 * a, 0), Vec3(0, 0, h), 4, 3);
+    mesh_files::add_rectangle(t, Vec3(a, -a, 0), Vec3(0, 2 * a, 0), Vec3(0, 0, h), 4, 3);
+    mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(2 * a, 0, 0), Vec3(0, 0, h), 4, 3);
+    mesh_files::add_rectangle(t, Vec3(-a, a, 0), Vec3(2 * a, 0, 0), Vec3(0, 0, h), 4, 3);
+    const std::string f = mesh_files::temp_dir() + "/slit_box.stl";
+    mesh_files::write_binary(f, t);
+    std::snprintf(buf, sizeof buf, "%s", f.c_str());
+  }
+  MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
+  name = buf;
+  return name;
+}
+
+struct Snapshot {
+  long long natoms = 0;
+  double ke = 0.0, fz = 0.0;
+  std::map<long long, Vec3> x;
+};
+
+Snapshot run_box(MPI_Comm comm, const std::string& file) {
+  granary::Engine e(comm);
+  e.logger->set_screen(false);
+  const std::vector<std::string> script = {
+      "units si",
+      "atom_style granular",
+      "boundary f f f",
+      "processors * * 1",
+      "region box block -0.011 0.011 -0.011 0.011 -0.005 0.03 units box",
+      "create_box 2 box",
+      "neighbor 0.0005 bin",
+      "neigh_modify delay 0",
+      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
+      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
+      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
+      "pair_style gran model hertz tangential history rolling_friction cdt",
+      "pair_coeff * *",
+      "timestep 2e-5",
+      "region fill block -0.0088 0.0088 -0.0088 0.0088 0.0012 0.025 units box",
+      "create_atoms 1 random 300 4711 fill overlap 0.0021 maxtry 200",
+      "set type 1 diameter 0.002 density 2500",
+      "velocity all set 0.1 -0.05 -0.5",
+      "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+      "fix cad all mesh/surface file " + file + " type 2",
+      "fix walls all wall/gran model hertz tangential history rolling_friction cdt mesh n_meshes 1 meshes "
+      "cad",
+      "fix integr all nve/sphere",
+      "thermo 500",
+      "run 2500",
+  };
+  for (const auto& l : script)
+    e.input->one(l);
+  Snapshot s;
+  const auto& p = *e.particles;
+  std::vector<double> mine;
+  for (int i = 0; i < p.nlocal; ++i) {
+    mine.push_back(static_cast<double>(p.id[i]));
+    for (int d = 0; d < 3; ++d)
+      mine.push_back(p.x[i][d]);
+  }
+  const std::vector<double> all = granary::allgather(comm, mine);
+  for (std::size_t k = 0; k + 3 < all.size(); k += 4)
+    s.x[static_cast<long long>(all[k])] = Vec3(all[k + 1], all[k + 2], all[k + 3]);
+  s.natoms = static_cast<long long>(s.x.size());
+  bool found = false;
+  s.ke = e.thermo_keyword("ke", found);
+  s.fz = e.fix_value("walls", 3);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("spheres poured into a mesh box with a slit give the same result on every rank count", "[mesh]") {
+  const std::string file = box_file();
+  const Snapshot ref = run_box(MPI_COMM_SELF, file);
+  const Snapshot par = run_box(MPI_COMM_WORLD, file);
+  REQUIRE(ref.natoms == 300);
+  REQUIRE(par.natoms == ref.natoms);
+  // the bed rests on the mesh: it carries most of the weight (300 spheres of 10.5 mg)
+  const double weight = 300 * 2500 * 4.0 / 3.0 * M_PI * 1e-9 * 9.81;
+  INFO("force on the mesh " << ref.fz << " N, weight " << weight << " N");
+  CHECK(-ref.fz > 0.5 * weight);
+  // spheres sit on the slit's edges
+  int on_slit = 0;
+  for (const auto& kv : ref.x)
+    on_slit += std::fabs(kv.second[0]) < 0.0012 && kv.second[2] < 0.001 ? 1 : 0;
+  CHECK(on_slit > 0);
+  CHECK(par.ke == Approx(ref.ke).epsilon(1e-6));
+  CHECK(par.fz == Approx(ref.fz).epsilon(1e-6));
+  double worst = 0.0;
+  for (const auto& kv : ref.x) {
+    auto it = par.x.find(kv.first);
+    REQUIRE(it != par.x.end());
+    worst = std::max(worst, (it->second - kv.second).norm());
+  }
+  INFO("largest position difference " << worst << " m");
+  CHECK(worst < 1e-9);
+}
