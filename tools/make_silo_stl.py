@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Write the STL meshes (ASCII) of a flat-bottomed rectangular silo with a slit.
 
-Usage: tools/make_silo_stl.py [--W 16] [--D 4] [--H 25] [--slit 2.8] [--dc 0.0032]
+Usage: tools/make_silo_stl.py [--W 10] [--D 3] [--H 18] [--slit 2.2] [--dc 0.0032]
                               [--out DIR] [--walls silo_walls.stl] [--shutter silo_shutter.stl]
 
 Lengths are given in units of the particle size dc (metres per dc: --dc) and
@@ -87,10 +87,10 @@ def read_stl(path):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--W", type=float, default=16.0, help="width (x) in dc")
-    ap.add_argument("--D", type=float, default=4.0, help="depth (y) in dc")
-    ap.add_argument("--H", type=float, default=25.0, help="height (z) in dc")
-    ap.add_argument("--slit", type=float, default=2.8, help="slit width in dc")
+    ap.add_argument("--W", type=float, default=10.0, help="width (x) in dc")
+    ap.add_argument("--D", type=float, default=3.0, help="depth (y) in dc")
+    ap.add_argument("--H", type=float, default=18.0, help="height (z) in dc")
+    ap.add_argument("--slit", type=float, default=2.2, help="slit width in dc")
     ap.add_argument("--dc", type=float, default=3.2e-3, help="size of the particles dc in metres")
     ap.add_argument("--out", default=".", help="output folder")
     ap.add_argument("--walls", default="silo_walls.stl")

@@ -13,8 +13,8 @@ void TriMesh::set_triangles(const std::vector<Vec3>& corners) {
   node_.clear();
   tri_.clear();
   std::map<std::array<double, 3>, int> ids;
-  const std::size_t ntri = corners.size() / 3;
-  for (std::size_t t = 0; t < ntri; ++t) {
+  const std::size_t ncorner_sets = corners.size() / 3;
+  for (std::size_t t = 0; t < ncorner_sets; ++t) {
     std::array<int, 3> tr{};
     for (int c = 0; c < 3; ++c) {
       const Vec3& v = corners[3 * t + c];
