@@ -31,6 +31,7 @@ std::string read(const fs::path& p) {
 // Commands documented on another command's page.
 const std::map<std::string, std::string> kAliases = {
     {"communicate", "comm_modify"},
+    {"clog-detect", "clog_detect"},
     {"region-phi", "region_phi"},
     {"region/phi", "region_phi"},
     {"particledistribution/discrete/massbased", "particledistribution/discrete"},

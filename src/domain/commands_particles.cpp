@@ -33,6 +33,8 @@
 #include "domain/sphere_grid.h"
 #include "domain/groups.h"
 #include "domain/region.h"
+#include "fix/fix_multisphere.h"
+#include "fix/modify.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -843,6 +845,7 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
 
   const long long before = sum_all(e, p.nlocal);
   std::vector<char> doomed(p.nlocal, 0);
+  std::vector<tagint> gone_bodies;
   for (int i = 0; i < p.nlocal; ++i) {
     if (style == "group")
       doomed[i] = (p.mask[i] & bit) != 0;
@@ -858,6 +861,7 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
       if (doomed[i] && p.body[i] >= 0) bodies.push_back(static_cast<long long>(p.body[i]));
     std::vector<long long> all = allgather(e.world, bodies);
     const std::unordered_set<long long> gone(all.begin(), all.end());
+    gone_bodies.assign(gone.begin(), gone.end());
     for (int i = 0; i < p.nlocal; ++i)
       if (p.body[i] >= 0 && gone.count(static_cast<long long>(p.body[i]))) doomed[i] = 1;
   }
@@ -865,6 +869,9 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
   for (int i = p.nlocal - 1; i >= 0; --i)
     if (doomed[i]) p.remove_local(i);
   p.clear_ghosts();
+  // whole clumps removed: their body records go too
+  if (mol && !gone_bodies.empty())
+    if (FixMultisphere* ms = FixMultisphere::find(*e.modify)) ms->remove_bodies(gone_bodies);
 
   {
     // surviving ids on every rank; with compress they become 1..N in the

@@ -296,6 +296,34 @@ long long FixMultisphere::remove_incomplete_bodies() {
   return ndoomed;
 }
 
+long long FixMultisphere::remove_bodies(const std::vector<tagint>& ids) {
+  Engine& e = engine_;
+  Particles& p = *e.particles;
+  std::vector<char> doomed(bodies_.size(), 0);
+  bool any = false;
+  for (tagint t : ids) {
+    const int b = bodies_.find(t);
+    if (b >= 0) doomed[b] = 1;
+    any = any || b >= 0;
+  }
+  if (!any) return 0;
+  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  long long removed = 0;
+  for (int i = p.nlocal - 1; i >= 0; --i) {
+    if (p.body[i] < 0) continue;
+    const int b = bodies_.find(p.body[i]);
+    if (b < 0 || !doomed[b]) continue;
+    if (history) history->forget_particle(p.id[i]);
+    p.remove_local(i);
+    ++removed;
+  }
+  bodies_.remove(doomed);
+  bodies_changed();
+  compute_rotations();  // body indices moved
+  p.map_clear();
+  return removed;
+}
+
 Vec3 FixMultisphere::wrapped_centre(int b) const {
   Vec3 x = bodies_.xcm[b];
   int image = Particles::image_pack(0, 0, 0);

@@ -63,6 +63,12 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   /// (collective; particles must have no ghosts or ghosts are rebuilt by the
   /// caller). Returns the number of bodies removed.
   long long remove_incomplete_bodies();
+  /// Remove the clumps with these body ids: their owned sub-spheres (with
+  /// their contact-history rows) and their body records. Called on every rank
+  /// with the same ids, when there are no ghosts (pre_exchange, between runs);
+  /// unknown ids are ignored. Returns the number of particles removed on this
+  /// rank (the caller updates the global count).
+  long long remove_bodies(const std::vector<tagint>& ids);
 
   const Bodies& bodies() const { return bodies_; }
   Bodies& bodies() { return bodies_; }

@@ -1,0 +1,93 @@
+// A small silo bottom for the clog-detect tests, without mesh walls: a floor
+// of fixed spheres (type 2, not integrated) on a square lattice, periodic in x
+// and y, with a hole of 3 x 3 floor spheres (an opening about 3 grain
+// diameters wide) that is plugged while frictional grains (type 1) are poured
+// and settle, then opened. Bodies that fall through reach region `out` below
+// the floor; region `arch` covers the opening from below the floor to two
+// grain layers above it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace clog_scene {
+
+constexpr double kDiameter = 0.002;   // grains and floor spheres [m]
+constexpr double kDensity = 2500.0;   // [kg/m^3]
+constexpr double kTimestep = 5.0e-5;  // [s]
+
+/// Pair style, materials, integration: what a script defines again after read_restart.
+inline std::vector<std::string> physics() {
+  return {
+      "communicate single vel yes",
+      "neighbor 0.0005 bin",
+      "neigh_modify delay 0",
+      "fix m1 all property/global youngsModulus peratomtype 1.e6 1.e6",
+      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.3 0.3 0.3 0.3",
+      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.6 0.6 0.6 0.6",
+      "pair_style gran model hertz tangential history",
+      "pair_coeff * *",
+      "timestep 5e-5",
+  };
+}
+
+/// Regions used by the fix (not stored in restart files).
+inline std::vector<std::string> regions() {
+  return {
+      "region out block 0 0.016 0 0.016 -0.02 -0.0015 units box",
+      "region arch cylinder z 0.008 0.008 0.005 -0.0015 0.004 units box",
+      "region bed block 0 0.016 0 0.016 0.0005 0.03 units box",
+  };
+}
+
+/// The whole scene: box, floor, `ngrains` grains poured on the plugged floor
+/// and settled (0.125 s), then the plug removed. Groups: floor, grains.
+inline std::vector<std::string> filled(int ngrains) {
+  std::vector<std::string> s = {
+      "units si",
+      "atom_style granular",
+      "atom_modify map array",
+      "boundary p p f",
+      "newton off",
+      "processors * * 1",
+      "region box block 0 0.016 0 0.016 -0.02 0.03 units box",
+      "create_box 2 box",
+  };
+  for (const auto& l : physics())
+    s.push_back(l);
+  for (const auto& l : std::vector<std::string>{
+           "lattice sc 0.002",
+           "region floor block 0 0.016 0 0.016 -0.0001 0.0001 units box",
+           "create_atoms 2 region floor",
+           "region hole cylinder z 0.008 0.008 0.0035 -0.001 0.001 units box",
+           "group plug region hole",
+           "region fill block 0 0.016 0 0.016 0.0025 0.025 units box",
+           "create_atoms 1 random " + std::to_string(ngrains) + " 4242 fill overlap 0.0021 maxtry 200",
+           "set type 1 diameter 0.002 density 2500",
+           "set type 2 diameter 0.002 density 2500",
+           "group grains type 1",
+           "fix grav grains gravity 9.81 vector 0 0 -1",
+           "fix integr grains nve/sphere",
+           "run 2500",
+           "delete_atoms group plug",
+       })
+    s.push_back(l);
+  for (const auto& l : regions())
+    s.push_back(l);
+  return s;
+}
+
+/// After read_restart of a filled scene: physics, gravity, integration, regions.
+inline std::vector<std::string> restarted(const std::string& file) {
+  std::vector<std::string> s = {"atom_style granular", "atom_modify map array", "read_restart " + file};
+  for (const auto& l : physics())
+    s.push_back(l);
+  s.push_back("fix grav grains gravity 9.81 vector 0 0 -1");
+  s.push_back("fix integr grains nve/sphere");
+  for (const auto& l : regions())
+    s.push_back(l);
+  return s;
+}
+
+}  // namespace clog_scene
