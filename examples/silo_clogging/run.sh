@@ -8,7 +8,7 @@
 # Usage: examples/silo_clogging/run.sh [--out DIR] [--np N] [--phi "0 0.05 ..."] [-var NAME VALUE ...]
 #   --out DIR   output folder (default out/silo, relative to the repository root)
 #   --np N      MPI ranks (default 2)
-#   --phi LIST  sphere volume fractions, one run each (default "0.05")
+#   --phi LIST  sphere volume fractions, one run each (default "0")
 #   -var ...    passed on to granary (e.g. -var W 30 -var D 10 -var H 70 ...);
 #               W, D, H and s also shape the meshes
 # Each case goes to DIR/phi_<phi>/ (log.silo, avalanches.csv, box.dat, VTK
@@ -17,7 +17,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 OUT="$ROOT/out/silo"
 NP=2
-PHIS="0.05"
+PHIS="0"
 VARS=()
 declare -A GEOM=([W]=10 [D]=3 [H]=18 [s]=2.2)
 while [[ $# -gt 0 ]]; do
