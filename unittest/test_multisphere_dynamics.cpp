@@ -212,12 +212,20 @@ TEST_CASE("multisphere: computes ke, erotate, multisphere and orientation", "[mu
           "create_clump dumb 0 0 -0.01 vel 0 0 0", "compute ke all ke/multisphere",
           "compute rot all erotate/multisphere", "compute b all multisphere",
           "compute o all orientation axis 0 0 1 bins 3", "region upper block INF INF INF INF 0 INF",
-          "compute ou all orientation axis 0 0 1 region upper", "run 0"});
+          "compute ou all orientation axis 0 0 1 region upper", "compute keu all ke/multisphere region upper",
+          "compute rotu all erotate/multisphere region upper", "region lower block INF INF INF INF INF 0",
+          "compute rotd all erotate/multisphere region lower", "run 0"});
   const Bodies& b = s.bodies();
   const double m = b.mass[0];
   CHECK(s.e.compute_value("ke", 0) == Approx(0.5 * m * 5.0));
   CHECK(s.e.compute_value("rot", 0) == Approx(0.5 * b.omega[0].dot(b.angmom[0])));
   CHECK(s.e.compute_value("rot", 0) > 0.0);
+  // region keyword: only the upper clump (moving and spinning) is in `upper`, the lower one rests
+  CHECK(s.e.compute_value("keu", 0) == Approx(0.5 * m * 5.0));
+  CHECK(s.e.compute_value("rotu", 0) == Approx(s.e.compute_value("rot", 0)));
+  CHECK(s.e.compute_value("rotd", 0) == 0.0);
+  CHECK_THROWS_WITH(s.cmd("compute bad all ke/multisphere region nowhere"),
+                    Catch::Matchers::Contains("nowhere"));
   // 13 values per clump: xcm vcm omega quat
   CHECK(s.e.compute_value("b", 3) == Approx(0.01));
   CHECK(s.e.compute_value("b", 4) == Approx(1.0));

@@ -96,6 +96,22 @@ TEST_CASE("compute ke and erotate/sphere", "[compute]") {
   CHECK(c->scalar_flag);
   CHECK(c->extensive);
   CHECK_THROWS_WITH(s.cmd("compute bad all ke extra"), Contains("usage"));
+
+  // region keyword: particles whose centre lies in x < 4 (ids 1 and 2), within the group
+  s.cmds({"region low block 0 4 0 10 0 10", "compute kel all ke region low",
+          "compute rotl all erotate/sphere region low", "compute ke2l two ke region low"});
+  double kel = 0, rotl = 0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto& p = kParticles[k];
+    const double m = mass(p), r = 0.5 * p.d;
+    kel += 0.5 * m * v2(p);
+    rotl += 0.5 * 0.4 * m * r * r * w2(p);
+  }
+  CHECK(s.value("kel") == Approx(kel).epsilon(1e-12));
+  CHECK(s.value("rotl") == Approx(rotl).epsilon(1e-12));
+  CHECK(s.value("ke2l") == Approx(0.5 * mass(kParticles[1]) * v2(kParticles[1])).epsilon(1e-12));
+  CHECK_THROWS_WITH(s.cmd("compute bad all ke region nowhere"), Contains("nowhere"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all erotate/sphere regio low"), Contains("usage"));
 }
 
 TEST_CASE("compute reduce sum, min, max, ave and friends", "[compute]") {

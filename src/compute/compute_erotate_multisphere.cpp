@@ -5,6 +5,8 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "domain/domain.h"
+#include "domain/region.h"
 #include "fix/fix_multisphere.h"
 #include "fix/modify.h"
 
@@ -15,7 +17,13 @@ namespace {
 class ComputeERotateMultisphere : public Compute {
  public:
   ComputeERotateMultisphere(Engine& engine, const Args& args) : Compute(engine, args) {
-    require_args(args, 3, 3, "compute ID group-ID erotate/multisphere");
+    const std::string usage = "compute ID group-ID erotate/multisphere [region R]";
+    if (args.size() == 5 && args[3] == "region") {
+      region_id_ = args[4];
+      engine.domain->region_or_error(region_id_, "compute " + id + " erotate/multisphere");
+    } else if (args.size() != 3) {
+      throw InputError("wrong arguments for compute " + id + " erotate/multisphere; usage: " + usage);
+    }
     scalar_flag = true;
     extensive = true;
   }
@@ -25,11 +33,17 @@ class ComputeERotateMultisphere : public Compute {
     if (!ms) throw InputError("compute " + id + " erotate/multisphere needs fix multisphere");
     const Bodies& b = ms->bodies();
     double e = 0.0;
+    const Region* region = region_id_.empty() ? nullptr
+                                              : engine_.domain->region_or_error(
+                                                    region_id_, "compute " + id + " erotate/multisphere");
     for (int k = 0; k < b.size(); ++k)
-      e += b.kinetic_rotational(k);
+      if (!region || region->match(ms->wrapped_centre(k))) e += b.kinetic_rotational(k);
     scalar = e;
     return scalar;
   }
+
+ private:
+  std::string region_id_;  // only clumps whose centre of mass lies in it (all without)
 };
 
 }  // namespace

@@ -4,6 +4,9 @@
 
 #include "compute/compute.h"
 #include "core/engine.h"
+#include "core/error.h"
+#include "domain/domain.h"
+#include "domain/region.h"
 #include "core/registry.h"
 #include "particles/particles.h"
 
@@ -14,16 +17,25 @@ namespace {
 class ComputeERotateSphere : public Compute {
  public:
   ComputeERotateSphere(Engine& engine, const Args& args) : Compute(engine, args) {
-    require_args(args, 3, 3, "compute ID group-ID erotate/sphere");
+    const std::string usage = "compute ID group-ID erotate/sphere [region R]";
+    if (args.size() == 5 && args[3] == "region") {
+      region_id_ = args[4];
+      engine.domain->region_or_error(region_id_, "compute " + id + " erotate/sphere");
+    } else if (args.size() != 3) {
+      throw InputError("wrong arguments for compute " + id + " erotate/sphere; usage: " + usage);
+    }
     scalar_flag = true;
     extensive = true;
   }
 
   double compute_scalar() override {
     const Particles& p = *engine_.particles;
+    const Region* region =
+        region_id_.empty() ? nullptr
+                           : engine_.domain->region_or_error(region_id_, "compute " + id + " erotate/sphere");
     double local = 0.0;
     for (int i = 0; i < p.nlocal; ++i) {
-      if (p.mask[i] & groupbit) {
+      if ((p.mask[i] & groupbit) && (!region || region->match(p.x[i]))) {
         local += p.rmass[i] * p.radius[i] * p.radius[i] * p.omega[i].squaredNorm();
       }
     }
@@ -32,6 +44,9 @@ class ComputeERotateSphere : public Compute {
     scalar = 0.5 * 0.4 * all;  // 1/2 * (2/5 m r^2) * w^2
     return scalar;
   }
+
+ private:
+  std::string region_id_;  // only particles whose centre lies in it (all without)
 };
 
 }  // namespace
