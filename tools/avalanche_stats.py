@@ -191,6 +191,7 @@ def plot(results, cases, outdir, tail_q):
                 ax.semilogy(ss, frac * np.exp(-(ss - s_min) / lam), "-", color=line.get_color(), lw=1)
             ax.set_xlabel(f"avalanche size S [{unit}]")
             ax.set_ylabel("P(S >= s)")
+    axes[0].ticklabel_format(axis="x", style="sci", scilimits=(-2, 3))
     axes[0].legend(fontsize=8)
     fig.suptitle(f"Avalanche size distributions; lines: exponential tail fits above the {tail_q:g} quantile")
     fig.tight_layout()

@@ -1,13 +1,11 @@
 #!/usr/bin/env bash
-# Set up (packages, build) and run the demo: examples/pour on 2 MPI ranks,
-# then plot its energies. Output goes to out/pour/.
+# Set up (packages, build) and run the demo: the small clogging silo of
+# examples/silo_clogging on 2 MPI ranks (cylinders as 10-sphere clumps flow out
+# through a slit until arches clog it; each arch is removed and the next
+# avalanche starts), then its avalanche statistics and plots. Output goes to
+# out/silo/ (extra arguments are passed to examples/silo_clogging/run.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh
-mkdir -p out/pour
-cd out/pour
-mpirun --allow-run-as-root --oversubscribe -np 2 ../../build/granary \
-  -in ../../examples/pour/in.pour -log log.pour "$@"
-/usr/bin/python3 ../../tools/plot_thermo.py log.pour --out energies.png --log-y \
-  --columns KinEng c_rke v_zmax
-echo "Demo output in out/pour: log.pour, energies.png, and pour_.pvd (open it in ParaView)"
+examples/silo_clogging/run.sh --out out/silo "$@"
+echo "Demo output in out/silo: avalanches.csv and VTK series (particles_.pvd, bodies_.pvd, mesh_.pvd; open them in ParaView) in phi_0/, statistics and PNG plots in out/silo/"

@@ -19,7 +19,7 @@ OUT="$ROOT/out/silo"
 NP=2
 PHIS="0"
 VARS=()
-declare -A GEOM=([W]=10 [D]=3 [H]=18 [s]=2.2)
+declare -A GEOM=([W]=10 [D]=3 [H]=22 [s]=2.2)
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --out) OUT="$2"; shift 2 ;;
