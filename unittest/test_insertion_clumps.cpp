@@ -235,6 +235,34 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
   }
 }
 
+// A second insert/pack into a region that already holds clumps tops it up to
+// the target: the clumps present count with their solid volume, not with the
+// summed volume of their overlapping sub-spheres (1.5 times more here).
+TEST_CASE("insert/pack tops up a region holding clumps to the volume fraction", "[insert][multisphere]") {
+  Engine e(MPI_COMM_WORLD);
+  e.logger->set_screen(false);
+  for (const auto& l : scene())
+    e.input->one(l);
+  e.input->one("fix pdd all particledistribution/discrete 32452843 1 cyl 1.0");
+  const std::string common =
+      " distributiontemplate pdd maxattempt 1000 insert_every once overlapcheck yes all_in yes "
+      "orientation random vel constant 0. 0. 0. region ins volumefraction_region ";
+  e.input->one("fix ins1 all insert/pack seed 32452867" + common + "0.12");
+  e.input->one("run 1");
+  e.input->one("unfix ins1");
+  const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+  const int first = b.size();
+  e.input->one("fix ins2 all insert/pack seed 32452889" + common + "0.25");
+  e.input->one("run 1");
+  double vol = 0.0;
+  for (int k = 0; k < b.size(); ++k)
+    vol += b.volume[k];
+  const double vclump = b.volume[0];
+  INFO(first << " then " << b.size() << " clumps, volume fraction " << vol / region_volume());
+  CHECK(b.size() > first + 50);
+  CHECK(std::fabs(vol - 0.25 * region_volume()) <= 2.0 * vclump);
+}
+
 TEST_CASE("insert/pack of cylinder clumps and glass spheres by volume fractions", "[insert][multisphere]") {
   for (const double phi : {0.05, 0.1}) {  // solid volume fraction of the glass spheres
     for (const std::string mode : {"exact", "uncorrelated"}) {

@@ -417,7 +417,11 @@ void FixInsert::count_in_region(double& number, double& mass, double& volume) co
     else
       local[0] += 1.0;
     local[1] += p.rmass[i];
-    local[2] += 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];
+    // a clump's sub-spheres overlap: each carries its share of the clump's
+    // solid volume (share of its mass over the clump density), not its sphere volume
+    local[2] += p.body[i] >= 0 && p.density[i] > 0.0
+                    ? p.rmass[i] / p.density[i]
+                    : 4.0 / 3.0 * M_PI * p.radius[i] * p.radius[i] * p.radius[i];
   }
   MPI_Allreduce(local, all, 3, MPI_DOUBLE, MPI_SUM, engine_.world);
   // a multisphere particle counts once, whichever ranks hold its spheres
