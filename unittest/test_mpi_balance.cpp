@@ -10,7 +10,7 @@
 // with fix balance moving the cuts every 100 steps: the physics must agree
 // with the same script on one rank within the tolerances of
 // test_mpi_invariance, and the restart file written with balanced cuts must
-// read on one rank.
+// read on one rank. Weighting by measured time is checked for valid cuts only.
 #include <mpi.h>
 
 #include <algorithm>
@@ -183,6 +183,7 @@ TEST_CASE("fix balance during a draining column keeps the physics of one rank") 
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   State ref, par;
   double fix_after = 0, fix_before = 0, fix_max = 0, final_imbalance = 0, uniform_imbalance = 0;
+  double weighted_imbalance = 0;
   std::vector<double> final_cuts;
   long long migrated_contacts = 0;
   // The bed is poured and settled once, on one rank; both runs start from it.
@@ -215,6 +216,14 @@ TEST_CASE("fix balance during a draining column keeps the physics of one rank") 
     // the same particles on equal slabs
     s.cmd("balance 0.5 z uniform");
     uniform_imbalance = rank_imbalance(s.e);
+    // weighted by the measured pair and neighbour time per particle of each
+    // rank (not reproducible, so only the cuts' validity is checked)
+    s.cmds({"thermo_style custom step atoms ke", "unfix bal",
+            "fix wbal all balance 50 1.0 shift z 10 1.0 weight time 0.5", "run 200"});
+    check_cuts(s.e);
+    CHECK(s.e.particles->natoms == par.natoms);
+    if (nprocs > 1) CHECK(s.e.fix_value("wbal", 2) > 0);  // iterations at the last rebalancing
+    weighted_imbalance = rank_imbalance(s.e);
   }
   REQUIRE(ref.natoms > 1000);
   REQUIRE(ref.natoms < kParticles);  // the outlet removed particles
@@ -228,8 +237,8 @@ TEST_CASE("fix balance during a draining column keeps the physics of one rank") 
   }
   INFO("ranks " << nprocs << ": largest position difference " << worst << " m; fix balance: before "
                 << fix_before << ", after " << fix_after << ", max " << fix_max << "; final imbalance "
-                << final_imbalance << " (equal slabs " << uniform_imbalance << "); migrated contacts "
-                << migrated_contacts);
+                << final_imbalance << " (equal slabs " << uniform_imbalance << ", weighted by time "
+                << weighted_imbalance << "); migrated contacts " << migrated_contacts);
   CHECK(worst < 2.5e-10);
   if (nprocs > 1) {
     // the cuts moved with the compacting column, carrying contact history across them
@@ -264,7 +273,11 @@ TEST_CASE("balance and fix balance refuse bad arguments") {
   CHECK_THROWS_WITH(s.cmd("balance 0 shift z 10 1.05"), Contains("THRESH must be positive"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 rcb"), Contains("rcb is not available"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 bisect z"), Contains("unknown balance style 'bisect'"));
-  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight time 0.5"), Contains("not supported"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight neigh 0.5"),
+                    Contains("only 'weight time FACTOR'"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight time 1.5"), Contains("must be in (0, 1]"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 extra"), Contains("unknown balance keyword 'extra'"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 z uniform weight time 0.5"), Contains("needs the shift style"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 z 0.5 0.4 0.3"), Contains("z"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 z uniform z uniform"), Contains("given twice"));
   CHECK_THROWS_WITH(s.cmd("fix b all balance 100 1.1 shift"), Contains("DIMSTR NITER STOPTHRESH"));
@@ -272,7 +285,10 @@ TEST_CASE("balance and fix balance refuse bad arguments") {
   CHECK_THROWS_WITH(s.cmd("fix b all balance -1 1.1 shift z 10 1.05"), Contains("NEVERY must be >= 0"));
   CHECK_THROWS_WITH(s.cmd("fix b all balance 100 1.1 rcb x"), Contains("rcb is not available"));
   CHECK_THROWS_WITH(s.cmd("fix b all balance 100 1.1 shift xy 10 0.5"), Contains("STOPTHRESH"));
-  CHECK_THROWS_WITH(s.cmd("fix b all balance 100 1.1 shift z 10 1.05 out f.txt"), Contains("not supported"));
+  CHECK_THROWS_WITH(s.cmd("fix b all balance 100 1.1 shift z 10 1.05 out f.txt"),
+                    Contains("'out' is not supported"));
+  CHECK_THROWS_WITH(s.cmd("fix b all balance 100 1.1 shift z 10 1.05 weight time 0"),
+                    Contains("must be in (0, 1]"));
   if (s.e.nprocs == 4) {
     // a first slab 0.2 mm wide is narrower than the ghost cutoff (3 mm: default skin 1 mm)
     CHECK_THROWS_WITH(s.cmd("balance 0.5 z 0.001 0.5 0.6"), Contains("exceeds the width"));

@@ -51,7 +51,41 @@ ShiftSettings parse_shift(const Args& args, std::size_t first, const std::string
   return s;
 }
 
+double parse_weight(const Args& args, std::size_t first, const std::string& what) {
+  double factor = 0.0;
+  std::size_t k = first;
+  while (k < args.size()) {
+    const std::string& w = args[k];
+    if (w == "weight") {
+      if (k + 2 >= args.size() || args[k + 1] != "time") {
+        throw InputError(what +
+                         " weight: only 'weight time FACTOR' is supported (the measured cost per particle of "
+                         "each rank)");
+      }
+      factor = parse_double(args[k + 2], what + " weight time FACTOR");
+      if (!(factor > 0.0 && factor <= 1.0)) throw InputError(what + " weight time FACTOR must be in (0, 1]");
+      k += 3;
+    } else if (w == "out") {
+      throw InputError(what + " keyword 'out' is not supported");
+    } else {
+      throw InputError("unknown " + what + " keyword '" + w + "'; expected weight time FACTOR");
+    }
+  }
+  return factor;
+}
+
 Balancer::Balancer(Engine& engine) : engine_(engine) {}
+
+void Balancer::set_time_weight(double factor, double seconds) {
+  const Particles& p = *engine_.particles;
+  double mine[2] = {std::max(seconds, 0.0), static_cast<double>(p.nlocal)}, all[2] = {0.0, 0.0};
+  MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, engine_.world);
+  weight_ = 1.0;
+  if (!(all[0] > 0.0) || !(all[1] > 0.0) || p.nlocal == 0) return;
+  const double mean = all[0] / all[1];  // seconds per particle over all ranks
+  const double here = mine[0] / mine[1];
+  weight_ = (1.0 - factor) + factor * here / mean;
+}
 
 std::vector<double> Balancer::cell_loads(const std::array<std::vector<double>, 3>& cuts) const {
   const Comm& c = *engine_.comm;
@@ -61,7 +95,7 @@ std::vector<double> Balancer::cell_loads(const std::array<std::vector<double>, 3
     int loc[3];
     for (int d = 0; d < 3; ++d)
       loc[d] = c.slab_of(d, p.x[i][d], cuts[d]);
-    local[c.rank_at(loc[0], loc[1], loc[2])] += 1.0;
+    local[c.rank_at(loc[0], loc[1], loc[2])] += weight_;
   }
   MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, engine_.world);
   return all;
@@ -210,7 +244,8 @@ std::string Balancer::summary(const BalanceResult& r) const {
 // balance THRESH x|y|z uniform|CUTS... [x|y|z ...]
 void cmd_balance(Engine& e, const Args& a) {
   const std::string usage =
-      "balance THRESH shift DIMSTR NITER STOPTHRESH, or balance THRESH x|y|z uniform|C1 ... "
+      "balance THRESH shift DIMSTR NITER STOPTHRESH [weight time FACTOR], or balance THRESH x|y|z "
+      "uniform|C1 ... "
       "(e.g. balance 1.1 shift z 20 1.05)";
   if (!e.domain->box_exist)
     throw InputError("balance needs a simulation box: use create_box or read_restart first");
@@ -219,17 +254,20 @@ void cmd_balance(Engine& e, const Args& a) {
   if (!(thresh > 0.0)) throw InputError("balance THRESH must be positive (1.0 or less always balances)");
   Comm& c = *e.comm;
   Balancer bal(e);
-  e.domain->reset_box();  // cuts are fractions of the box the next run will use
-  const double minwidth = bal.min_width();
+  // Arguments are checked before anything changes. Cuts are fractions of
+  // the box the next run will use (shrink-wrapped faces reset first).
+  auto prepare = [&]() {
+    e.domain->reset_box();
+    return bal.min_width();
+  };
   BalanceResult r;
   if (a[1] == "shift") {
     const ShiftSettings s = parse_shift(a, 2, "balance");
-    if (a.size() > 5) {
-      const std::string& w = a[5];
-      if (w == "weight" || w == "out")
-        throw InputError("balance keyword '" + w + "' is not supported: the load is the particle count");
-      throw InputError("unknown balance keyword '" + w + "'; usage: " + usage);
-    }
+    const double factor = parse_weight(a, 5, "balance");
+    const double minwidth = prepare();
+    // cost measured over the last run: its pair and neighbour time on this rank
+    if (factor > 0.0)
+      bal.set_time_weight(factor, e.update->timers[Update::kPair] + e.update->timers[Update::kNeigh]);
     r = bal.shift(thresh, s, minwidth);
   } else if (a[1] == "x" || a[1] == "y" || a[1] == "z") {
     // explicit cuts per dimension, LAMMPS' x/y/z styles
@@ -238,6 +276,7 @@ void cmd_balance(Engine& e, const Args& a) {
     std::size_t k = 1;
     while (k < a.size()) {
       const std::string& w = a[k];
+      if (w == "weight") throw InputError("balance weight needs the shift style");
       if (w.size() != 1 || (w[0] != 'x' && w[0] != 'y' && w[0] != 'z'))
         throw InputError("balance: expected x, y or z instead of '" + w + "'; usage: " + usage);
       const int d = w[0] - 'x';
@@ -264,6 +303,7 @@ void cmd_balance(Engine& e, const Args& a) {
       }
       k += np;
     }
+    const double minwidth = prepare();
     const std::vector<double> before = bal.cell_loads(c.split);
     r.imbalance_before = Balancer::imbalance(before, &r.max_before);
     r.imbalance_after = r.imbalance_before;

@@ -12,6 +12,11 @@
 // (never worse than the cuts before), and trial cuts are kept ordered and at
 // least the ghost cutoff apart, which keeps the single-hop ghost exchange of
 // Comm valid.
+//
+// With `weight time FACTOR` each particle counts with a weight instead of 1:
+// the measured pair and neighbour time of its rank per owned particle,
+// relative to the average over all ranks, blended with 1 by FACTOR. All
+// particles of a rank share its weight, since the cost is only known per rank.
 #pragma once
 
 #include <array>
@@ -34,7 +39,7 @@ struct ShiftSettings {
 /// Outcome of one balancing attempt.
 struct BalanceResult {
   double imbalance_before = 1.0, imbalance_after = 1.0;
-  double max_before = 0.0, max_after = 0.0;  // largest particle count of a rank
+  double max_before = 0.0, max_after = 0.0;  // largest load (particle count, or weighted) of a rank
   int iterations = 0;
   bool balanced = false;  // false when the imbalance did not exceed the threshold
 };
@@ -42,12 +47,22 @@ struct BalanceResult {
 /// Parse `DIMSTR NITER STOPTHRESH` at args[first..first+2]; `what` names the
 /// command in messages.
 ShiftSettings parse_shift(const Args& args, std::size_t first, const std::string& what);
+/// Parse the optional keywords after the shift arguments (from args[first]):
+/// `weight time FACTOR`; returns FACTOR, or 0 without weighting.
+double parse_weight(const Args& args, std::size_t first, const std::string& what);
 
 class Balancer {
  public:
   explicit Balancer(Engine& engine);
 
-  /// Particle count of every grid cell (rank) for the given cuts; collective.
+  /// Weigh this rank's particles by measured cost: `seconds` of pair and
+  /// neighbour time spent on this rank's `nlocal` particles, blended with 1
+  /// by `factor` (0 < factor <= 1). Without time on any rank the weights stay 1.
+  /// Collective.
+  void set_time_weight(double factor, double seconds);
+  double weight() const { return weight_; }
+
+  /// Load (weighted particle count) of every grid cell (rank) for the given cuts; collective.
   std::vector<double> cell_loads(const std::array<std::vector<double>, 3>& cuts) const;
   /// Imbalance factor (largest load over average; 1 without particles) and the largest load.
   static double imbalance(const std::vector<double>& loads, double* maxload = nullptr);
@@ -70,6 +85,7 @@ class Balancer {
 
  private:
   Engine& engine_;
+  double weight_ = 1.0;  // weight of each particle owned by this rank
 };
 
 }  // namespace granary
