@@ -177,6 +177,32 @@ TEST_CASE("balance shift z evens out a settled column") {
   }
 }
 
+TEST_CASE("balance shift xz evens out particles in a corner of a 2 x 1 x 2 grid") {
+  int nprocs = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  if (nprocs != 4) return;
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds({
+      "units si",
+      "atom_style granular",
+      "boundary f f f",
+      "processors 2 1 2",
+      "region box block 0 0.06 0 0.03 0 0.2 units box",
+      "create_box 1 box",
+      "region fill block 0.001 0.012 0.001 0.029 0.001 0.08 units box",
+      "create_atoms 1 random 1500 4711 fill overlap 0.0021 maxtry 200",
+      "set type 1 diameter 0.002 density 2500",
+  });
+  const double before = rank_imbalance(s.e);
+  s.cmd("balance 1.1 shift xz 20 1.01");
+  const double after = rank_imbalance(s.e);
+  INFO("imbalance factor before " << before << ", after " << after);
+  CHECK(before == Approx(4.0));  // every particle in the lower-left cell
+  CHECK(after < 1.02);
+  CHECK(s.e.comm->split[0][1] < 0.2);  // x cut inside the filled 12 mm
+  CHECK(s.e.comm->split[2][1] < 0.4);  // z cut inside the filled 80 mm
+}
+
 TEST_CASE("fix balance during a draining column keeps the physics of one rank") {
   int nprocs = 1, rank = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
