@@ -125,9 +125,44 @@ void Comm::choose_grid() {
 void Comm::set_subdomain() {
   Domain& dom = *engine_.domain;
   for (int d = 0; d < 3; ++d) {
-    dom.sublo[d] = dom.boxlo[d] + split[d][myloc[d]] * dom.prd[d];
-    dom.subhi[d] =
-        myloc[d] == procgrid[d] - 1 ? dom.boxhi[d] : dom.boxlo[d] + split[d][myloc[d] + 1] * dom.prd[d];
+    dom.sublo[d] = cut_coord(d, myloc[d]);
+    dom.subhi[d] = cut_coord(d, myloc[d] + 1);
+  }
+}
+
+double Comm::cut_coord(int d, int k, const std::vector<double>& cuts) const {
+  const Domain& dom = *engine_.domain;
+  if (k >= procgrid[d]) return dom.boxhi[d];
+  if (k <= 0) return dom.boxlo[d];
+  return dom.boxlo[d] + cuts[k] * dom.prd[d];
+}
+
+int Comm::slab_of(int d, double x, const std::vector<double>& cuts) const {
+  // the same comparisons as exchange(): x < sublo goes down, x >= subhi goes up
+  int lo = 0, hi = procgrid[d] - 1;
+  while (lo < hi) {
+    const int mid = (lo + hi + 1) / 2;
+    if (x >= cut_coord(d, mid, cuts))
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return lo;
+}
+
+void Comm::check_widths(const std::array<std::vector<double>, 3>& cuts, double width,
+                        const std::string& advice) const {
+  const Domain& dom = *engine_.domain;
+  for (int d = 0; d < 3; ++d) {
+    if (procgrid[d] == 1 && !dom.periodic[d]) continue;
+    for (int k = 0; k < procgrid[d]; ++k) {
+      const double w = cut_coord(d, k + 1, cuts[d]) - cut_coord(d, k, cuts[d]);
+      if (width > w) {
+        throw InputError("the ghost cutoff " + std::to_string(width) + " exceeds the width " +
+                         std::to_string(w) + " of subdomain " + std::to_string(k + 1) + " of " +
+                         std::to_string(procgrid[d]) + " along " + std::string(1, "xyz"[d]) + "; " + advice);
+      }
+    }
   }
 }
 
@@ -135,28 +170,16 @@ void Comm::setup(double cutghost_needed) {
   if (!grid_set_) choose_grid();
   set_subdomain();
   cutghost = std::max(cutghost_needed, cutghost_user);
-  const Domain& dom = *engine_.domain;
-  for (int d = 0; d < 3; ++d) {
-    const double width = dom.subhi[d] - dom.sublo[d];
-    const bool need = procgrid[d] > 1 || dom.periodic[d];
-    if (need && cutghost > width) {
-      throw InputError("the ghost cutoff " + std::to_string(cutghost) + " exceeds the subdomain width " +
-                       std::to_string(width) + " along " + std::string(1, "xyz"[d]) +
-                       "; use fewer MPI ranks along that direction (processors command), a smaller "
-                       "skin, or a larger box");
-    }
-  }
+  // Ghosts come from the adjacent rank only, so every subdomain (not only
+  // this rank's: the cuts may be uneven after balancing) must be at least
+  // the ghost cutoff wide.
+  check_widths(split, cutghost,
+               "use fewer MPI ranks along that direction (processors command), a smaller skin or a "
+               "larger box");
 }
 
 int Comm::owner_of(const Vec3& x) const {
-  const Domain& dom = *engine_.domain;
-  int loc[3];
-  for (int d = 0; d < 3; ++d) {
-    const double frac = (x[d] - dom.boxlo[d]) / dom.prd[d];
-    int k = static_cast<int>(std::upper_bound(split[d].begin(), split[d].end(), frac) - split[d].begin()) - 1;
-    loc[d] = std::clamp(k, 0, procgrid[d] - 1);
-  }
-  return loc[0] + procgrid[0] * (loc[1] + procgrid[1] * loc[2]);
+  return rank_at(slab_of(0, x[0], split[0]), slab_of(1, x[1], split[1]), slab_of(2, x[2], split[2]));
 }
 
 void Comm::exchange(ContactHistory* history) {

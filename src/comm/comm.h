@@ -6,8 +6,12 @@
 // -z, +z, so corner neighbours arrive without diagonal messages. Each swap
 // remembers what it sent, so every step only positions, velocities and spins
 // travel forward, and forces and torques travel back in reverse order.
-// Subdomain boundaries are fractions of the box per dimension (`split`), so
-// load balancing can move them.
+// Subdomain boundaries are fractions of the box per dimension (`split`): the
+// grid keeps its topology but its cut planes need not be equally spaced; the
+// `balance` command and `fix balance` move them (src/comm/balance.h). Every
+// rank holds the same cuts, and every subdomain is at least the ghost cutoff
+// wide along each split or periodic dimension, so ghosts and forward/reverse
+// communication only ever involve the adjacent rank.
 #pragma once
 
 #include <array>
@@ -58,8 +62,24 @@ class Comm {
   /// Reverse communication (sum) of an extra per-particle field.
   void reverse_comm_field(std::vector<double>& data, int ncomp);
 
-  /// Rank owning a point (regular grid).
+  /// Position of cut plane k (0..procgrid[d]) along d for the fractions `cuts`
+  /// (the current `split[d]` by default): boxlo + cuts[k] * prd, the last one
+  /// exactly boxhi. Subdomain bounds, ownership and balancing all use it, so
+  /// they agree to the last bit.
+  double cut_coord(int d, int k, const std::vector<double>& cuts) const;
+  double cut_coord(int d, int k) const { return cut_coord(d, k, split[d]); }
+  /// Grid index along d of coordinate x for the fractions `cuts`: the slab k
+  /// with cut k <= x < cut k+1 (points beyond the box go to the end slabs).
+  int slab_of(int d, double x, const std::vector<double>& cuts) const;
+  /// Rank owning a point under the current cuts.
   int owner_of(const Vec3& x) const;
+  /// Rank at grid location (ix, iy, iz) (x fastest).
+  int rank_at(int ix, int iy, int iz) const { return ix + procgrid[0] * (iy + procgrid[1] * iz); }
+  /// Throw InputError unless every slab of `cuts` along d is at least `width`
+  /// wide (checked for dimensions that are split or periodic; identical on
+  /// every rank since the cuts are).
+  void check_widths(const std::array<std::vector<double>, 3>& cuts, double width,
+                    const std::string& advice) const;
 
  private:
   struct Swap {

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <unordered_set>
 
+#include "comm/collectives.h"
 #include "comm/comm.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -180,6 +182,34 @@ void Update::setup() {
 void Update::use_restart_forces() {
   Engine& e = engine_;
   Particles& p = *e.particles;
+  // The stored forces stay on the rank that read the particle; particles that
+  // migrated since (a shrink-wrapped box changed, fix balance moved the
+  // cuts at setup) get theirs handed over here.
+  {
+    std::unordered_set<std::int64_t> own;
+    for (int i = 0; i < p.nlocal; ++i)
+      own.insert(p.id[i]);
+    std::vector<double> away;
+    for (auto it = restart_forces.begin(); it != restart_forces.end();) {
+      if (own.count(it->first)) {
+        ++it;
+        continue;
+      }
+      away.push_back(static_cast<double>(it->first));
+      away.insert(away.end(), it->second.begin(), it->second.end());
+      it = restart_forces.erase(it);
+    }
+    long long nlocal_away = static_cast<long long>(away.size()), any = 0;
+    MPI_Allreduce(&nlocal_away, &any, 1, MPI_LONG_LONG, MPI_MAX, e.world);
+    if (any > 0) {
+      const std::vector<double> all = allgather(e.world, away);
+      for (std::size_t k = 0; k + 7 <= all.size(); k += 7) {
+        const auto id = static_cast<std::int64_t>(all[k]);
+        if (own.count(id))
+          restart_forces[id] = {all[k + 1], all[k + 2], all[k + 3], all[k + 4], all[k + 5], all[k + 6]};
+      }
+    }
+  }
   long long local[2] = {0, p.nlocal}, all[2];
   for (int i = 0; i < p.nlocal; ++i)
     local[0] += restart_forces.count(p.id[i]) ? 1 : 0;

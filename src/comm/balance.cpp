@@ -1,0 +1,327 @@
+#include "comm/balance.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "comm/comm.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "domain/domain.h"
+#include "neighbor/contact_history.h"
+#include "neighbor/neighbor.h"
+#include "pair/force.h"
+#include "pair/pair.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+ShiftSettings parse_shift(const Args& args, std::size_t first, const std::string& what) {
+  if (args.size() < first + 3) {
+    throw InputError(what + " shift needs DIMSTR NITER STOPTHRESH (e.g. shift z 20 1.05)");
+  }
+  ShiftSettings s;
+  s.dims = args[first];
+  for (std::size_t k = 0; k < s.dims.size(); ++k) {
+    const char c = s.dims[k];
+    if (c != 'x' && c != 'y' && c != 'z') {
+      throw InputError(what + " shift: dimension string '" + s.dims +
+                       "' may only contain the letters x, y and z");
+    }
+    if (s.dims.find(c) != k) {
+      throw InputError(what + " shift: dimension string '" + s.dims + "' names " + std::string(1, c) +
+                       " twice");
+    }
+  }
+  if (s.dims.empty()) throw InputError(what + " shift needs a dimension string such as z or xz");
+  const long long niter = parse_int(args[first + 1], what + " shift NITER");
+  if (niter < 1 || niter > 1000) throw InputError(what + " shift NITER must be between 1 and 1000");
+  s.niter = static_cast<int>(niter);
+  s.stopthresh = parse_double(args[first + 2], what + " shift STOPTHRESH");
+  if (!(s.stopthresh >= 1.0)) {
+    throw InputError(what +
+                     " shift STOPTHRESH must be >= 1.0 (the imbalance factor, largest over average "
+                     "particle count per rank, is never below 1)");
+  }
+  return s;
+}
+
+double parse_weight(const Args& args, std::size_t first, const std::string& what) {
+  double factor = 0.0;
+  std::size_t k = first;
+  while (k < args.size()) {
+    const std::string& w = args[k];
+    if (w == "weight") {
+      if (k + 2 >= args.size() || args[k + 1] != "time") {
+        throw InputError(what +
+                         " weight: only 'weight time FACTOR' is supported (the measured cost per particle of "
+                         "each rank)");
+      }
+      factor = parse_double(args[k + 2], what + " weight time FACTOR");
+      if (!(factor > 0.0 && factor <= 1.0)) throw InputError(what + " weight time FACTOR must be in (0, 1]");
+      k += 3;
+    } else if (w == "out") {
+      throw InputError(what + " keyword 'out' is not supported");
+    } else {
+      throw InputError("unknown " + what + " keyword '" + w + "'; expected weight time FACTOR");
+    }
+  }
+  return factor;
+}
+
+Balancer::Balancer(Engine& engine) : engine_(engine) {}
+
+void Balancer::set_time_weight(double factor, double seconds) {
+  const Particles& p = *engine_.particles;
+  double mine[2] = {std::max(seconds, 0.0), static_cast<double>(p.nlocal)}, all[2] = {0.0, 0.0};
+  MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, engine_.world);
+  weight_ = 1.0;
+  if (!(all[0] > 0.0) || !(all[1] > 0.0) || p.nlocal == 0) return;
+  const double mean = all[0] / all[1];  // seconds per particle over all ranks
+  const double here = mine[0] / mine[1];
+  weight_ = (1.0 - factor) + factor * here / mean;
+}
+
+std::vector<double> Balancer::cell_loads(const std::array<std::vector<double>, 3>& cuts) const {
+  const Comm& c = *engine_.comm;
+  const Particles& p = *engine_.particles;
+  std::vector<double> local(static_cast<std::size_t>(engine_.nprocs), 0.0), all(local.size(), 0.0);
+  for (int i = 0; i < p.nlocal; ++i) {
+    int loc[3];
+    for (int d = 0; d < 3; ++d)
+      loc[d] = c.slab_of(d, p.x[i][d], cuts[d]);
+    local[c.rank_at(loc[0], loc[1], loc[2])] += weight_;
+  }
+  MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, engine_.world);
+  return all;
+}
+
+double Balancer::imbalance(const std::vector<double>& loads, double* maxload) {
+  double total = 0.0, most = 0.0;
+  for (double l : loads) {
+    total += l;
+    most = std::max(most, l);
+  }
+  if (maxload) *maxload = most;
+  if (total <= 0.0 || loads.empty()) return 1.0;
+  return most / (total / static_cast<double>(loads.size()));
+}
+
+double Balancer::min_width() const {
+  Engine& e = engine_;
+  // During a run the ghost cutoff is fixed; between runs it is what the next
+  // run's setup will compute from the current particles.
+  if (!e.update->running) e.neighbor->init();
+  return std::max(e.neighbor->cutneighmax, e.comm->cutghost_user);
+}
+
+BalanceResult Balancer::shift(double thresh, const ShiftSettings& settings, double minwidth) {
+  Comm& c = *engine_.comm;
+  const Domain& dom = *engine_.domain;
+  BalanceResult r;
+  std::array<std::vector<double>, 3> cuts = c.split;
+  std::vector<double> loads = cell_loads(cuts);
+  r.imbalance_before = imbalance(loads, &r.max_before);
+  r.imbalance_after = r.imbalance_before;
+  r.max_after = r.max_before;
+  if (!(r.imbalance_before > thresh)) return r;
+  r.balanced = true;
+  double best = r.imbalance_before;
+  double total = 0.0;
+  for (double l : loads)
+    total += l;
+
+  for (char letter : settings.dims) {
+    if (best <= settings.stopthresh) break;
+    const int d = letter - 'x';
+    const int np = c.procgrid[d];
+    if (np == 1) continue;
+    // Smallest slab width as a fraction of the box, with a margin so that
+    // the width computed from coordinates is not below the cutoff by round-off.
+    const double w = minwidth / dom.prd[d] * (1.0 + 1e-9) + 1e-15;
+    if (w * np > 1.0) continue;  // cannot be respected; Comm::setup reports it
+    // Bisection brackets of every interior cut k (fractions of the box):
+    // lo[k] has fewer than k/P of the particles below it, hi[k] at least
+    // that many. Every evaluated set of cuts narrows the brackets of all k.
+    std::vector<double> lo(np + 1, 0.0), hi(np + 1, 1.0), target(np + 1, 0.0);
+    for (int k = 1; k < np; ++k)
+      target[k] = total * k / np;
+    std::vector<double> cur = cuts[d];
+    std::vector<double> cur_loads = loads;
+    for (int it = 0; it < settings.niter && best > settings.stopthresh; ++it) {
+      // particles below each evaluated cut, from the counts of the grid cells
+      std::vector<double> below(np + 1, 0.0);
+      for (int rank = 0; rank < engine_.nprocs; ++rank) {
+        const int loc[3] = {rank % c.procgrid[0], (rank / c.procgrid[0]) % c.procgrid[1],
+                            rank / (c.procgrid[0] * c.procgrid[1])};
+        below[loc[d] + 1] += cur_loads[rank];
+      }
+      for (int j = 1; j <= np; ++j)
+        below[j] += below[j - 1];
+      std::vector<double> trial(np + 1);
+      for (int k = 1; k < np; ++k) {
+        for (int j = 1; j < np; ++j) {
+          if (below[j] < target[k])
+            lo[k] = std::max(lo[k], cur[j]);
+          else
+            hi[k] = std::min(hi[k], cur[j]);
+        }
+        trial[k] = 0.5 * (lo[k] + hi[k]);
+      }
+      trial[0] = 0.0;
+      trial[np] = 1.0;
+      // ordered and at least w apart (feasible since w * np <= 1)
+      for (int k = 1; k < np; ++k)
+        trial[k] = std::max(trial[k], trial[k - 1] + w);
+      for (int k = np - 1; k >= 1; --k)
+        trial[k] = std::min(trial[k], trial[k + 1] - w);
+      std::array<std::vector<double>, 3> trial_cuts = cuts;
+      trial_cuts[d] = trial;
+      std::vector<double> trial_loads = cell_loads(trial_cuts);
+      const double imb = imbalance(trial_loads);
+      ++r.iterations;
+      cur = trial;
+      cur_loads = trial_loads;
+      if (imb < best) {
+        best = imb;
+        cuts = trial_cuts;
+        loads = trial_loads;
+      }
+    }
+  }
+  c.split = cuts;
+  r.imbalance_after = imbalance(loads, &r.max_after);
+  return r;
+}
+
+void Balancer::migrate() {
+  Engine& e = engine_;
+  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  e.particles->clear_ghosts();
+  e.comm->setup(min_width());
+  e.comm->exchange(history);
+  int local = e.comm->nlost, total = 0;
+  MPI_Allreduce(&local, &total, 1, MPI_INT, MPI_SUM, e.world);
+  if (total > 0) {
+    e.particles->natoms -= total;
+    e.logger->warning(std::to_string(total) +
+                      " particle(s) outside a fixed boundary were removed by balance");
+  }
+  e.particles->map_clear();
+  // ghosts and neighbour lists are rebuilt by the next run's setup
+  e.update->first_run = true;
+}
+
+std::string Balancer::summary(const BalanceResult& r) const {
+  const Comm& c = *engine_.comm;
+  std::string out = "Balancing ...\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "  iteration count = %d\n", r.iterations);
+  out += line;
+  std::snprintf(line, sizeof line, "  initial/final maximal load/proc = %.15g %.15g\n", r.max_before,
+                r.max_after);
+  out += line;
+  std::snprintf(line, sizeof line, "  initial/final imbalance factor  = %.6g %.6g\n", r.imbalance_before,
+                r.imbalance_after);
+  out += line;
+  for (int d = 0; d < 3; ++d) {
+    out += std::string("  ") + "xyz"[d] + " cuts:";
+    for (int k = 0; k <= c.procgrid[d]; ++k) {
+      std::snprintf(line, sizeof line, " %.6g", k == c.procgrid[d] ? 1.0 : c.split[d][k]);
+      out += line;
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+// balance THRESH shift DIMSTR NITER STOPTHRESH
+// balance THRESH x|y|z uniform|CUTS... [x|y|z ...]
+void cmd_balance(Engine& e, const Args& a) {
+  const std::string usage =
+      "balance THRESH shift DIMSTR NITER STOPTHRESH [weight time FACTOR], or balance THRESH x|y|z "
+      "uniform|C1 ... "
+      "(e.g. balance 1.1 shift z 20 1.05)";
+  if (!e.domain->box_exist)
+    throw InputError("balance needs a simulation box: use create_box or read_restart first");
+  if (a.size() < 2) throw InputError("balance: too few arguments; usage: " + usage);
+  const double thresh = parse_double(a[0], "balance THRESH");
+  if (!(thresh > 0.0)) throw InputError("balance THRESH must be positive (1.0 or less always balances)");
+  Comm& c = *e.comm;
+  Balancer bal(e);
+  // Arguments are checked before anything changes. Cuts are fractions of
+  // the box the next run will use (shrink-wrapped faces reset first).
+  auto prepare = [&]() {
+    e.domain->reset_box();
+    return bal.min_width();
+  };
+  BalanceResult r;
+  if (a[1] == "shift") {
+    const ShiftSettings s = parse_shift(a, 2, "balance");
+    const double factor = parse_weight(a, 5, "balance");
+    const double minwidth = prepare();
+    // cost measured over the last run: its pair and neighbour time on this rank
+    if (factor > 0.0)
+      bal.set_time_weight(factor, e.update->timers[Update::kPair] + e.update->timers[Update::kNeigh]);
+    r = bal.shift(thresh, s, minwidth);
+  } else if (a[1] == "x" || a[1] == "y" || a[1] == "z") {
+    // explicit cuts per dimension, LAMMPS' x/y/z styles
+    std::array<std::vector<double>, 3> cuts = c.split;
+    bool given[3] = {false, false, false};
+    std::size_t k = 1;
+    while (k < a.size()) {
+      const std::string& w = a[k];
+      if (w == "weight") throw InputError("balance weight needs the shift style");
+      if (w.size() != 1 || (w[0] != 'x' && w[0] != 'y' && w[0] != 'z'))
+        throw InputError("balance: expected x, y or z instead of '" + w + "'; usage: " + usage);
+      const int d = w[0] - 'x';
+      if (given[d]) throw InputError("balance: dimension " + w + " given twice");
+      given[d] = true;
+      const int np = c.procgrid[d];
+      if (k + 1 < a.size() && a[k + 1] == "uniform") {
+        for (int j = 0; j <= np; ++j)
+          cuts[d][j] = static_cast<double>(j) / np;
+        k += 2;
+        continue;
+      }
+      if (k + static_cast<std::size_t>(np) > a.size()) {
+        throw InputError("balance " + w + " needs 'uniform' or " + std::to_string(np - 1) +
+                         " ascending fractions between 0 and 1 (" + std::to_string(np) + " ranks along " + w +
+                         ")");
+      }
+      cuts[d][0] = 0.0;
+      cuts[d][np] = 1.0;
+      for (int j = 1; j < np; ++j) {
+        cuts[d][j] = parse_double(a[k + j], "balance " + w + " cut");
+        if (!(cuts[d][j] > cuts[d][j - 1]) || !(cuts[d][j] < 1.0))
+          throw InputError("balance " + w + " cuts must ascend strictly between 0 and 1");
+      }
+      k += np;
+    }
+    const double minwidth = prepare();
+    const std::vector<double> before = bal.cell_loads(c.split);
+    r.imbalance_before = Balancer::imbalance(before, &r.max_before);
+    r.imbalance_after = r.imbalance_before;
+    r.max_after = r.max_before;
+    if (r.imbalance_before > thresh) {
+      c.check_widths(cuts, minwidth, "choose cuts that leave every subdomain at least that wide");
+      c.split = cuts;
+      r.balanced = true;
+      r.imbalance_after = Balancer::imbalance(bal.cell_loads(cuts), &r.max_after);
+    }
+  } else if (a[1] == "rcb") {
+    throw InputError("balance style rcb is not available; use shift (cut planes of the processor grid)");
+  } else {
+    throw InputError("unknown balance style '" + a[1] + "'; usage: " + usage);
+  }
+  if (r.balanced) bal.migrate();
+  e.logger->print(bal.summary(r));
+}
+GRANARY_COMMAND("balance", cmd_balance);
+
+}  // namespace granary
