@@ -3,7 +3,8 @@
 
 Runs LIGGGHTS and Granary one after the other on the same input script (by
 default examples/bench/in.bench_spheres) on 1 and 2 MPI ranks, passing
-'-var nsteps N' when --nsteps is given, and prints a table with wall time,
+'-var dir SCRIPT_DIR' (and '-var nsteps N' when --nsteps is given, '-var NAME VALUE'
+for each --var), and prints a table with wall time,
 loop time, throughput (particle-steps per second), Granary/LIGGGHTS speed
 ratio, parallel speed-up and peak memory.
 
@@ -249,9 +250,12 @@ def loadavg():
 
 
 def run_one(prog, exe, ranks, script, nsteps, args, outdir):
-    cmd = [exe, "-in", script, "-log", "none"]
+    # the script's folder, for scripts that read files next to them (meshes, clumps)
+    cmd = [exe, "-in", script, "-log", "none", "-var", "dir", os.path.dirname(script)]
     if nsteps is not None:
         cmd += ["-var", "nsteps", str(nsteps)]
+    for name, value in args.var:
+        cmd += ["-var", name, value]
     if ranks > 1:
         cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
     best = None
@@ -360,6 +364,8 @@ def main(argv):
                     help="input script (default: %s)" % DEFAULT_SCRIPT)
     ap.add_argument("--nsteps", type=int, default=None,
                     help="pass '-var nsteps N' to both programs (default: the script's own value)")
+    ap.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
+                    help="pass '-var NAME VALUE' to both programs (repeatable)")
     ap.add_argument("--ranks", default="1,2", help="comma-separated MPI rank counts (default: 1,2)")
     ap.add_argument("--granary", default=DEFAULT_GRANARY,
                     help="Granary executable (default: %s, relative to the current directory or "

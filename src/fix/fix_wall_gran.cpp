@@ -57,6 +57,9 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
           "mesh_wall_history/" + id + "/" + std::to_string(kMeshSlots) + "/" + std::to_string(nhist_);
       field_ = engine.particles->add_field(field_name_, ncomp, false, true);
       engine.particles->extras[field_].history = true;
+      count_name_ = "mesh_wall_contacts/" + id;
+      count_field_ = engine.particles->add_field(count_name_, 1, false, true);
+      engine.particles->extras[count_field_].history = true;
     }
     return;
   }
@@ -107,6 +110,20 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
 void FixWallGran::init() {
   materials_.build(engine_, spec_, "fix " + id + " wall/gran");
   if (nhist_ > 0) field_ = engine_.particles->find_field(field_name_);
+  if (mesh_ && nhist_ > 0) {
+    // the slot counts follow from the slots (also for files that lack them)
+    Particles& p = *engine_.particles;
+    count_field_ = p.find_field(count_name_);
+    const int stride = kSlotHeader + nhist_;
+    const double* h = p.extras[field_].data.data();
+    double* count = p.extras[count_field_].data.data();
+    for (int i = 0; i < p.nlocal; ++i) {
+      int n = 0;
+      while (n < kMeshSlots && h[(static_cast<std::size_t>(i) * kMeshSlots + n) * stride] != 0.0)
+        ++n;
+      count[i] = n;
+    }
+  }
   if (mesh_) {
     meshes_.clear();
     key_base_.clear();
@@ -260,6 +277,7 @@ void FixWallGran::post_force_mesh() {
   const int body_mass_field = p.find_field("body_mass");
   const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
+  double* const count = nhist_ > 0 ? p.extras[count_field_].data.data() : nullptr;
   const Vec3* const x = p.x.data();
   const Vec3* const v = p.v.data();
   const Vec3* const omega = p.omega.data();
@@ -343,9 +361,11 @@ void FixWallGran::post_force_mesh() {
       }
       if (ncand == 0) {
         if constexpr (nh > 0) {
-          if (h[0] != 0.0)  // slots are filled from the first one: first empty = all empty
+          if (count[i] != 0.0) {
             for (int q = 0; q < kMeshSlots * stride; ++q)
               h[q] = 0.0;
+            count[i] = 0.0;
+          }
         }
         continue;
       }
@@ -438,6 +458,7 @@ void FixWallGran::post_force_mesh() {
           h[q] = fresh[q];
         for (int q = nkept * stride; q < kMeshSlots * stride; ++q)
           h[q] = 0.0;
+        count[i] = nkept;
       }
     }
   });

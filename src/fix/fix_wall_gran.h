@@ -53,6 +53,10 @@ class FixWallGran : public Fix {
   double pos_ = 0.0;  // plane position
   double cyl_r_ = 0.0, cyl_cx_ = 0.0, cyl_cy_ = 0.0;
   int field_ = -1;  // per-particle history field
+  // mesh form: number of occupied contact slots per particle, a dense field so
+  // that particles away from the mesh skip their (large) slot rows entirely
+  int count_field_ = -1;
+  std::string count_name_;
   int nhist_ = 0;
   std::string field_name_;
 
