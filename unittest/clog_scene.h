@@ -17,8 +17,11 @@ constexpr double kDensity = 2500.0;        // [kg/m^3]
 constexpr double kTimestep = 5.0e-5;       // [s]
 
 /// Pair style, materials, integration: what a script defines again after read_restart.
-inline std::vector<std::string> physics() {
-  return {
+/// `walled`: the box is closed by four primitive walls instead of being periodic
+/// in x and y (periodic images are remapped at different steps in a run and in a
+/// restarted one, which changes the last bits of distances; walls do not).
+inline std::vector<std::string> physics(bool walled = false) {
+  std::vector<std::string> s = {
       "communicate single vel yes",
       "neighbor 0.0005 bin",
       "neigh_modify delay 0",
@@ -30,6 +33,12 @@ inline std::vector<std::string> physics() {
       "pair_coeff * *",
       "timestep 5e-5",
   };
+  if (walled) {
+    for (const std::string w : {"xplane 0.0", "xplane 0.02", "yplane 0.0", "yplane 0.02"})
+      s.push_back("fix wall_" + std::string(1, w[0]) + (w.back() == '0' ? "lo" : "hi") +
+                  " all wall/gran model hertz tangential history primitive type 2 " + w);
+  }
+  return s;
 }
 
 /// Regions used by the fix (not stored in restart files).
@@ -43,18 +52,18 @@ inline std::vector<std::string> regions() {
 
 /// The whole scene: box, floor, `ngrains` grains poured on the plugged floor
 /// and settled (0.125 s), then the plug removed. Groups: floor, grains.
-inline std::vector<std::string> filled(int ngrains) {
+inline std::vector<std::string> filled(int ngrains, bool walled = false) {
   std::vector<std::string> s = {
       "units si",
       "atom_style granular",
       "atom_modify map array",
-      "boundary p p f",
+      walled ? "boundary f f f" : "boundary p p f",
       "newton off",
       "processors * * 1",
       "region box block 0 0.02 0 0.02 -0.02 0.04 units box",
       "create_box 2 box",
   };
-  for (const auto& l : physics())
+  for (const auto& l : physics(walled))
     s.push_back(l);
   for (const auto& l : std::vector<std::string>{
            "lattice sc 0.002",
@@ -62,7 +71,8 @@ inline std::vector<std::string> filled(int ngrains) {
            "create_atoms 2 region floor",
            "region hole cylinder z 0.01 0.01 0.0035 -0.001 0.001 units box",
            "group plug region hole",
-           "region fill block 0 0.02 0 0.02 0.003 0.035 units box",
+           walled ? "region fill block 0.0014 0.0186 0.0014 0.0186 0.003 0.035 units box"
+                  : "region fill block 0 0.02 0 0.02 0.003 0.035 units box",
            "create_atoms 1 random " + std::to_string(ngrains) + " 4242 fill overlap 0.0028 maxtry 200",
            "set type 1 diameter 0.0027 density 2500",
            "set type 2 diameter 0.002 density 2500",
@@ -79,9 +89,9 @@ inline std::vector<std::string> filled(int ngrains) {
 }
 
 /// After read_restart of a filled scene: physics, gravity, integration, regions.
-inline std::vector<std::string> restarted(const std::string& file) {
+inline std::vector<std::string> restarted(const std::string& file, bool walled = false) {
   std::vector<std::string> s = {"atom_style granular", "atom_modify map array", "read_restart " + file};
-  for (const auto& l : physics())
+  for (const auto& l : physics(walled))
     s.push_back(l);
   s.push_back("fix grav grains gravity 9.81 vector 0 0 -1");
   s.push_back("fix integr grains nve/sphere");

@@ -30,7 +30,10 @@ Update::Update(Engine& engine) : engine_(engine) {}
 
 void Update::set_timestep(double new_dt) {
   if (!(new_dt > 0.0)) throw InputError("timestep must be positive");
-  // keep the simulated time continuous across a change of dt
+  // keep the simulated time continuous across a change of dt; the same dt
+  // again (a script re-defining it after read_restart) changes nothing, so
+  // the time of a step is the same number in a run and in its continuation
+  if (new_dt == dt) return;
   atime = time();
   atimestep = ntimestep;
   dt = new_dt;
