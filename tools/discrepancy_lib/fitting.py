@@ -93,7 +93,7 @@ def fit(variant, data, rows, known=None):
     scored = sorted(((robust_cost(resid(u)), tuple(u)) for u in starts))
     # Local bounded fit from the best start point.
     best = least_squares(resid, np.array(scored[0][1]), bounds=(0.0, 1.0), loss=LOSS, f_scale=F_SCALE,
-                         diff_step=1e-2, x_scale=0.1, xtol=1e-4, ftol=1e-4, gtol=1e-6,
+                         diff_step=1e-2, x_scale=0.1, xtol=1e-5, ftol=1e-6, gtol=1e-8,
                          max_nfev=15 * (k + 1))
     u = best.x
     z = resid(u)

@@ -82,9 +82,10 @@ def _sigma(spec, value, where):
     raise InputFileError(f"{where}: 'uncertainty' must be a number or {{relative, absolute, floor}}")
 
 
-def read_data_spec(path):
+def read_data_spec(path, shared_dir=None):
     """JSON that assembles data from wide CSV files (one condition column and
-    one value column each) and states their uncertainty."""
+    one value column each) and states their uncertainty. A path starting with
+    '${shared}/' is taken relative to the shared data directory."""
     with open(path) as f:
         spec = json.load(f)
     base = os.path.dirname(os.path.abspath(path))
@@ -92,7 +93,15 @@ def read_data_spec(path):
     rows = []
     for k, item in enumerate(spec.get("files", [])):
         where = f"{path}: files[{k}]"
-        fpath = os.path.join(base, item["path"])
+        fpath = item["path"]
+        if fpath.startswith("${shared}/"):
+            if not shared_dir:
+                raise InputFileError(f"{where}: '{fpath}' needs the shared data directory (--shared)")
+            fpath = os.path.join(shared_dir, fpath[len("${shared}/"):])
+        else:
+            fpath = os.path.join(base, fpath)
+        if not os.path.exists(fpath):
+            raise InputFileError(f"{where}: data file '{fpath}' not found")
         table = _read_csv_lines(fpath)
         header = [h.strip() for h in table[0]]
         c_col = item.get("condition_column", header[0])
@@ -109,11 +118,11 @@ def read_data_spec(path):
     return Data([cond_name or "condition"], rows, path)
 
 
-def read_data(path):
+def read_data(path, shared_dir=None):
     if not os.path.exists(path):
         raise InputFileError(f"data file '{path}' not found")
     if path.endswith(".json"):
-        return read_data_spec(path)
+        return read_data_spec(path, shared_dir)
     return read_long_csv(path)
 
 
@@ -132,13 +141,18 @@ class Param:
         if not self.upper > self.lower or (self.scale == "log" and self.lower <= 0):
             raise InputFileError(f"{where}: parameter '{self.name}': need lower < upper (and lower > 0 for log)")
         self.initial = float(d["initial"]) if "initial" in d else None
+        # Discrete parameters (e.g. spheres per clump) are rounded; the coarse
+        # scan finds them, the local fit then leaves them where they are.
+        self.integer = bool(d.get("integer", False))
 
     # unit interval <-> parameter value
     def to_value(self, u):
         u = min(max(u, 0.0), 1.0)
         if self.scale == "log":
-            return math.exp(math.log(self.lower) + u * (math.log(self.upper) - math.log(self.lower)))
-        return self.lower + u * (self.upper - self.lower)
+            x = math.exp(math.log(self.lower) + u * (math.log(self.upper) - math.log(self.lower)))
+        else:
+            x = self.lower + u * (self.upper - self.lower)
+        return float(round(x)) if self.integer else x
 
     def to_unit(self, x):
         if self.scale == "log":
@@ -152,7 +166,7 @@ class Param:
 
     def to_json(self):
         return {"name": self.name, "var": self.var, "lower": self.lower, "upper": self.upper,
-                "scale": self.scale}
+                "scale": self.scale, "integer": self.integer}
 
 
 class Model:
@@ -173,6 +187,7 @@ class Model:
         self.set = {k: str(v) for k, v in d.get("set", {}).items()}
         self.params = [Param(p, path) for p in d.get("params", [])]
         ex = d.get("extract", {})
+        self.extract = ex
         self.prefix = ex.get("prefix", "DISCREPANCY")
         self.result_file = ex.get("file")  # None: parse the screen output
         self.observables = d.get("observables", {})  # data observable -> printed key

@@ -112,10 +112,22 @@ def markdown(result, data, model, pngs, path):
         L.append(f"* {w['observable']} at {cond}: measured {_num(w['value'])} ± {_num(w['sigma'], 2)}, "
                  f"residual {w['z']:+.2f} ({100 * w['share']:.0f} % of chi2)")
     L.append(f"* the worst 20 % of the points carry {100 * c['share_of_worst_20pct']:.0f} % of chi2")
+    rm = v.get("remaining_misfit")
+    if rm:
+        L += ["", f"Remaining misfit of the baseline with {v['cause']} (training fit, all points):", "",
+              "| observable | points | chi2/point | share of chi2 | mean residual |", "|---|---:|---:|---:|---:|"]
+        for o in rm["by_observable"]:
+            L.append(f"| {o['observable']} | {o['n']} | {_num(o['chi2_per_point'], 3)} | {100 * o['share']:.0f} % | "
+                     f"{_num(o['mean_residual'], 3)} |")
+        L += ["", f"| {data.conditions[0]} range | points | chi2/point | share of chi2 |", "|---|---:|---:|---:|"]
+        for o in rm["by_condition_range"]:
+            L.append(f"| {_num(o['from'])} - {_num(o['to'])} | {o['n']} | {_num(o['chi2_per_point'], 3)} | "
+                     f"{100 * o['share']:.0f} % |")
     L += ["", "## Candidates (fitted on %d training points, ranked on %d held-out points)" % (
         len(result["split"]["train"]), len(result["split"]["heldout"])), "",
-          "| rank | model | fitted parameters | held-out rms | gain over baseline (68 % CI) | AIC | BIC |",
-          "|---:|---|---|---:|---:|---:|---:|"]
+          "| rank | model | fitted parameters | held-out rms | gain over baseline (68 % CI) | AIC | BIC "
+          "| chi2/dof, all points |",
+          "|---:|---|---|---:|---:|---:|---:|---:|"]
 
     def params_text(e):
         return ", ".join(f"{p['name']} = {_num(p['value'])} ± {_num(p['error'], 2)}" +
@@ -123,14 +135,16 @@ def markdown(result, data, model, pngs, path):
 
     b = result["baseline"]["heldout_fit"]
     L.append(f"| - | baseline | {params_text(b)} | {_num(b['heldout']['rms'], 3)} ± "
-             f"{_num(b['heldout']['rms_std'], 2)} | 1 | {_num(b['aic'])} | {_num(b['bic'])} |")
+             f"{_num(b['heldout']['rms_std'], 2)} | 1 | {_num(b['aic'])} | {_num(b['bic'])} | "
+             f"{_num(b['all_chi2']['chi2_red'], 3)} |")
     for k, e in enumerate(result["candidates"], start=1):
         gg = e["gain"]
         L.append(f"| {k} | {e['name']} | {params_text(e)} | {_num(e['heldout']['rms'], 3)} ± "
                  f"{_num(e['heldout']['rms_std'], 2)} | {_num(gg['ratio'], 3)} ({_num(gg['ci68'][0], 3)}-"
-                 f"{_num(gg['ci68'][1], 3)}) | {_num(e['aic'])} | {_num(e['bic'])} |")
+                 f"{_num(gg['ci68'][1], 3)}) | {_num(e['aic'])} | {_num(e['bic'])} | {_num(e['all_chi2']['chi2_red'], 3)} |")
     L += ["", "Held-out rms is the root mean square of (model - data) / uncertainty over the held-out points "
-          "(1 for a model that fits within the uncertainty); its ± is the bootstrap standard deviation.", ""]
+          "(1 for a model that fits within the uncertainty); its ± is the bootstrap standard deviation. "
+          "AIC and BIC are those of the training fit; the last column uses the training fit on all points.", ""]
     if pngs:
         L += ["## Plots", ""]
         for p in pngs:

@@ -5,6 +5,8 @@ import os
 import subprocess
 import tempfile
 
+from . import extractors
+
 
 class RunError(Exception):
     pass
@@ -12,6 +14,8 @@ class RunError(Exception):
 
 def fmt(value):
     if isinstance(value, float):
+        if value.is_integer() and abs(value) < 1e15:
+            return str(int(value))  # integer-valued settings (counts, seeds) as integers
         return f"{value:.12g}"
     return str(value)
 
@@ -76,11 +80,20 @@ class Runner:
                 if os.path.exists(path):
                     with open(path) as f:
                         text = f.read()
+            derived = {}
+            heap = self.model.extract.get("heap_angle")
+            if heap and proc.returncode == 0:
+                path = os.path.join(tmp, heap["file"])
+                if not os.path.exists(path):
+                    raise RunError(f"the run did not write '{heap['file']}' for heap_angle: {' '.join(args)}")
+                angle, _ = extractors.heap_angle(path, tuple(heap.get("central", (0.25, 0.75))))
+                derived[heap.get("key", "repose_deg")] = angle
         if proc.returncode != 0:
             tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
             raise RunError("granary failed (exit %d): %s\n  %s" % (proc.returncode, " ".join(args),
                                                                    "\n  ".join(tail)))
         res = parse_results(text, self.model.prefix)
+        res.update(derived)
         if not res:
             raise RunError(f"no '{self.model.prefix} key value ...' line in the output of: {' '.join(args)}")
         return res

@@ -127,8 +127,15 @@ def run(data, model, candidates, runner, opts):
         strength = "only candidate"
         if m:
             p = m["heldout_ratio"]["p_greater_than_1"]
-            strength = ("decisive" if (m["delta_aic"] >= 6 and p >= 0.9) else
-                        "clear" if (m["delta_aic"] >= 2 or p >= 0.8) else "weak: the runner-up is not excluded")
+            if m["delta_aic"] >= 6 and p >= 0.9:
+                strength = "decisive"
+            elif m["delta_aic"] >= 2 and p >= 0.8:
+                strength = "clear"
+            elif m["delta_aic"] < 0 and p >= 0.8:
+                strength = ("mixed: the held-out error favours it, the training AIC favours the runner-up "
+                            "(a sign that the runner-up over-fits the training points)")
+            else:
+                strength = "weak: the runner-up is not excluded"
         verdict["strength"] = strength
         g = best["gain"]
         verdict["statement"] = (
@@ -141,6 +148,24 @@ def run(data, model, candidates, runner, opts):
                                      "(better in %.0f%% of bootstrap resamples); evidence %s." % (
                                          verdict["runner_up"], m["delta_aic"], m["heldout_ratio"]["ratio"],
                                          100 * m["heldout_ratio"]["p_greater_than_1"], strength))
+        # Does the extended model fit within the uncertainty, and if not, where
+        # does what is left concentrate?
+        z_best = np.array(best["residuals"])
+        rest = stats.chi2_summary(z_best, best["k"])
+        verdict["extended_fit"] = rest
+        verdict["remaining_misfit"] = stats.concentration(z_best, rows, data)
+        if rest["p_value"] < stats.P_THRESHOLD:
+            worst = verdict["remaining_misfit"]["worst_points"][0]
+            verdict["statement"] += (" The extended model still misses the data beyond its uncertainty "
+                                     "(chi2/dof = %.3g on all points); the largest remaining residual is %s at %s "
+                                     "(%+.1f uncertainties)." % (
+                                         rest["chi2_red"], worst["observable"],
+                                         ", ".join(f"{k} = {v:.4g}" for k, v in worst["condition"].items()),
+                                         worst["z"]))
+        else:
+            verdict["statement"] += (" The extended model fits within the data's uncertainty "
+                                     "(chi2/dof = %.3g on all points, p = %.3g)." % (rest["chi2_red"],
+                                                                                    rest["p_value"]))
     else:
         verdict["status"] = "discrepancy not explained"
         verdict["cause"] = None
