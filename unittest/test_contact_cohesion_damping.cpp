@@ -305,18 +305,26 @@ TEST_CASE("cohesion sjkr agrees with LIGGGHTS 3.8", "[contact][cohesion][liggght
                         {false, 0.05, 0.694188632169371, -0.0016107456458025314755, -0.28598617907386353343},
                         {false, 0.2, 0.735216265058024, -0.0070661013984727426285, -0.73206460604536860437}};
   for (const Case& k : cases) {
-    granary::test::ScriptEngine s;
-    s.cmds(sjkr_script(k.wall, k.speed));
-    const auto& p = s.p();
-    INFO("wall " << k.wall << " speed " << k.speed);
-    if (k.wall) {
-      CHECK(p.v[0].z() / k.speed == Approx(k.e).epsilon(1e-10));
-    } else {
-      REQUIRE(p.nlocal == 2);
-      const int a = p.id[0] == 1 ? 0 : 1, b = 1 - a;
-      CHECK((p.v[a].z() - p.v[b].z()) / k.speed == Approx(k.e).epsilon(1e-10));
-      CHECK(p.v[a].x() == Approx(k.vx1).epsilon(1e-10));
-      CHECK(p.omega[a].y() == Approx(k.wy1).epsilon(1e-10));
+    for (bool rolling_style : {false, true}) {
+      if (rolling_style && k.wall) continue;
+      // pair_style hertz/rolling takes the same words (cdt switched off here)
+      std::vector<std::string> lines = sjkr_script(k.wall, k.speed);
+      if (rolling_style)
+        for (auto& l : lines)
+          if (l.rfind("pair_style", 0) == 0) l = "pair_style hertz/rolling rolling off cohesion sjkr";
+      granary::test::ScriptEngine s;
+      s.cmds(lines);
+      const auto& p = s.p();
+      INFO("wall " << k.wall << " speed " << k.speed << " hertz/rolling " << rolling_style);
+      if (k.wall) {
+        CHECK(p.v[0].z() / k.speed == Approx(k.e).epsilon(1e-10));
+      } else {
+        REQUIRE(p.nlocal == 2);
+        const int a = p.id[0] == 1 ? 0 : 1, b = 1 - a;
+        CHECK((p.v[a].z() - p.v[b].z()) / k.speed == Approx(k.e).epsilon(1e-10));
+        CHECK(p.v[a].x() == Approx(k.vx1).epsilon(1e-10));
+        CHECK(p.omega[a].y() == Approx(k.wy1).epsilon(1e-10));
+      }
     }
   }
 }
