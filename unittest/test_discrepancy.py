@@ -15,8 +15,11 @@ The null case hides nothing and must report 'no significant discrepancy'.
 The null case also checks the outputs of the command: report.md (which must
 say so), report.json and the PNG plot.
 
+The extractors case checks the heap angle-of-repose extractor on synthetic
+cones (no granary run).
+
 usage: test_discrepancy.py CASE GRANARY SOURCE_DIR   (CASE: viscoelastic,
-cohesion, rolling, null)
+cohesion, rolling, null, extractors)
 """
 import csv
 import json
@@ -93,9 +96,61 @@ def make_data(case, tools, granary, src, path):
     return true, model
 
 
+def check_extractors(tools):
+    """heap_angle on a synthetic heap: spheres of radius 1 mm filling a cone
+    of known slope on z = 0 (a hexagonal-ish random fill), plus a rounded apex
+    and a spread-out foot that the central-region fit must ignore. The fitted
+    angle must be within 1.5 degrees of the cone's (sphere tops follow the
+    surface to within a radius, which over the fitted span of ~10 radii is
+    about a degree)."""
+    sys.path.insert(0, tools)
+    from discrepancy_lib import extractors
+    rng = np.random.default_rng(5)
+    failures = []
+    for angle in (20.0, 30.0, 35.0):
+        R, r = 0.03, 0.001
+        t = np.tan(np.radians(angle))
+        pts = []
+        for _ in range(40000):
+            x, y = rng.uniform(-R, R, 2)
+            rho = np.hypot(x, y)
+            if rho > R:
+                continue
+            top = (R - rho) * t
+            top = min(top, 0.8 * R * t)  # flattened apex
+            z = rng.uniform(r, max(top - r, r) + 1e-12)
+            pts.append((x, y, z))
+        # the free surface layer: spheres touching the cone surface
+        for _ in range(4000):
+            rho, phi = rng.uniform(0, R), rng.uniform(0, 2 * np.pi)
+            top = min((R - rho) * t, 0.8 * R * t)
+            pts.append((rho * np.cos(phi), rho * np.sin(phi), max(top - r, r)))
+        # a few spheres rolled away beyond the foot
+        for _ in range(50):
+            rho, phi = rng.uniform(R, 1.15 * R), rng.uniform(0, 2 * np.pi)
+            pts.append((rho * np.cos(phi), rho * np.sin(phi), r))
+        with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
+            f.write(f"ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n{len(pts)}\n"
+                    "ITEM: BOX BOUNDS mm mm mm\n-1 1\n-1 1\n0 1\nITEM: ATOMS id x y z radius\n")
+            for k, (x, y, z) in enumerate(pts):
+                f.write(f"{k + 1} {x} {y} {z} {r}\n")
+            path = f.name
+        got, nring = extractors.heap_angle(path)
+        os.unlink(path)
+        print(f"  heap_angle: cone {angle} deg -> {got:.2f} deg ({nring} rings)")
+        if not abs(got - angle) < 1.5:
+            failures.append(f"heap_angle {got:.2f} for a {angle} degree cone")
+    return failures
+
+
 def main():
     case, granary, src = sys.argv[1], sys.argv[2], sys.argv[3]
     tools = os.path.join(src, "tools")
+    if case == "extractors":
+        failures = check_extractors(tools)
+        for msg in failures:
+            print("FAIL:", msg)
+        return 1 if failures else 0
     cli = case == "null"
     c = CASES[case]
     failures = []
