@@ -5,7 +5,6 @@
 3. fit the baseline's and every candidate's free parameters on the training part;
 4. held-out error of each with bootstrap uncertainty, AIC/BIC on the training fit;
 5. rank, name the cause with its margin over the runner-up, report the gain."""
-import math
 import time
 
 import numpy as np
@@ -55,7 +54,6 @@ def run(data, model, candidates, runner, opts):
     train, held = stats.split(n, opts["holdout"], opts["seed"], [r["observable"] for r in rows])
     result["split"] = {"train": train, "heldout": held}
     rows_tr = [rows[i] for i in train]
-    rows_ho = [rows[i] for i in held]
     boot_idx = stats.bootstrap_indices(len(held), opts["seed"] + 1)
 
     # 3-4. Fit every variant on the training part, evaluate on the held-out part.
