@@ -19,7 +19,7 @@ The extractors case checks the heap angle-of-repose extractor on synthetic
 cones (no granary run).
 
 usage: test_discrepancy.py CASE GRANARY SOURCE_DIR   (CASE: viscoelastic,
-cohesion, rolling, null, extractors)
+cohesion, rolling, tangential, null, extractors)
 """
 import csv
 import json
@@ -57,6 +57,15 @@ CASES = {
         "fixed": {},
         "observable": "distance", "sigma": 0.002,
         "expect": "rolling friction cdt", "param_tol": 0.10, "min_gain": 3.0, "seed": 13},
+    "tangential": {
+        "example": "oblique_impact", "condition": "incidence_deg",
+        "levels": [5.0, 10.0, 17.0, 25.0, 35.0, 45.0, 60.0, 75.0],
+        "hidden_set": {"tangential": "history"},
+        "hidden_param": ("mu", 0.08, 0.25),
+        "fixed": {},
+        "observables": {"et": 0.02, "omega": 15.0, "rebound": 1.0},
+        "candidates": ["tangential history", "rolling friction cdt", "viscoelastic damping"],
+        "expect": "tangential history", "param_tol": 0.10, "min_gain": 3.0, "seed": 15},
     "null": {
         "example": "restitution", "condition": "speed",
         "levels": list(np.geomspace(0.05, 5.0, 12)),
@@ -86,13 +95,15 @@ def make_data(case, tools, granary, src, path):
         s[cvar] = float(level)
         settings.append(s)
     res = runner.Runner(granary, model, jobs=2).run_many(settings)
-    key = model.key_of(c["observable"])
+    observables = c.get("observables", {c.get("observable"): c.get("sigma")})
     with open(path, "w", newline="") as f:
-        f.write(f"# synthetic: {case}, hidden {c['hidden_set']} {name} = {true:.6g}, noise sigma {c['sigma']}\n")
+        f.write(f"# synthetic: {case}, hidden {c['hidden_set']} {name} = {true:.6g}, noise sigma {observables}\n")
         w = csv.writer(f)
         w.writerow([c["condition"], "observable", "value", "uncertainty"])
-        for level, r in zip(c["levels"], res):
-            w.writerow([f"{level:.6g}", c["observable"], f"{r[key] + rng.normal(0, c['sigma']):.6g}", c["sigma"]])
+        for obs, sigma in observables.items():
+            key = model.key_of(obs)
+            for level, r in zip(c["levels"], res):
+                w.writerow([f"{level:.6g}", obs, f"{r[key] + rng.normal(0, sigma):.6g}", sigma])
     return true, model
 
 
@@ -158,9 +169,17 @@ def main():
         data_path = os.path.join(tmp, "data.csv")
         true, model = make_data(case, tools, granary, src, data_path)
         ex = os.path.join(src, "examples", "discrepancy", c["example"])
+        cand_path = os.path.join(ex, "candidates.json")
+        if "candidates" in c:  # a subset of the example's catalogue, to keep the test short
+            with open(cand_path) as f:
+                cat = json.load(f)
+            cat["candidates"] = [k for k in cat["candidates"] if k["name"] in c["candidates"]]
+            cand_path = os.path.join(tmp, "candidates.json")
+            with open(cand_path, "w") as f:
+                json.dump(cat, f)
         out = os.path.join(tmp, "report")
         cmd = ["/usr/bin/python3", os.path.join(tools, "discrepancy"), "--data", data_path,
-               "--model", os.path.join(ex, "model.json"), "--candidates", os.path.join(ex, "candidates.json"),
+               "--model", os.path.join(ex, "model.json"), "--candidates", cand_path,
                "--granary", granary, "--jobs", "2", "--seed", "3", "--out", out, "--quiet"]
         if not cli:
             cmd.append("--no-plots")
