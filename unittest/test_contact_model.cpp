@@ -98,7 +98,8 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
              Catch::Contains("unknown tangential model 'sticky'"));
   CHECK_THAT(parse_error("model hertz rolling_friction epsd"),
              Catch::Contains("'rolling_friction epsd' is not supported"));
-  CHECK_THAT(parse_error("model hertz cohesion sjkr"), Catch::Contains("'cohesion sjkr' is not supported"));
+  CHECK_THAT(parse_error("model hertz cohesion sjkr2"), Catch::Contains("'cohesion sjkr2' is not supported"));
+  CHECK_THAT(parse_error("model hooke damping viscoelastic"), Catch::Contains("only to 'model hertz'"));
   CHECK_THAT(parse_error("model hertz tangential"), Catch::Contains("missing value after"));
   CHECK_THAT(parse_error("model hertz limitForce yes"),
              Catch::Contains("expected 'on' or 'off' after 'limitForce'"));
@@ -111,7 +112,7 @@ TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
-        for (int flags = 0; flags < 8; ++flags) {
+        for (int flags = 0; flags < 64; ++flags) {
           ModelSpec s;
           s.normal = nm;
           s.tangential = tm;
@@ -119,7 +120,14 @@ TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
           s.limit_force = flags & 1;
           s.tangential_damping = flags & 2;
           s.kt_to_kn_user = (flags & 4) && nm == NormalModel::Hooke;
+          s.cohesion = (flags & 8) ? CohesionModel::Sjkr : CohesionModel::None;
+          s.tangential_reduce = (flags & 16) && s.cohesion == CohesionModel::Sjkr;
+          s.damping = (flags & 32) && nm == NormalModel::Hertz ? DampingModel::Viscoelastic
+                                                               : DampingModel::Restitution;
           const ModelSpec t = parse_all(model_words(s));
+          CHECK(t.cohesion == s.cohesion);
+          CHECK(t.tangential_reduce == s.tangential_reduce);
+          CHECK(t.damping == s.damping);
           CHECK(t.normal == s.normal);
           CHECK(t.tangential == s.tangential);
           CHECK(t.rolling == s.rolling);
@@ -184,7 +192,8 @@ TEST_CASE("Material mixing", "[contact][material]") {
 }
 
 TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]") {
-  const PairMaterial mat = mix_materials(5e7, 0.3, 5e7, 0.3, 0.5, 0.3, 0.1, 1.0);
+  PairMaterial mat = mix_materials(5e7, 0.3, 5e7, 0.3, 0.5, 0.3, 0.1, 1.0);
+  mat.cohesion_energy_density = 1e4;  // used by the sjkr kernels only
   ContactState c;
   c.n = Vec3(0, 0.6, 0.8);
   c.overlap = 1e-5;
@@ -199,12 +208,15 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
-        for (bool limit : {false, true}) {
+        for (int flags = 0; flags < 4; ++flags) {
+          const bool limit = flags & 1;
+          const CohesionModel cm = (flags & 2) ? CohesionModel::Sjkr : CohesionModel::None;
           ModelSpec s;
           s.normal = nm;
           s.tangential = tm;
           s.rolling = rm;
           s.limit_force = limit;
+          s.cohesion = cm;
           const int nh = history_size(s);
           std::vector<double> h1(nh, 0.0), h2(nh, 0.0), h3(nh, 0.0);
           ContactResult a, b, d;
@@ -218,6 +230,7 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
               CHECK(K::tangential == tm);
               CHECK(K::rolling == rm);
               CHECK(K::limit_force == limit);
+              CHECK(K::cohesion == cm);
               K::evaluate(s, c, mat, h3.data(), d);
             });
           }

@@ -1,11 +1,14 @@
 // Inline, templated contact kernels. Each sub-model slot is one small function
-// templated on its model enum; evaluate_t<Normal, Tangential, Rolling, Limit>
-// chains them for one contact with no allocation, no virtual call and no
-// runtime branch on the model choice.
+// templated on its model enum; evaluate_t<Normal, Tangential, Rolling, Limit,
+// Cohesion> chains them for one contact with no allocation, no virtual call and
+// no runtime branch on the model choice.
 //
 // Instantiated combinations: all of them. The current slots span
-// 2 normal x 3 tangential x 3 rolling x limitForce on/off = 36 kernels, few
-// enough that every combination is compiled and no generic slow path exists.
+// 2 normal x 3 tangential x 3 rolling x limitForce on/off x 2 cohesion = 72
+// kernels, few enough that every combination is compiled and no generic slow
+// path exists. The damping choice of the Hertz model (restitution or
+// viscoelastic) is a runtime branch inside normal_coefficients(): it changes
+// two coefficients once per contact and would otherwise double the count.
 // dispatch_model() turns a runtime ModelSpec into the matching Kernel type once,
 // so a pair loop can be compiled for exactly that kernel:
 //
@@ -48,8 +51,17 @@ inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactStat
     const double st = 8.0 * m.G_eff * sqrtval;
     k.kn = (4.0 / 3.0) * m.Y_eff * sqrtval;
     k.kt = st;
-    k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(sn * c.m_eff);
-    k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(st * c.m_eff);
+    if (spec.damping == DampingModel::Viscoelastic) {
+      // Brilliantov et al. (1996): the dissipative force is A d/dt of the
+      // elastic force's overlap dependence, -A (3/2) kn vn = -A S_n vn, with
+      // S_n = 2 Y* sqrt(R* delta) the tangent stiffness; the tangential
+      // dashpot uses the same relaxation time on the tangential stiffness.
+      k.gamma_n = m.dissipative_time * sn;
+      k.gamma_t = m.dissipative_time * st;
+    } else {
+      k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(sn * c.m_eff);
+      k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(st * c.m_eff);
+    }
   } else {
     // Linear spring whose stiffness gives the Hertz maximum overlap at the
     // characteristic impact velocity V:
@@ -156,12 +168,38 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
   }
 }
 
+/// Cohesion sub-model: magnitude of the attractive normal force (>= 0).
+/// sjkr: F = k A with A the area of the contact circle: for two spheres the
+/// circle in which the two sphere surfaces intersect,
+///   a^2 = delta (d + r_i - r_j)(d - r_i + r_j)(d + r_i + r_j) / (4 d^2),
+///   d = r_i + r_j - delta,
+/// for a wall (r_j = 0) the circle where the plane cuts the sphere,
+///   a^2 = 2 r_i delta - delta^2;
+/// A = pi a^2.
+template <CohesionModel C>
+inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
+  if constexpr (C == CohesionModel::Sjkr) {
+    double a2;
+    if (c.r_j > 0.0) {
+      const double d = c.r_i + c.r_j - c.overlap;
+      a2 = c.overlap * (d + c.r_i - c.r_j) * (d - c.r_i + c.r_j) * (d + c.r_i + c.r_j) / (4.0 * d * d);
+    } else {
+      a2 = c.overlap * (2.0 * c.r_i - c.overlap);
+    }
+    return m.cohesion_energy_density * M_PI * std::max(a2, 0.0);
+  } else {
+    (void)c, (void)m;
+    return 0.0;
+  }
+}
+
 }  // namespace detail
 
 /// One contact with the sub-models fixed at compile time. Same contract as
-/// evaluate(); `Limit` replaces spec.limit_force, the other spec switches
-/// (tangential_damping, kt_to_kn_user) are read at run time.
-template <NormalModel N, TangentialModel T, RollingModel R, bool Limit>
+/// evaluate(); `Limit` replaces spec.limit_force, `C` spec.cohesion, the other
+/// spec switches (damping, tangential_damping, kt_to_kn_user,
+/// tangential_reduce) are read at run time.
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
 inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
                        ContactResult& out) {
   constexpr int kShear = 0;
@@ -189,8 +227,16 @@ inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairM
   if constexpr (Limit) {
     if (fn < 0.0) fn = 0.0;
   }
-  out.fn = fn;
-  out.force = fn * c.n;
+  // Cohesion pulls the bodies together after limitForce (which forbids only
+  // the attraction of the dashpot). By default the Coulomb and rolling limits
+  // below see the contact force without it (LIGGGHTS "tangential_reduce off").
+  const double f_coh = detail::cohesion_force<C>(c, m);
+  const double fn_total = fn - f_coh;
+  if constexpr (C != CohesionModel::None) {
+    if (spec.tangential_reduce) fn = std::max(fn_total, 0.0);  // net compression
+  }
+  out.fn = fn_total;
+  out.force = fn_total * c.n;
 
   if constexpr (T != TangentialModel::None) {
     // Lever arms: the contact point lies in the middle of the overlap region,
@@ -221,26 +267,33 @@ inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairM
 }
 
 /// A compiled kernel as a type, handed to the callback of dispatch_model().
-template <NormalModel N, TangentialModel T, RollingModel R, bool Limit>
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
 struct Kernel {
   static constexpr NormalModel normal = N;
   static constexpr TangentialModel tangential = T;
   static constexpr RollingModel rolling = R;
   static constexpr bool limit_force = Limit;
+  static constexpr CohesionModel cohesion = C;
   static constexpr int history_size =
       detail::tangential_history_size<T>() + detail::rolling_history_size<R>();
   static void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
                        ContactResult& out) {
-    evaluate_t<N, T, R, Limit>(spec, c, m, history, out);
+    evaluate_t<N, T, R, Limit, C>(spec, c, m, history, out);
   }
 };
 
 namespace detail {
 
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, class Fn>
+inline decltype(auto) dispatch_cohesion(const ModelSpec& s, Fn&& fn) {
+  if (s.cohesion == CohesionModel::Sjkr) return fn(Kernel<N, T, R, Limit, CohesionModel::Sjkr>{});
+  return fn(Kernel<N, T, R, Limit, CohesionModel::None>{});
+}
+
 template <NormalModel N, TangentialModel T, RollingModel R, class Fn>
 inline decltype(auto) dispatch_limit(const ModelSpec& s, Fn&& fn) {
-  if (s.limit_force) return fn(Kernel<N, T, R, true>{});
-  return fn(Kernel<N, T, R, false>{});
+  if (s.limit_force) return dispatch_cohesion<N, T, R, true>(s, fn);
+  return dispatch_cohesion<N, T, R, false>(s, fn);
 }
 
 template <NormalModel N, TangentialModel T, class Fn>

@@ -70,7 +70,6 @@ bool is_known_unsupported(const std::string& slot, const std::string& name) {
       {"model", "hooke/hysteresis"},
       {"rolling_friction", "epsd"},
       {"rolling_friction", "epsd3"},
-      {"cohesion", "sjkr"},
       {"cohesion", "sjkr2"},
       {"cohesion", "easo/capillary/viscous"},
       {"cohesion", "washino/capillary/viscous"},
@@ -111,7 +110,8 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
   spec.tangential = TangentialModel::None;  // LIGGGHTS default "tangential off"
   spec.rolling = RollingModel::None;        // LIGGGHTS default "rolling_friction off"
   bool seen_model = false, seen_tangential = false, seen_rolling = false;
-  bool seen_cohesion = false, seen_surface = false, seen_kt_to_kn = false;
+  bool seen_cohesion = false, seen_surface = false, seen_kt_to_kn = false, seen_damping = false;
+  bool seen_reduce = false;
 
   auto once = [](bool& seen, const std::string& word) {
     if (seen) fail("'" + word + "' given twice");
@@ -154,7 +154,24 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     } else if (w == "cohesion") {
       once(seen_cohesion, w);
       const std::string& v = value_of(args, pos);
-      if (v != "off") bad_model(w, v, "off");
+      if (v == "sjkr")
+        spec.cohesion = CohesionModel::Sjkr;
+      else if (v == "off")
+        spec.cohesion = CohesionModel::None;
+      else
+        bad_model(w, v, "sjkr, off");
+    } else if (w == "damping") {
+      once(seen_damping, w);
+      const std::string& v = value_of(args, pos);
+      if (v == "restitution")
+        spec.damping = DampingModel::Restitution;
+      else if (v == "viscoelastic")
+        spec.damping = DampingModel::Viscoelastic;
+      else
+        bad_model(w, v, "restitution, viscoelastic");
+    } else if (w == "tangential_reduce") {
+      spec.tangential_reduce = on_off(args, pos);
+      seen_reduce = true;
     } else if (w == "surface") {
       once(seen_surface, w);
       const std::string& v = value_of(args, pos);
@@ -174,6 +191,10 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     pos += 2;
   }
   if (seen_kt_to_kn && spec.normal != NormalModel::Hooke) fail("'ktToKnUser' applies only to 'model hooke'");
+  if (spec.damping == DampingModel::Viscoelastic && spec.normal != NormalModel::Hertz)
+    fail("'damping viscoelastic' applies only to 'model hertz'");
+  if (seen_reduce && spec.cohesion == CohesionModel::None)
+    fail("'tangential_reduce' applies only with a cohesion model ('cohesion sjkr')");
   return spec;
 }
 
@@ -200,7 +221,10 @@ std::string model_words(const ModelSpec& spec) {
       s += " rolling_friction epsd2";
       break;
   }
+  if (spec.cohesion == CohesionModel::Sjkr) s += " cohesion sjkr";
+  if (spec.damping == DampingModel::Viscoelastic) s += " damping viscoelastic";
   if (spec.limit_force) s += " limitForce on";
+  if (spec.tangential_reduce) s += " tangential_reduce on";
   if (!spec.tangential_damping) s += " tangential_damping off";
   if (spec.kt_to_kn_user) s += " ktToKnUser on";
   return s;

@@ -25,12 +25,25 @@ enum class NormalModel { Hertz, Hooke };
 enum class TangentialModel { None, NoHistory, History };
 /// Rolling resistance: "rolling_friction off", "rolling_friction cdt", "rolling_friction epsd2".
 enum class RollingModel { None, Cdt, Epsd2 };
+/// Cohesion: "cohesion off", "cohesion sjkr" (simplified JKR, F = k * contact area).
+enum class CohesionModel { None, Sjkr };
+/// Normal (and tangential) damping of the Hertz model: "damping restitution"
+/// (LIGGGHTS' constant coefficient of restitution, the default) or
+/// "damping viscoelastic" (Brilliantov et al. 1996: dashpot proportional to the
+/// contact stiffness, restitution falls with impact speed).
+enum class DampingModel { Restitution, Viscoelastic };
 
 /// Which sub-model fills each slot, plus the model switches of the input syntax.
 struct ModelSpec {
   NormalModel normal = NormalModel::Hertz;
   TangentialModel tangential = TangentialModel::History;
   RollingModel rolling = RollingModel::None;
+  CohesionModel cohesion = CohesionModel::None;
+  /// Read at run time inside the normal sub-model (not a template parameter).
+  DampingModel damping = DampingModel::Restitution;
+  /// Cohesion: the Coulomb and epsd2 limits see the cohesive pull as well
+  /// ("tangential_reduce on"); default off: they see the contact force only.
+  bool tangential_reduce = false;
   /// Forbid attraction: the total normal force is clamped at >= 0 ("limitForce on").
   bool limit_force = false;
   /// Viscous damping of the tangential force ("tangential_damping", default on).
@@ -59,8 +72,9 @@ void history_swap_signs(const ModelSpec&, double* signs);
 
 /// Parse LIGGGHTS contact-model words starting at args[pos], e.g.
 ///   model hertz tangential history rolling_friction cdt limitForce on
-/// Recognised slots: model, tangential, cohesion (off only), rolling_friction,
-/// surface (default/sphere only); settings: limitForce, tangential_damping,
+/// Recognised slots: model, tangential, cohesion (off, sjkr), rolling_friction,
+/// surface (default/sphere only), damping (restitution, viscoelastic; hertz
+/// only); settings: limitForce, tangential_damping, tangential_reduce (sjkr),
 /// ktToKnUser (hooke), and the LIGGGHTS bookkeeping switches (accepted as "off").
 /// Slots that are not given take the LIGGGHTS defaults: model hertz,
 /// tangential off, rolling_friction off.
@@ -83,6 +97,10 @@ struct PairMaterial {
   double friction = 0.0;          ///< Coulomb mu
   double rolling_friction = 0.0;  ///< mu_r
   double char_velocity = 0.0;     ///< Hooke only: characteristicVelocity [m/s]
+  /// cohesion sjkr: cohesionEnergyDensity k [J/m^3]; the cohesive pull is k * contact area
+  double cohesion_energy_density = 0.0;
+  /// damping viscoelastic: dissipativeTimeConstant A [s] of Brilliantov et al. (1996)
+  double dissipative_time = 0.0;
 };
 
 /// Mix the properties of type i and type j. Throws std::invalid_argument for
@@ -108,8 +126,8 @@ struct ContactResult {
   Vec3 force = Vec3::Zero();     ///< total force on i (j receives -force)
   Vec3 torque_i = Vec3::Zero();  ///< torque on i about its centre
   Vec3 torque_j = Vec3::Zero();  ///< torque on j about its centre
-  double fn = 0.0;               ///< signed normal force (elastic + damping, after limit_force)
-  Vec3 ft = Vec3::Zero();        ///< tangential part of `force` (0 without a tangential model)
+  double fn = 0.0;         ///< signed normal force (elastic + damping, after limit_force, minus cohesion)
+  Vec3 ft = Vec3::Zero();  ///< tangential part of `force` (0 without a tangential model)
 };
 
 /// Evaluate one contact. `history` points to history_size(spec) doubles owned by

@@ -24,7 +24,17 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   poisson_.assign(stride_, 0.0);
   auto* Y = FixPropertyGlobal::require(modify, "youngsModulus", user);
   auto* nu = FixPropertyGlobal::require(modify, "poissonsRatio", user);
-  auto* e = FixPropertyGlobal::require(modify, "coefficientRestitution", user);
+  // With viscoelastic damping the restitution follows from the dissipative
+  // time constant; coefficientRestitution is then optional (unused).
+  const bool viscoelastic = spec.damping == contact::DampingModel::Viscoelastic;
+  FixPropertyGlobal* e = viscoelastic ? FixPropertyGlobal::find(modify, "coefficientRestitution")
+                                      : FixPropertyGlobal::require(modify, "coefficientRestitution", user);
+  FixPropertyGlobal* coh = nullptr;
+  if (spec.cohesion == contact::CohesionModel::Sjkr) {
+    coh = FixPropertyGlobal::require(modify, "cohesionEnergyDensity", user);
+  }
+  FixPropertyGlobal* diss = nullptr;
+  if (viscoelastic) diss = FixPropertyGlobal::require(modify, "dissipativeTimeConstant", user);
   FixPropertyGlobal* mu = nullptr;
   if (spec.tangential != contact::TangentialModel::None) {
     mu = FixPropertyGlobal::require(modify, "coefficientFriction", user);
@@ -38,7 +48,7 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     vchar = FixPropertyGlobal::require(modify, "characteristicVelocity", user)->compute_scalar();
   }
   // A restart file remembers the materials of the run that wrote it.
-  for (const FixPropertyGlobal* prop : {Y, nu, e, mu, mur}) {
+  for (const FixPropertyGlobal* prop : {Y, nu, e, mu, mur, coh, diss}) {
     if (!prop) continue;
     auto it = modify.restart_materials.find(prop->name);
     if (it == modify.restart_materials.end()) continue;
@@ -52,7 +62,7 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     youngs_[a] = Y->per_type(a);
     poisson_[a] = nu->per_type(a);
   }
-  for (const FixPropertyGlobal* prop : {e, mu, mur}) {
+  for (const FixPropertyGlobal* prop : {e, mu, mur, coh, diss}) {
     if (!prop) continue;
     for (int a = 1; a <= n; ++a)
       for (int b = a + 1; b <= n; ++b)
@@ -65,9 +75,20 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   for (int a = 1; a <= n; ++a) {
     for (int b = 1; b <= n; ++b) {
       try {
-        table_[a * stride_ + b] =
-            contact::mix_materials(youngs_[a], poisson_[a], youngs_[b], poisson_[b], e->per_pair(a, b),
-                                   mu ? mu->per_pair(a, b) : 0.0, mur ? mur->per_pair(a, b) : 0.0, vchar);
+        contact::PairMaterial& pm = table_[a * stride_ + b];
+        pm = contact::mix_materials(youngs_[a], poisson_[a], youngs_[b], poisson_[b],
+                                    e ? e->per_pair(a, b) : 1.0, mu ? mu->per_pair(a, b) : 0.0,
+                                    mur ? mur->per_pair(a, b) : 0.0, vchar);
+        if (coh) {
+          pm.cohesion_energy_density = coh->per_pair(a, b);
+          if (!(pm.cohesion_energy_density >= 0.0))
+            throw std::invalid_argument("cohesionEnergyDensity must be >= 0");
+        }
+        if (diss) {
+          pm.dissipative_time = diss->per_pair(a, b);
+          if (!(pm.dissipative_time >= 0.0))
+            throw std::invalid_argument("dissipativeTimeConstant must be >= 0");
+        }
       } catch (const std::invalid_argument& ex) {
         throw InputError(user + ": material of types " + std::to_string(a) + " and " + std::to_string(b) +
                          ": " + ex.what());

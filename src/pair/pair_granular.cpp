@@ -52,7 +52,7 @@ contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
   }
   if (pos != words.size()) {
     throw InputError("pair_style " + style + ": unexpected word '" + words[pos] +
-                     "'; expected model, tangential, rolling_friction, cohesion or limitForce");
+                     "'; expected model, tangential, rolling_friction, cohesion, damping or limitForce");
   }
   return spec;
 }
