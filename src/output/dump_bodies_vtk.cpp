@@ -24,6 +24,7 @@
 #include "fix/modify.h"
 #include "output/dump_custom.h"
 #include "particles/particles.h"
+#include "output/vtk_frame.h"
 
 namespace granary {
 
@@ -146,27 +147,8 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
   ds->SetVerts(cells);
   for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{ids, types, mass, quat, axis, vel, omega, nsph})
     ds->GetPointData()->AddArray(a);
-  auto tv = vtkSmartPointer<vtkDoubleArray>::New();
-  tv->SetName("TimeValue");
-  tv->InsertNextValue(engine_.update->time());
-  auto cycle = vtkSmartPointer<vtkTypeInt64Array>::New();
-  cycle->SetName("Step");
-  cycle->InsertNextValue(engine_.update->ntimestep);
-  ds->GetFieldData()->AddArray(tv);
-  ds->GetFieldData()->AddArray(cycle);
-
-  // create the file first so that a failure names the file and the reason
-  if (std::FILE* fp = std::fopen(frame.c_str(), "wb"))
-    std::fclose(fp);
-  else
-    return dumpio::open_error(frame);
-  auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-  vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
-  w->SetInputData(ds);
-  w->SetFileName(frame.c_str());
-  if (!w->Write()) return "VTK could not write '" + frame + "'";
-  if (!pvd_.path.empty()) return pvd_.add(frame, engine_.update->time());
-  return "";
+  return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep, options_,
+                                     pvd_);
 }
 
 void DumpBodiesVTK::write() {

@@ -31,6 +31,7 @@
 #include "core/update.h"
 #include "domain/domain.h"
 #include "domain/region.h"
+#include "output/vtk_frame.h"
 
 namespace granary {
 
@@ -215,15 +216,7 @@ vtkSmartPointer<DataSet> build_dataset(const std::vector<double>& rows, std::int
         arr->SetComponent(k, c, rows[k * ncols + a.cols[c]]);
     ds->GetPointData()->AddArray(arr);
   }
-  // simulated time and step as field data (ParaView reads TimeValue)
-  auto tv = vtkSmartPointer<vtkDoubleArray>::New();
-  tv->SetName("TimeValue");
-  tv->InsertNextValue(time);
-  auto cycle = vtkSmartPointer<vtkTypeInt64Array>::New();
-  cycle->SetName("Step");
-  cycle->InsertNextValue(step);
-  ds->GetFieldData()->AddArray(tv);
-  ds->GetFieldData()->AddArray(cycle);
+  vtkio::add_time_step(ds, time, step);
   return ds;
 }
 

@@ -33,6 +33,7 @@
 #include "output/dump.h"
 #include "output/dump_custom.h"
 #include "output/vtk_support.h"
+#include "output/vtk_frame.h"
 
 namespace granary {
 
@@ -181,26 +182,8 @@ class DumpMeshVTK : public Dump {
     ds->SetPolys(cells);
     for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area})
       ds->GetCellData()->AddArray(a);
-    auto tv = vtkSmartPointer<vtkDoubleArray>::New();
-    tv->SetName("TimeValue");
-    tv->InsertNextValue(engine_.update->time());
-    auto cycle = vtkSmartPointer<vtkTypeInt64Array>::New();
-    cycle->SetName("Step");
-    cycle->InsertNextValue(engine_.update->ntimestep);
-    ds->GetFieldData()->AddArray(tv);
-    ds->GetFieldData()->AddArray(cycle);
-
-    if (std::FILE* fp = std::fopen(frame.c_str(), "wb"))
-      std::fclose(fp);
-    else
-      return dumpio::open_error(frame);
-    auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
-    w->SetInputData(ds);
-    w->SetFileName(frame.c_str());
-    if (!w->Write()) return "VTK could not write '" + frame + "'";
-    if (!pvd_.path.empty()) return pvd_.add(frame, engine_.update->time());
-    return "";
+    return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep, options_,
+                                       pvd_);
   }
 
   std::vector<std::string> mesh_ids_;

@@ -1,0 +1,56 @@
+// Writing one frame of a VTK XML dump: the simulated time and step as field
+// data (ParaView reads TimeValue), and a serial PolyData frame written with
+// the dump's options and listed in its .pvd collection.
+#pragma once
+
+#include <vtkDataObject.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "output/dump_custom.h"
+#include "output/vtk_support.h"
+
+namespace granary {
+namespace vtkio {
+
+/// Attach the simulated time (TimeValue) and the step (Step) as field data.
+inline void add_time_step(vtkDataObject* ds, double time, std::int64_t step) {
+  auto tv = vtkSmartPointer<vtkDoubleArray>::New();
+  tv->SetName("TimeValue");
+  tv->InsertNextValue(time);
+  auto cycle = vtkSmartPointer<vtkTypeInt64Array>::New();
+  cycle->SetName("Step");
+  cycle->InsertNextValue(step);
+  ds->GetFieldData()->AddArray(tv);
+  ds->GetFieldData()->AddArray(cycle);
+}
+
+/// Write `ds` to `frame` (.vtp) with its time and step, then list it in `pvd`
+/// (when that has a path). Returns "" or an error message naming the file.
+inline std::string write_polydata_frame(vtkPolyData* ds, const std::string& frame, double time,
+                                        std::int64_t step, const WriteOptions& options, PvdCollection& pvd) {
+  add_time_step(ds, time, step);
+  // create the file first so that a failure names the file and the reason
+  if (std::FILE* fp = std::fopen(frame.c_str(), "wb"))
+    std::fclose(fp);
+  else
+    return dumpio::open_error(frame);
+  auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+  configure_writer(w.Get(), options.binary, options.compressor);
+  w->SetInputData(ds);
+  w->SetFileName(frame.c_str());
+  if (!w->Write()) return "VTK could not write '" + frame + "'";
+  if (!pvd.path.empty()) return pvd.add(frame, time);
+  return "";
+}
+
+}  // namespace vtkio
+}  // namespace granary
