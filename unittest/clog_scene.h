@@ -16,13 +16,21 @@ constexpr double kGrainDiameter = 0.0027;  // [m]; floor spheres: 0.002 m
 constexpr double kDensity = 2500.0;        // [kg/m^3]
 constexpr double kTimestep = 5.0e-5;       // [s]
 
-/// Pair style, materials, integration: what a script defines again after read_restart.
-/// `walled`: the box is closed by four primitive walls instead of being periodic
-/// in x and y (periodic images are remapped at different steps in a run and in a
-/// restarted one, which changes the last bits of distances; walls do not).
-inline std::vector<std::string> physics(bool walled = false) {
-  std::vector<std::string> s = {
-      "communicate single vel yes",
+/// The box (x, y in [0, 0.02] m, z from -0.02 m to zhi), two atom types.
+inline std::vector<std::string> box(double zhi, bool walled = false) {
+  return {"units si",
+          "atom_style granular",
+          "atom_modify map array",
+          walled ? "boundary f f f" : "boundary p p f",
+          "newton off",
+          "processors * * 1",
+          "region box block 0 0.02 0 0.02 -0.02 " + std::to_string(zhi) + " units box",
+          "create_box 2 box"};
+}
+
+/// Neighbour settings, materials of the two types, pair style and timestep.
+inline std::vector<std::string> materials() {
+  return {
       "neighbor 0.0005 bin",
       "neigh_modify delay 0",
       "fix m1 all property/global youngsModulus peratomtype 1.e6 1.e6",
@@ -33,6 +41,34 @@ inline std::vector<std::string> physics(bool walled = false) {
       "pair_coeff * *",
       "timestep 5e-5",
   };
+}
+
+/// Lines appended to a script, in order.
+inline void append(std::vector<std::string>& s, const std::vector<std::string>& more) {
+  s.insert(s.end(), more.begin(), more.end());
+}
+
+/// A box of height zhi with the materials, a dumbbell clump template `dumb`
+/// (two touching 2 mm spheres of type 1), fix multisphere and gravity.
+inline std::vector<std::string> dumbbell_box(double zhi) {
+  std::vector<std::string> s = box(zhi);
+  append(s, materials());
+  append(s, {
+                "fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 "
+                "nspheres 2 ntry 200000 spheres -0.001 0 0 0.001 0.001 0 0 0.001 type 1",
+                "fix ms all multisphere",
+                "fix g all gravity 9.81 vector 0 0 -1",
+            });
+  return s;
+}
+
+/// Pair style, materials, integration: what a script defines again after read_restart.
+/// `walled`: the box is closed by four primitive walls instead of being periodic
+/// in x and y (periodic images are remapped at different steps in a run and in a
+/// restarted one, which changes the last bits of distances; walls do not).
+inline std::vector<std::string> physics(bool walled = false) {
+  std::vector<std::string> s = {"communicate single vel yes"};
+  append(s, materials());
   if (walled) {
     for (const std::string w : {"xplane 0.0", "xplane 0.02", "yplane 0.0", "yplane 0.02"})
       s.push_back("fix wall_" + std::string(1, w[0]) + (w.back() == '0' ? "lo" : "hi") +
@@ -53,16 +89,7 @@ inline std::vector<std::string> regions() {
 /// The whole scene: box, floor, `ngrains` grains poured on the plugged floor
 /// and settled (0.125 s), then the plug removed. Groups: floor, grains.
 inline std::vector<std::string> filled(int ngrains, bool walled = false) {
-  std::vector<std::string> s = {
-      "units si",
-      "atom_style granular",
-      "atom_modify map array",
-      walled ? "boundary f f f" : "boundary p p f",
-      "newton off",
-      "processors * * 1",
-      "region box block 0 0.02 0 0.02 -0.02 0.04 units box",
-      "create_box 2 box",
-  };
+  std::vector<std::string> s = box(0.04, walled);
   for (const auto& l : physics(walled))
     s.push_back(l);
   for (const auto& l : std::vector<std::string>{

@@ -274,29 +274,8 @@ namespace {
 
 // Six dumbbell clumps and three free spheres falling through an outlet block.
 std::vector<std::string> clump_scene(const std::string& remove) {
-  std::vector<std::string> s = {
-      "units si",
-      "atom_style granular",
-      "atom_modify map array",
-      "boundary p p f",
-      "newton off",
-      "region box block 0 0.02 0 0.02 -0.02 0.04 units box",
-      "create_box 2 box",
-      "neighbor 0.0005 bin",
-      "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 1.e6 1.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.3 0.3 0.3 0.3",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.6 0.6 0.6 0.6",
-      "pair_style gran model hertz tangential history",
-      "pair_coeff * *",
-      "timestep 5e-5",
-      "fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
-      "ntry 200000 spheres -0.001 0 0 0.001 0.001 0 0 0.001 type 1",
-      "fix ms all multisphere",
-      "fix g all gravity 9.81 vector 0 0 -1",
-      "fix floor all wall/gran model hertz tangential history primitive type 1 zplane -0.0195",
-  };
+  std::vector<std::string> s = clog_scene::dumbbell_box(0.04);
+  s.push_back("fix floor all wall/gran model hertz tangential history primitive type 1 zplane -0.0195");
   for (int k = 0; k < 6; ++k) {
     char line[200];
     std::snprintf(line, sizeof line, "create_clump dumb %.4f %.4f %.4f quat 0.9 0.1 0.3 0.2",
@@ -349,27 +328,13 @@ namespace {
 // depend on round-off): 6 spheres reach the outlet at about 0.03 s, 4 at about
 // 0.119 s; with timeout 0.035 s each burst is one avalanche (action none).
 std::vector<std::string> burst_scene() {
-  std::vector<std::string> s = {
-      "units si",
-      "atom_style granular",
-      "atom_modify map array",
-      "boundary p p f",
-      "newton off",
-      "region box block 0 0.02 0 0.02 -0.02 0.07 units box",
-      "create_box 2 box",
-      "neighbor 0.0005 bin",
-      "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 1.e6 1.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.3 0.3 0.3 0.3",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.6 0.6 0.6 0.6",
-      "pair_style gran model hertz tangential history",
-      "pair_coeff * *",
-      "timestep 5e-5",
-      "fix g all gravity 9.81 vector 0 0 -1",
-      "fix integr all nve/sphere",
-      "region out block 0 0.02 0 0.02 -0.02 -0.01 units box",
-  };
+  std::vector<std::string> s = clog_scene::box(0.07);
+  clog_scene::append(s, clog_scene::materials());
+  clog_scene::append(s, {
+                            "fix g all gravity 9.81 vector 0 0 -1",
+                            "fix integr all nve/sphere",
+                            "region out block 0 0.02 0 0.02 -0.02 -0.01 units box",
+                        });
   return s;
 }
 
@@ -420,7 +385,7 @@ TEST_CASE("clog-detect: a restart written during an avalanche continues with the
   ScriptEngine b;
   b.cmds({"atom_style granular", "atom_modify map array", "read_restart " + mid});
   auto scene = burst_scene();
-  for (std::size_t k = 7; k < scene.size(); ++k)  // the physics, without box and particles
+  for (std::size_t k = clog_scene::box(0.07).size(); k < scene.size(); ++k)  // without the box
     b.cmd(scene[k]);
   b.cmd(fix + fb);
   b.cmd("run 2400");

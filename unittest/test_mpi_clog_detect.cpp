@@ -20,36 +20,15 @@
 #include "fix/fix_multisphere.h"
 #include "fix/modify.h"
 #include "particles/particles.h"
+#include "clog_scene.h"
 #include "script_engine.h"
 
 namespace {
 
 std::vector<std::string> scene(const std::string& file) {
-  std::vector<std::string> s = {
-      "units si",
-      "atom_style granular",
-      "atom_modify map array",
-      "boundary p p f",
-      "newton off",
-      "processors * * 1",
-      "region box block 0 0.02 0 0.02 -0.02 0.07 units box",
-      "create_box 2 box",
-      "neighbor 0.0005 bin",
-      "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 1.e6 1.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.3 0.3 0.3 0.3",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.6 0.6 0.6 0.6",
-      "pair_style gran model hertz tangential history",
-      "pair_coeff * *",
-      "timestep 5e-5",
-      "fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
-      "ntry 200000 spheres -0.001 0 0 0.001 0.001 0 0 0.001 type 1",
-      "fix ms all multisphere",
-      "fix g all gravity 9.81 vector 0 0 -1",
-      "create_clump dumb 0.01 0.01 0.0 quat 0.9 0.1 0.3 0.2",
-      "create_clump dumb 0.0099 0.002 0.04 quat 0.7 0.5 0.1 0.3",
-  };
+  std::vector<std::string> s = clog_scene::dumbbell_box(0.07);
+  clog_scene::append(s, {"create_clump dumb 0.01 0.01 0.0 quat 0.9 0.1 0.3 0.2",
+                         "create_clump dumb 0.0099 0.002 0.04 quat 0.7 0.5 0.1 0.3"});
   for (int k = 0; k < 6; ++k)
     s.push_back("create_atoms 2 single " + std::to_string(0.003 + 0.003 * k) + " 0.005 " +
                 std::to_string(-0.006 + 0.0002 * k) + " units box");
