@@ -270,6 +270,29 @@ TEST_CASE("clog-detect: action halt ends the run at the clog; stop_height ends t
   std::remove(fh.c_str());
 }
 
+// stop_empty: when the flow no longer restarts (here the grains are held
+// still), the discharge ends after N empty avalanches in a row, each T long.
+TEST_CASE("clog-detect: stop_empty ends the discharge after empty avalanches") {
+  const std::string fe = temp_name("clog_e_") + ".csv";
+  ScriptEngine s;
+  s.cmds(clog_scene::restarted(filled_restart()));
+  s.cmd("unfix integr");
+  s.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete stop_empty 3 file " +
+        fe);
+  auto& u = *s.e.update;
+  const auto step0 = u.ntimestep;
+  s.cmd("run 100000");
+  CHECK(u.ntimestep - step0 == 3 * static_cast<long long>(std::llround(kT / kDt)));
+  CHECK(f(s, 10) == 1);
+  CHECK(f(s, 7) == 2);
+  const Csv c = read_csv(fe);
+  REQUIRE(c.rows.size() == 3);
+  for (const auto& r : c.rows)
+    CHECK(r.bodies == 0);
+  check_rows(c, true);
+  std::remove(fe.c_str());
+}
+
 namespace {
 
 // Six dumbbell clumps and three free spheres falling through an outlet block.
@@ -470,6 +493,7 @@ TEST_CASE("clog-detect: bad input is refused") {
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch out kick 0 0"), Contains("kick"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 timout 2"), Contains("timeout"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 every 0"), Contains("every"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 stop_empty 0"), Contains("stop_empty"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 quantile 1.5"), Contains("quantile"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 height_region nowhere"), Contains("nowhere"));
   s.cmd("fix c all clog-detect outlet out timeout 1");  // a valid definition

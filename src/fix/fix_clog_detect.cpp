@@ -2,7 +2,7 @@
 // (nothing passed for a time T), records each avalanche and acts on the clog.
 //
 //   fix ID group clog-detect outlet REGION timeout T [arch REGION]
-//       [action halt|delete|kick|none] [kick VX VY VZ] [stop_height H]
+//       [action halt|delete|kick|none] [kick VX VY VZ] [stop_height H] [stop_empty N]
 //       [height_region REGION|NULL] [quantile Q] [remove yes|no] [file F.csv|NULL] [every N]
 //
 // Design (see doc/fixes/clog_detect.md):
@@ -56,7 +56,7 @@ constexpr int kRestartFormat = 1;
 
 const char* kUsage =
     "fix ID group clog-detect outlet REGION timeout T [arch REGION] [action halt|delete|kick|none] "
-    "[kick VX VY VZ] [stop_height H] [height_region REGION|NULL] [quantile Q] [remove yes|no] "
+    "[kick VX VY VZ] [stop_height H] [stop_empty N] [height_region REGION|NULL] [quantile Q] [remove yes|no] "
     "[file F.csv|NULL] [every N]";
 
 std::string num(double v) {
@@ -125,6 +125,7 @@ class FixClogDetect : public Fix {
   bool kick_given_ = false, action_given_ = false;
   double stop_height_ = 0.0;
   bool stop_given_ = false;
+  int stop_empty_ = 0;  // end after this many empty avalanches in a row (0: never)
   double quantile_ = 0.99;
   bool remove_ = true;
   int every_ = 1;
@@ -209,6 +210,10 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
     } else if (w == "stop_height") {
       stop_height_ = parse_double(value(1), what + " stop_height");
       stop_given_ = true;
+    } else if (w == "stop_empty") {
+      const long long n = parse_int(value(1), what + " stop_empty");
+      if (n < 1) throw InputError(what + ": stop_empty needs a positive number of avalanches");
+      stop_empty_ = static_cast<int>(n);
     } else if (w == "height_region") {
       height_id_ = value(1) == "NULL" ? "" : value(1);
     } else if (w == "quantile") {
@@ -224,8 +229,9 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
       if (n < 1) throw InputError(what + ": every needs a positive number of steps");
       every_ = static_cast<int>(n);
     } else {
-      const std::string hint = did_you_mean(w, {"outlet", "timeout", "arch", "action", "kick", "stop_height",
-                                                "height_region", "quantile", "remove", "file", "every"});
+      const std::string hint =
+          did_you_mean(w, {"outlet", "timeout", "arch", "action", "kick", "stop_height", "stop_empty",
+                           "height_region", "quantile", "remove", "file", "every"});
       throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
                        "; usage: " + kUsage);
     }
@@ -425,8 +431,15 @@ void FixClogDetect::declare_clog(double now) {
   last_fill_ = a.fill;
   log_.push_back(a);
   write_row(a, log_.size());
-  const bool finished = stop_given_ && a.fill < stop_height_;
-  const char* act = finished                    ? "finished (fill height below stop_height)"
+  // stop_empty: the last N avalanches passed nothing (the flow does not restart,
+  // e.g. only stagnant zones are left beside the outlet)
+  bool empty_run = stop_empty_ > 0 && log_.size() >= static_cast<std::size_t>(stop_empty_);
+  for (std::size_t k = log_.size() - (empty_run ? stop_empty_ : 0); empty_run && k < log_.size(); ++k)
+    empty_run = log_[k].bodies == 0;
+  const bool below = stop_given_ && a.fill < stop_height_;
+  const bool finished = below || empty_run;
+  const char* act = below                       ? "finished (fill height below stop_height)"
+                    : finished                  ? "finished (stop_empty avalanches in a row passed nothing)"
                     : action_ == Action::Halt   ? "halting the run"
                     : action_ == Action::Delete ? "deleting the arch"
                     : action_ == Action::Kick   ? "kicking the arch"
