@@ -29,18 +29,66 @@ namespace {
 constexpr const char* kIndexField = "multisphere/index";
 constexpr const char* kMassField = "body_mass";
 
-/// Rotation by angle phi about body axis k, applied on the right of q; the
-/// body-frame angular momentum turns by -phi about the same axis.
-void rotate_about_axis(Eigen::Quaterniond& q, Vec3& lb, int k, double phi) {
-  const double c = std::cos(0.5 * phi), s = std::sin(0.5 * phi);
-  Eigen::Quaterniond r(c, 0.0, 0.0, 0.0);
-  r.coeffs()[k] = s;  // coeffs() is (x, y, z, w)
-  q = q * r;
-  const int a = (k + 1) % 3, b = (k + 2) % 3;
-  const double cp = std::cos(phi), sp = std::sin(phi);
+/// cos and sin of x. NO_SQUISH's half angles are small (|omega| dt / 2, about
+/// 1e-3): below 0.01 the Taylor series to x^6 / x^7 equals the functions to
+/// well below one rounding unit (the first omitted terms are below
+/// x^8 / 8! < 3e-21), at a fraction of the cost of a library call.
+[[gnu::always_inline]] inline void cos_sin(double x, double& c, double& s) {
+  if (std::fabs(x) < 0.01) {
+    constexpr double k12 = 1.0 / 12, k30 = 1.0 / 30, k6 = 1.0 / 6, k20 = 1.0 / 20, k42 = 1.0 / 42;
+    const double x2 = x * x;
+    c = 1.0 - 0.5 * x2 * (1.0 - x2 * k12 * (1.0 - x2 * k30));
+    s = x * (1.0 - x2 * k6 * (1.0 - x2 * k20 * (1.0 - x2 * k42)));
+    return;
+  }
+  c = std::cos(x);
+  s = std::sin(x);
+}
+
+/// Rotation by angle phi about body axis K, applied on the right of q (the
+/// product q (cos phi/2, sin phi/2 e_K) written out); the body-frame angular
+/// momentum turns by -phi about the same axis. cos and sin of phi follow from
+/// those of the half angle by the double-angle identities.
+template <int K>
+[[gnu::always_inline]] inline void rotate_about_axis(Eigen::Quaterniond& q, Vec3& lb, double phi) {
+  double c, s;
+  cos_sin(0.5 * phi, c, s);
+  const double w = q.w(), x = q.x(), y = q.y(), z = q.z();
+  if constexpr (K == 0) {
+    q = Eigen::Quaterniond(c * w - s * x, c * x + s * w, c * y + s * z, c * z - s * y);
+  } else if constexpr (K == 1) {
+    q = Eigen::Quaterniond(c * w - s * y, c * x - s * z, c * y + s * w, c * z + s * x);
+  } else {
+    q = Eigen::Quaterniond(c * w - s * z, c * x + s * y, c * y - s * x, c * z + s * w);
+  }
+  constexpr int a = (K + 1) % 3, b = (K + 2) % 3;
+  const double cp = (c - s) * (c + s), sp = 2.0 * s * c;
   const double la = lb[a], lbb = lb[b];
   lb[a] = cp * la + sp * lbb;
   lb[b] = -sp * la + cp * lbb;
+}
+
+/// One NO_SQUISH sub-step about body axis K for time h, for n rotors at once:
+/// the rotors' chains of dependent operations interleave, which keeps the
+/// processor busy (one rotor alone waits on each result in turn).
+template <int K, int N>
+[[gnu::always_inline]] inline void rotate_many(Eigen::Quaterniond* q, Vec3* lb, const Vec3* inertia,
+                                               double h) {
+  for (int j = 0; j < N; ++j)
+    if (inertia[j][K] > 0.0) rotate_about_axis<K>(q[j], lb[j], h * lb[j][K] / inertia[j][K]);
+}
+
+/// FixMultisphere::rotate_free for N rotors (identical operations per rotor).
+template <int N>
+void rotate_free_many(Eigen::Quaterniond* q, Vec3* lb, const Vec3* inertia, double dt) {
+  const double h = 0.5 * dt;
+  rotate_many<2, N>(q, lb, inertia, h);
+  rotate_many<1, N>(q, lb, inertia, h);
+  rotate_many<0, N>(q, lb, inertia, dt);
+  rotate_many<1, N>(q, lb, inertia, h);
+  rotate_many<2, N>(q, lb, inertia, h);
+  for (int j = 0; j < N; ++j)
+    q[j].normalize();
 }
 
 std::string fmt(double v) {
@@ -119,6 +167,7 @@ void FixMultisphere::add_body(tagint body_id, tagint first_id, const TemplatePar
     throw InputError(std::string("fix multisphere: ") + e.what());
   }
   pending_ = true;
+  pbody_.clear();  // body indices may have moved
   bodies_changed();
 }
 
@@ -169,6 +218,7 @@ tagint FixMultisphere::create_clump(const TemplateParticle& particle, const Vec3
   add_body(body_id, first, particle, x, qn, v, omega);
   resolve_new_spheres();
   compute_rotations();
+  index_spheres();
   place_spheres(false);
   long long n = p.nlocal, total = 0;
   MPI_Allreduce(&n, &total, 1, MPI_LONG_LONG, MPI_SUM, e.world);
@@ -220,6 +270,7 @@ void FixMultisphere::resolve_new_spheres() {
                    "created with consecutive particle ids first_id .. first_id + n - 1");
   }
   pending_ = false;
+  pbody_.clear();  // sub-spheres taken over
 }
 
 void FixMultisphere::fill_body_mass() {
@@ -287,6 +338,7 @@ long long FixMultisphere::remove_incomplete_bodies() {
   long long removed_all = 0;
   MPI_Allreduce(&removed, &removed_all, 1, MPI_LONG_LONG, MPI_SUM, e.world);
   bodies_.remove(doomed);
+  pbody_.clear();
   bodies_changed();
   p.natoms -= removed_all;
   p.map_clear();
@@ -320,6 +372,7 @@ long long FixMultisphere::remove_bodies(const std::vector<tagint>& ids) {
   bodies_.remove(doomed);
   bodies_changed();
   compute_rotations();  // body indices moved
+  index_spheres();
   p.map_clear();
   return removed;
 }
@@ -334,15 +387,7 @@ Vec3 FixMultisphere::wrapped_centre(int b) const {
 // ------------------------------------------------------------ integration
 
 void FixMultisphere::rotate_free(Eigen::Quaterniond& q, Vec3& lb, const Vec3& inertia, double dt) {
-  auto step = [&](int k, double h) {
-    if (inertia[k] > 0.0) rotate_about_axis(q, lb, k, h * lb[k] / inertia[k]);
-  };
-  step(2, 0.5 * dt);
-  step(1, 0.5 * dt);
-  step(0, dt);
-  step(1, 0.5 * dt);
-  step(2, 0.5 * dt);
-  q.normalize();
+  rotate_free_many<1>(&q, &lb, &inertia, dt);
 }
 
 void FixMultisphere::compute_rotations() {
@@ -351,43 +396,92 @@ void FixMultisphere::compute_rotations() {
     rot_[b] = bodies_.rotation(b);
 }
 
-void FixMultisphere::place_spheres(bool positions) {
-  Particles& p = *engine_.particles;
-  const Domain& dom = *engine_.domain;
-  for (int i = 0; i < p.nlocal; ++i) {
+void FixMultisphere::index_spheres() {
+  const Particles& p = *engine_.particles;
+  const int n = p.nlocal;
+  pbody_.resize(n);
+  psphere_.resize(n);
+  poffset_.resize(n);
+  for (int i = 0; i < n; ++i) {
     int k;
     const int b = body_of(i, k);
+    pbody_[i] = b;
+    psphere_[i] = b >= 0 ? bodies_.sphere_start[b] + k : -1;
+    poffset_[i] = b >= 0 ? Vec3(rot_[b] * bodies_.offsets[psphere_[i]]) : Vec3::Zero();
+  }
+}
+
+Vec3 FixMultisphere::omega_from(int b) const {
+  // R I^-1 R^T L with this step's R, the same operations as Bodies::omega_from_angmom
+  const Eigen::Matrix3d& r = rot_[b];
+  const Vec3& inertia = bodies_.inertia[b];
+  Vec3 lb = r.transpose() * bodies_.angmom[b];
+  for (int d = 0; d < 3; ++d)
+    lb[d] = inertia[d] > 0.0 ? lb[d] / inertia[d] : 0.0;
+  return r * lb;
+}
+
+void FixMultisphere::check_index() {
+  if (static_cast<int>(pbody_.size()) != engine_.particles->nlocal) index_spheres();
+}
+
+void FixMultisphere::place_spheres(bool positions) {
+  check_index();
+  Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  const int n = p.nlocal;
+  const int* const pbody = pbody_.data();
+  const int* const psphere = psphere_.data();
+  Vec3* const poffset = poffset_.data();
+  const Vec3* const offsets = bodies_.offsets.data();
+  const Eigen::Matrix3d* const rot = rot_.data();
+  const Vec3* const xcm = bodies_.xcm.data();
+  const Vec3* const vcm = bodies_.vcm.data();
+  const Vec3* const omega = bodies_.omega.data();
+  const int* const image = p.image.data();
+  Vec3* const x = p.x.data();
+  Vec3* const v = p.v.data();
+  Vec3* const w = p.omega.data();
+  const int image0 = Particles::image_pack(0, 0, 0);
+  for (int i = 0; i < n; ++i) {
+    const int b = pbody[i];
     if (b < 0) continue;
-    const Vec3 r = rot_[b] * bodies_.offsets[bodies_.sphere_start[b] + k];
     if (positions) {
-      Vec3 x = bodies_.xcm[b] + r;
-      if (p.image[i] != Particles::image_pack(0, 0, 0)) {
+      const Vec3 r = rot[b] * offsets[psphere[i]];
+      poffset[i] = r;
+      Vec3 xi = xcm[b] + r;
+      if (image[i] != image0) {
         int img[3];
-        Particles::image_unpack(p.image[i], img[0], img[1], img[2]);
+        Particles::image_unpack(image[i], img[0], img[1], img[2]);
         for (int d = 0; d < 3; ++d)
-          if (dom.periodic[d]) x[d] -= img[d] * dom.prd[d];
+          if (dom.periodic[d]) xi[d] -= img[d] * dom.prd[d];
       }
-      p.x[i] = x;
+      x[i] = xi;
     }
-    p.v[i] = bodies_.vcm[b] + bodies_.omega[b].cross(r);
-    p.omega[i] = bodies_.omega[b];
+    v[i] = vcm[b] + omega[b].cross(poffset[i]);
+    w[i] = omega[b];
   }
 }
 
 void FixMultisphere::sum_forces() {
+  check_index();
   const Particles& p = *engine_.particles;
   const int nb = bodies_.size();
   buf_.assign(6 * static_cast<std::size_t>(nb), 0.0);
   sum_.resize(buf_.size());
-  for (int i = 0; i < p.nlocal; ++i) {
-    int k;
-    const int b = body_of(i, k);
+  const int n = p.nlocal;
+  const int* const pbody = pbody_.data();
+  const Vec3* const poffset = poffset_.data();
+  const Vec3* const f = p.f.data();
+  const Vec3* const torque = p.torque.data();
+  double* const buf = buf_.data();
+  for (int i = 0; i < n; ++i) {
+    const int b = pbody[i];
     if (b < 0) continue;
-    const Vec3 r = rot_[b] * bodies_.offsets[bodies_.sphere_start[b] + k];
-    const Vec3 t = r.cross(p.f[i]) + p.torque[i];
-    double* s = &buf_[6 * static_cast<std::size_t>(b)];
+    const Vec3 t = poffset[i].cross(f[i]) + torque[i];
+    double* s = buf + 6 * static_cast<std::size_t>(b);
     for (int d = 0; d < 3; ++d) {
-      s[d] += p.f[i][d];
+      s[d] += f[i][d];
       s[3 + d] += t[d];
     }
   }
@@ -405,11 +499,13 @@ void FixMultisphere::pre_neighbor() {
   if (remove_incomplete_bodies() > 0) engine_.comm->borders();
   fill_body_mass();
   compute_rotations();  // bodies may have come (insertion) or gone since initial_integrate
+  index_spheres();      // particles were reordered
 }
 
 void FixMultisphere::setup() {
   if (pending_) resolve_new_spheres();
   compute_rotations();
+  index_spheres();
   sum_forces();
   place_spheres(false);
 }
@@ -418,16 +514,33 @@ void FixMultisphere::initial_integrate() {
   if (pending_) resolve_new_spheres();
   const double dt = engine_.update->dt, dtf = 0.5 * dt;
   Bodies& B = bodies_;
-  for (int b = 0; b < B.size(); ++b) {
-    B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
-    B.angmom[b] += dtf * B.torque[b];
-    B.xcm[b] += dt * B.vcm[b];
-    // torque-free rotation for dt; the space-frame angular momentum is unchanged
-    Vec3 lb = B.quat[b].toRotationMatrix().transpose() * B.angmom[b];
-    rotate_free(B.quat[b], lb, B.inertia[b], dt);
-    B.omega[b] = B.omega_from_angmom(b);
+  const int nb = B.size();
+  rot_.resize(nb);
+  // bodies in groups of four (see rotate_many)
+  constexpr int kGroup = 4;
+  for (int b0 = 0; b0 < nb; b0 += kGroup) {
+    const int m = std::min(kGroup, nb - b0);
+    Vec3 lb[kGroup];
+    for (int j = 0; j < m; ++j) {
+      const int b = b0 + j;
+      B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
+      B.angmom[b] += dtf * B.torque[b];
+      B.xcm[b] += dt * B.vcm[b];
+      // torque-free rotation for dt; the space-frame angular momentum is unchanged
+      lb[j] = B.quat[b].toRotationMatrix().transpose() * B.angmom[b];
+    }
+    if (m == kGroup) {
+      rotate_free_many<kGroup>(&B.quat[b0], lb, &B.inertia[b0], dt);
+    } else {
+      for (int j = 0; j < m; ++j)
+        rotate_free(B.quat[b0 + j], lb[j], B.inertia[b0 + j], dt);
+    }
+    for (int j = 0; j < m; ++j) {
+      // the rotation matrix of the step, also used for omega (as omega_from_angmom)
+      rot_[b0 + j] = B.rotation(b0 + j);
+      B.omega[b0 + j] = omega_from(b0 + j);
+    }
   }
-  compute_rotations();
   place_spheres(true);
 }
 
@@ -438,7 +551,7 @@ void FixMultisphere::final_integrate() {
   for (int b = 0; b < B.size(); ++b) {
     B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
     B.angmom[b] += dtf * B.torque[b];
-    B.omega[b] = B.omega_from_angmom(b);
+    B.omega[b] = omega_from(b);
   }
   place_spheres(false);
 }
@@ -457,6 +570,7 @@ void FixMultisphere::unpack_restart(const std::string& in) {
                      ")");
   }
   pending_ = false;
+  pbody_.clear();
   bodies_changed();
 }
 

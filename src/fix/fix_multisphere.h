@@ -98,13 +98,27 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   void sum_forces();
   /// Body index and sub-sphere index of owned particle i (-1 when free).
   int body_of(int i, int& k) const;
+  /// Fill the per-particle caches (body index, sub-sphere index, space-frame
+  /// offset) of the owned particles from the body field and the current rot_.
+  void index_spheres();
+  /// index_spheres() when the owned particles changed since the caches were filled.
+  void check_index();
+  /// Space-frame angular velocity of body b from its angular momentum and rot_[b].
+  Vec3 omega_from(int b) const;
 
   Bodies bodies_;
   std::vector<Eigen::Matrix3d> rot_;  // rotation matrix of each body at the current step
-  std::vector<double> buf_, sum_;     // per-body force/torque sums
-  int index_field_ = -1;              // per-particle sub-sphere index + 1 (0: not yet placed)
-  int mass_field_ = -1;               // per-particle body mass (read by contact models)
-  bool pending_ = false;              // bodies added whose sub-spheres were not yet taken over
+  // Per owned particle, valid from one neighbour-list build (pre_neighbor,
+  // where particles are reordered) to the next: the body index (-1: free
+  // sphere or not yet taken over), the index of its offset in
+  // Bodies::offsets, and its offset R d in the space frame at the current
+  // step (set by place_spheres(true), read by sum_forces and place_spheres(false)).
+  std::vector<int> pbody_, psphere_;
+  std::vector<Vec3> poffset_;
+  std::vector<double> buf_, sum_;  // per-body force/torque sums
+  int index_field_ = -1;           // per-particle sub-sphere index + 1 (0: not yet placed)
+  int mass_field_ = -1;            // per-particle body mass (read by contact models)
+  bool pending_ = false;           // bodies added whose sub-spheres were not yet taken over
 };
 
 }  // namespace granary

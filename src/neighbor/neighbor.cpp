@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 #include "comm/comm.h"
 #include "core/engine.h"
@@ -148,10 +149,22 @@ void Neighbor::sort_particles(std::int64_t step) {
     }
     key[i] = (c[2] * nb[1] + c[1]) * nb[0] + c[0];
   }
+  // The sub-spheres of a clump stay together, in id order, in the bin of the
+  // first of them in the current order: fix multisphere places them and sums
+  // their forces body by body, reading each body's state once.
+  std::unordered_map<tagint, std::int64_t> body_key;
+  for (int i = 0; i < n; ++i)
+    if (p.body[i] >= 0) key[i] = body_key.emplace(p.body[i], key[i]).first->second;
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i)
     order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+  const tagint* const body = p.body.data();
+  const tagint* const id = p.id.data();
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    if (key[a] != key[b]) return key[a] < key[b];
+    if (body[a] != body[b]) return body[a] < body[b];
+    return body[a] >= 0 ? id[a] < id[b] : a < b;
+  });
   p.permute(order);
 }
 
