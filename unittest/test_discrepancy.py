@@ -19,7 +19,7 @@ The extractors case checks the heap angle-of-repose extractor on synthetic
 cones (no granary run).
 
 usage: test_discrepancy.py CASE GRANARY SOURCE_DIR   (CASE: viscoelastic,
-cohesion, rolling, tangential, null, extractors)
+cohesion, rolling, tangential, clumpres, null, extractors)
 """
 import csv
 import json
@@ -66,6 +66,21 @@ CASES = {
         "observables": {"et": 0.02, "omega": 15.0, "rebound": 1.0},
         "candidates": ["tangential history", "rolling friction cdt", "viscoelastic damping"],
         "expect": "tangential history", "param_tol": 0.10, "min_gain": 3.0, "seed": 15},
+    "clumpres": {
+        # Bed of cylinder clumps: the data come from clumps of 50 spheres, the
+        # baseline has 10; the candidate changes the clump file among the four
+        # that exist (a choice parameter), and must find 50 exactly.
+        "example": "clump_bed", "condition": "mu",
+        "levels": list(np.linspace(0.2, 1.0, 6)),
+        "hidden_set": {},
+        "hidden_param": ("nres", 50.0, 50.0),
+        "fixed": {},
+        "observable": "bed_height", "sigma": 0.05,
+        # the example's rolling friction has a continuous mur, whose fit costs
+        # 20-40 runs per training condition; here it is tried at four values
+        "candidates": ["clump shape resolution", "rolling friction cdt"],
+        "choices": {"mur": [0.05, 0.1, 0.2, 0.3]},
+        "expect": "clump shape resolution", "param_tol": 0.0, "min_gain": 5.0, "seed": 16},
     "null": {
         "example": "restitution", "condition": "speed",
         "levels": list(np.geomspace(0.05, 5.0, 12)),
@@ -84,7 +99,7 @@ def make_data(case, tools, granary, src, path):
     model = inputs.Model(os.path.join(src, "examples", "discrepancy", c["example"], "model.json"))
     rng = np.random.default_rng(c["seed"])
     name, lo, hi = c["hidden_param"]
-    true = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+    true = lo if lo == hi else float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
     settings = []
     cvar = model.conditions[c["condition"]]
     for level in c["levels"]:
@@ -174,6 +189,12 @@ def main():
             with open(cand_path) as f:
                 cat = json.load(f)
             cat["candidates"] = [k for k in cat["candidates"] if k["name"] in c["candidates"]]
+            for k in cat["candidates"]:  # continuous parameters tried at a few values only
+                for prm in k.get("params", []):
+                    if prm["name"] in c.get("choices", {}):
+                        for key in ("lower", "upper", "scale", "initial"):
+                            prm.pop(key, None)
+                        prm["choices"] = c["choices"][prm["name"]]
             cand_path = os.path.join(tmp, "candidates.json")
             with open(cand_path, "w") as f:
                 json.dump(cat, f)
@@ -208,8 +229,11 @@ def main():
                 failures.append(f"best candidate has no parameter {pname}")
             else:
                 rel = abs(fitted[0]["value"] - true) / true
-                print(f"  {pname}: fitted {fitted[0]['value']:.5g} +- {fitted[0]['error']:.2g}, true {true:.5g},"
-                      f" relative error {rel:.3f} (tolerance {c['param_tol']})")
+                err = fitted[0]["error"]  # None for a choice parameter
+                prof = fitted[0].get("profile_chi2")
+                print(f"  {pname}: fitted {fitted[0]['value']:.5g}" + (f" +- {err:.2g}" if err is not None else "") +
+                      f", true {true:.5g}, relative error {rel:.3f} (tolerance {c['param_tol']})" +
+                      (" training chi2 by choice: " + ", ".join(f"{x:g}: {y:.3g}" for x, y in prof) if prof else ""))
                 if rel > c["param_tol"]:
                     failures.append(f"{pname} off by {rel:.3f} > {c['param_tol']}")
             gain = best["gain"]["ratio"]

@@ -79,33 +79,69 @@ def fit(variant, data, rows, known=None):
     # Coarse scan of the unit box over the parameters without a known value
     # (the others held at it), plus the declared initial values: the simulated
     # observables can be non-monotonic and kinked in a parameter, so a local
-    # optimiser alone may stop in the wrong basin.
+    # optimiser alone may stop in the wrong basin. A choice parameter is tried
+    # at every one of its values (crossed with the grid of the continuous ones).
     u_init = np.array([p.to_unit(known.get(p.name, v)) for p, v in zip(variant.params, default_values(variant))])
     scan = [i for i, p in enumerate(variant.params) if p.name not in known]
+    scan_c = [i for i in scan if not variant.params[i].discrete]
+    scan_d = [i for i in scan if variant.params[i].discrete]
+    axes = []
+    n = GRID.get(len(scan_c), 1)
+    for i in scan:
+        p = variant.params[i]
+        if p.discrete:
+            axes.append(np.linspace(0.0, 1.0, len(p.choices)))
+        else:
+            axes.append(np.linspace(0.05, 0.95, n) if n > 1 else np.array([u_init[i]]))
     starts = [u_init]
-    n = GRID.get(len(scan), 1)
-    if n > 1:
-        axis = np.linspace(0.05, 0.95, n)
-        for pt in itertools.product(axis, repeat=len(scan)):
+    if n > 1 or scan_d:
+        for pt in itertools.product(*axes):
             u = u_init.copy()
             u[scan] = pt
-            starts.append(u)
-    scored = sorted(((robust_cost(resid(u)), tuple(u)) for u in starts))
-    # Local bounded fit from the best start point.
-    best = least_squares(resid, np.array(scored[0][1]), bounds=(0.0, 1.0), loss=LOSS, f_scale=F_SCALE,
-                         diff_step=1e-2, x_scale=0.1, xtol=1e-5, ftol=1e-6, gtol=1e-8,
-                         max_nfev=15 * (k + 1))
-    u = best.x
+            if not any(np.array_equal(u, s) for s in starts):
+                starts.append(u)
+    scored = []
+    for u in starts:
+        z = resid(u)
+        scored.append((robust_cost(z), tuple(u), float(z @ z)))
+    scored.sort()
+    # Profile of each choice parameter: the lowest training chi2 found with
+    # each of its values (the evidence for the chosen value over the others).
+    profile = {}
+    for i in scan_d:
+        p = variant.params[i]
+        prof = {}
+        for _, u, chi2 in scored:
+            val = p.to_value(u[i])
+            prof[val] = min(prof.get(val, math.inf), chi2)
+        profile[p.name] = sorted(prof.items())
+    # Local bounded fit of the continuous parameters from the best start point;
+    # choice parameters stay at their best value.
+    u_best = np.array(scored[0][1])
+    cont = [i for i, p in enumerate(variant.params) if not p.discrete]
+
+    def resid_c(uc):
+        u = u_best.copy()
+        u[cont] = uc
+        return resid(u)
+
+    errors = [math.nan] * k
+    u = u_best
+    if cont:
+        best = least_squares(resid_c, u_best[cont], bounds=(0.0, 1.0), loss=LOSS, f_scale=F_SCALE,
+                             diff_step=1e-2, x_scale=0.1, xtol=1e-5, ftol=1e-6, gtol=1e-8,
+                             max_nfev=15 * (len(cont) + 1))
+        u = u_best.copy()
+        u[cont] = best.x
+        try:
+            J = best.jac
+            cov_u = np.linalg.pinv(J.T @ J)
+            for j, i in enumerate(cont):
+                errors[i] = float(math.sqrt(max(cov_u[j, j], 0.0)) * abs(variant.params[i].dvalue_du(u[i])))
+        except (np.linalg.LinAlgError, ValueError):
+            pass
     z = resid(u)
     values = [p.to_value(x) for p, x in zip(variant.params, u)]
-    errors = [math.nan] * k
-    try:
-        J = best.jac
-        cov_u = np.linalg.pinv(J.T @ J)
-        errors = [float(math.sqrt(max(cov_u[i, i], 0.0)) * abs(p.dvalue_du(u[i])))
-                  for i, p in enumerate(variant.params)]
-    except (np.linalg.LinAlgError, ValueError):
-        pass
-    at_bound = [bool(x < 1e-3 or x > 1 - 1e-3) for x in u]
+    at_bound = [bool(not p.discrete and (x < 1e-3 or x > 1 - 1e-3)) for p, x in zip(variant.params, u)]
     return {"values": values, "errors": errors, "chi2": float(z @ z), "nfev": neval[0],
-            "at_bound": at_bound}
+            "at_bound": at_bound, "profile": profile}

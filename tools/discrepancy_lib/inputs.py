@@ -128,26 +128,62 @@ def read_data(path, shared_dir=None):
 
 class Param:
     def __init__(self, d, where):
-        try:
-            self.name = d["name"]
-            self.lower = float(d["lower"])
-            self.upper = float(d["upper"])
-        except KeyError as e:
-            raise InputFileError(f"{where}: parameter needs {e}")
+        if "name" not in d:
+            raise InputFileError(f"{where}: each parameter needs a 'name'")
+        self.name = d["name"]
         self.var = d.get("var", self.name)
-        self.scale = d.get("scale", "linear")
-        if self.scale not in ("linear", "log"):
-            raise InputFileError(f"{where}: parameter '{self.name}': scale must be linear or log")
-        if not self.upper > self.lower or (self.scale == "log" and self.lower <= 0):
-            raise InputFileError(f"{where}: parameter '{self.name}': need lower < upper (and lower > 0 for log)")
+        # A choice parameter takes one of a set of allowed values (e.g. the
+        # spheres per clump of the clump files that exist); the fit tries
+        # every value, so it needs no bounds and has no gradient.
+        self.choices = None
+        if "choices" in d:
+            ch = d["choices"]
+            if not isinstance(ch, list) or len(ch) < 2:
+                raise InputFileError(f"{where}: parameter '{self.name}': 'choices' must be a list of at least "
+                                     "two values")
+            try:
+                self.choices = sorted(float(x) for x in ch)
+            except (TypeError, ValueError):
+                raise InputFileError(f"{where}: parameter '{self.name}': 'choices' must be numbers")
+            if len(set(self.choices)) != len(self.choices):
+                raise InputFileError(f"{where}: parameter '{self.name}': 'choices' has repeated values")
+            for key in ("lower", "upper", "scale", "integer"):
+                if key in d:
+                    raise InputFileError(f"{where}: parameter '{self.name}': '{key}' cannot go with 'choices' "
+                                         "(the choices are the allowed values)")
+            self.lower, self.upper = self.choices[0], self.choices[-1]
+            self.scale = "linear"
+            self.integer = False
+        else:
+            try:
+                self.lower = float(d["lower"])
+                self.upper = float(d["upper"])
+            except KeyError as e:
+                raise InputFileError(f"{where}: parameter '{self.name}' needs {e} (or 'choices')")
+            self.scale = d.get("scale", "linear")
+            if self.scale not in ("linear", "log"):
+                raise InputFileError(f"{where}: parameter '{self.name}': scale must be linear or log")
+            if not self.upper > self.lower or (self.scale == "log" and self.lower <= 0):
+                raise InputFileError(f"{where}: parameter '{self.name}': need lower < upper (and lower > 0 "
+                                     "for log)")
+            # Discrete parameters (e.g. spheres per clump) are rounded; the coarse
+            # scan finds them, the local fit then leaves them where they are.
+            self.integer = bool(d.get("integer", False))
         self.initial = float(d["initial"]) if "initial" in d else None
-        # Discrete parameters (e.g. spheres per clump) are rounded; the coarse
-        # scan finds them, the local fit then leaves them where they are.
-        self.integer = bool(d.get("integer", False))
+        if self.choices is not None and self.initial is not None and self.initial not in self.choices:
+            raise InputFileError(f"{where}: parameter '{self.name}': initial {self.initial:g} is not one of "
+                                 "the choices")
 
-    # unit interval <-> parameter value
+    @property
+    def discrete(self):
+        return self.choices is not None
+
+    # unit interval <-> parameter value (choices: equally spaced in the unit
+    # interval, in ascending order)
     def to_value(self, u):
         u = min(max(u, 0.0), 1.0)
+        if self.choices is not None:
+            return self.choices[int(round(u * (len(self.choices) - 1)))]
         if self.scale == "log":
             x = math.exp(math.log(self.lower) + u * (math.log(self.upper) - math.log(self.lower)))
         else:
@@ -155,18 +191,26 @@ class Param:
         return float(round(x)) if self.integer else x
 
     def to_unit(self, x):
+        if self.choices is not None:
+            k = min(range(len(self.choices)), key=lambda i: abs(self.choices[i] - x))
+            return k / (len(self.choices) - 1)
         if self.scale == "log":
             return (math.log(x) - math.log(self.lower)) / (math.log(self.upper) - math.log(self.lower))
         return (x - self.lower) / (self.upper - self.lower)
 
     def dvalue_du(self, u):
+        if self.choices is not None:
+            return math.nan
         if self.scale == "log":
             return self.to_value(u) * (math.log(self.upper) - math.log(self.lower))
         return self.upper - self.lower
 
     def to_json(self):
-        return {"name": self.name, "var": self.var, "lower": self.lower, "upper": self.upper,
-                "scale": self.scale, "integer": self.integer}
+        d = {"name": self.name, "var": self.var, "lower": self.lower, "upper": self.upper,
+             "scale": self.scale, "integer": self.integer}
+        if self.choices is not None:
+            d["choices"] = self.choices
+        return d
 
 
 class Model:
@@ -185,6 +229,13 @@ class Model:
             raise InputFileError(f"{path}: script '{self.script}' not found")
         self.conditions = d.get("conditions", {})  # data column -> script variable
         self.set = {k: str(v) for k, v in d.get("set", {}).items()}
+        # Settings that are paths relative to the model file (the runs work in
+        # temporary directories): passed as absolute paths.
+        for k, v in d.get("paths", {}).items():
+            full = os.path.normpath(os.path.join(self.dir, str(v)))
+            if not os.path.exists(full):
+                raise InputFileError(f"{path}: paths: '{k}' -> '{full}' not found")
+            self.set[k] = full
         self.params = [Param(p, path) for p in d.get("params", [])]
         ex = d.get("extract", {})
         self.extract = ex

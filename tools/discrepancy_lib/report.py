@@ -129,9 +129,18 @@ def markdown(result, data, model, pngs, path):
           "| chi2/dof, all points |",
           "|---:|---|---|---:|---:|---:|---:|---:|"]
 
+    def param_text(p):
+        if p.get("choices") is not None:
+            # a choice parameter: its value and the training chi2 of each choice
+            prof = p.get("profile_chi2")
+            alts = (" (training chi2 " + ", ".join(f"{_num(x)}: {_num(c, 3)}" for x, c in prof) + ")"
+                    if prof else "")
+            return f"{p['name']} = {_num(p['value'])} of {{{', '.join(_num(x) for x in p['choices'])}}}" + alts
+        return f"{p['name']} = {_num(p['value'])} ± {_num(p['error'], 2)}" + (" (at bound)" if p.get("at_bound")
+                                                                               else "")
+
     def params_text(e):
-        return ", ".join(f"{p['name']} = {_num(p['value'])} ± {_num(p['error'], 2)}" +
-                         (" (at bound)" if p.get("at_bound") else "") for p in e["params"]) or "-"
+        return ", ".join(param_text(p) for p in e["params"]) or "-"
 
     b = result["baseline"]["heldout_fit"]
     L.append(f"| - | baseline | {params_text(b)} | {_num(b['heldout']['rms'], 3)} ± "

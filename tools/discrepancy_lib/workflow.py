@@ -76,7 +76,9 @@ def run(data, model, candidates, runner, opts):
             if ii:
                 per_obs[obs] = stats.rms(z_ho[ii])
         e = {"name": v.name, "mechanism": v.mechanism, "description": v.description, "set": v.set,
-             "params": [dict(p.to_json(), value=val, error=err, at_bound=ab)
+             "params": [dict(p.to_json(), value=val, error=err, at_bound=ab,
+                             **({"profile_chi2": [[x, c] for x, c in f["profile"][p.name]]}
+                                if p.name in f.get("profile", {}) else {}))
                         for p, val, err, ab in zip(v.params, f["values"], f["errors"],
                                                    f.get("at_bound", [False] * len(v.params)))],
              "train_chi2": f["chi2"], "train_n": len(rows_tr), "k": len(v.params), **ic,
