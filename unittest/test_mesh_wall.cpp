@@ -117,6 +117,38 @@ TEST_CASE("a sphere sliding and rolling over a floor of 72 triangles moves as on
   CHECK(worst < 1e-12);
 }
 
+// unfix frees a mesh wall's per-particle contact slots (shutters are opened by
+// replacing the wall fix, so each replacement would otherwise keep its slots);
+// a wall defined again with the same ID starts with fresh, empty history.
+TEST_CASE("unfix of a mesh wall frees its per-particle contact history", "[mesh]") {
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmds({"create_atoms 1 single 0.003 -0.002 0.00499 units box", "set group all diameter 0.01 density 2500",
+          "velocity all set 0.9 0.35 0.0 units box", "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+          "fix cad all mesh/surface file " + floor_file() + " type 2",
+          "fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere",
+          "run 200"});
+  const auto& p = s.p();
+  const std::string slots = "mesh_wall_history/floor/6/3";
+  REQUIRE(p.find_field(slots) >= 0);
+  CHECK(p.extras[p.find_field(slots)].data[4] != 0.0);  // a sliding contact holds shear history
+  const std::size_t nfields = p.extras.size();
+  s.cmd("unfix floor");
+  CHECK(p.find_field(slots) < 0);
+  CHECK(p.find_field("mesh_wall_contacts/floor") < 0);
+  std::size_t held = 0;
+  for (const auto& f : p.extras)
+    held += f.data.capacity();
+  s.cmd("fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad");
+  REQUIRE(p.find_field(slots) >= 0);
+  CHECK(p.extras.size() == nfields + 2);
+  CHECK(p.extras[p.find_field(slots)].data[4] == 0.0);  // fresh history
+  s.cmd("run 200");
+  CHECK(std::fabs(p.x[0][2] - 0.005) < 1e-4);  // still resting on the floor
+  INFO("doubles held by extra fields after unfix: " << held);
+  CHECK(held < 20);
+}
+
 TEST_CASE("a sphere on a convex edge is pushed away from the closest point", "[mesh]") {
   // Top plate z = 0 for x < 0, and a vertical face x = 0 below it: the edge is
   // the y axis. The sphere centre (3, 0, 2) mm, radius 5 mm, sees only the edge:

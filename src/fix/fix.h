@@ -46,6 +46,9 @@ class Fix {
   virtual void final_integrate() {}
   virtual void end_of_step() {}
   virtual void reset_dt() {}
+  /// Called by unfix just before the fix is destroyed (not when a fix is
+  /// replaced by one with the same ID): release per-particle storage only it uses.
+  virtual void unfixed() {}
 
   // Global and per-atom outputs (f_ID, f_ID[i]); indices are 1-based in scripts.
   virtual double compute_scalar() { return 0.0; }

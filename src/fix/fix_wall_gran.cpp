@@ -107,6 +107,11 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   }
 }
 
+void FixWallGran::unfixed() {
+  if (!field_name_.empty()) engine_.particles->release_field(field_name_);
+  if (!count_name_.empty()) engine_.particles->release_field(count_name_);
+}
+
 void FixWallGran::init() {
   materials_.build(engine_, spec_, "fix " + id + " wall/gran");
   if (nhist_ > 0) field_ = engine_.particles->find_field(field_name_);

@@ -31,6 +31,8 @@ class FixWallGran : public Fix {
   void init() override;
   void post_force() override;
   void setup() override {}
+  /// Contact history of this wall goes with it.
+  void unfixed() override;
   /// Mesh form: total force of the particles on the meshes (x, y, z), summed over ranks [N].
   double compute_vector(int i) override;
 

@@ -57,6 +57,7 @@ Fix* Modify::add_fix(const Args& args) {
 void Modify::delete_fix(const std::string& id) {
   for (auto it = fixes.begin(); it != fixes.end(); ++it) {
     if ((*it)->id == id) {
+      (*it)->unfixed();
       fixes.erase(it);
       rebuild_hook_lists();
       return;

@@ -269,6 +269,16 @@ int Particles::add_field(const std::string& name, int ncomp, bool ghost, bool ex
   return static_cast<int>(extras.size()) - 1;
 }
 
+void Particles::release_field(const std::string& name) {
+  const int k = find_field(name);
+  if (k < 0) return;
+  ExtraField& e = extras[k];
+  e.name.clear();
+  e.ncomp = 0;
+  e.ghost = e.exchange = e.history = false;
+  std::vector<double>().swap(e.data);
+}
+
 int Particles::find_field(const std::string& name) const {
   for (std::size_t k = 0; k < extras.size(); ++k)
     if (extras[k].name == name) return static_cast<int>(k);

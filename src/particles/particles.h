@@ -80,6 +80,11 @@ class Particles {
 
   /// Register an extra field; returns its index in `extras`. Re-registering a name returns the existing one.
   int add_field(const std::string& name, int ncomp, bool ghost, bool exchange);
+  /// Free the storage of field `name` (its owner was unfixed). The slot stays,
+  /// empty, nameless and neither communicated nor written to restart files, so
+  /// the indices other styles hold stay valid; a later add_field of the same
+  /// name starts a new field. Unknown names are ignored.
+  void release_field(const std::string& name);
   int find_field(const std::string& name) const;
   std::vector<ExtraField> extras;
 
