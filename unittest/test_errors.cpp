@@ -101,14 +101,15 @@ double rayleigh_time() {
   return kPi * r * std::sqrt(rho / G) / (0.1631 * nu + 0.8766);
 }
 
-// Hertz time of fix check/timestep/gran: a head-on impact of two equal beads at
-// twice the largest speed v, 2.87 (m*^2/(R* Y*^2 2v))^(1/5) with m* = m/2,
-// R* = r/2 and Y* = Y/(2(1-nu^2)).
+// Hertz time of fix check/timestep/gran, LIGGGHTS 3.8's estimate: a bead's own
+// mass and radius at the largest speed v, 2.87 (m^2/(r Y*^2 v))^(1/5) with
+// Y* = Y/(2(1-nu^2)) (on the pour of unittest/scripts/in.pour_small this gives
+// LIGGGHTS' f_ID[2] at step 1000, 0.030757083, to all printed digits).
 double hertz_time(double v) {
   const double r = 0.001, rho = 2500, Y = 5e6, nu = 0.3;
   const double m = rho * 4.0 / 3.0 * kPi * r * r * r;
-  const double meff = m / 2, reff = r / 2, yeff = Y / (2 * (1 - nu * nu));
-  return 2.87 * std::pow(meff * meff / (reff * yeff * yeff * 2 * v), 0.2);
+  const double yeff = Y / (2 * (1 - nu * nu));
+  return 2.87 * std::pow(m * m / (r * yeff * yeff * v), 0.2);
 }
 
 }  // namespace
@@ -218,8 +219,9 @@ TEST_CASE("a timestep longer than the Rayleigh time stops the run before it star
 }
 
 // One bead flying at 1 m/s with dt = 3e-5 s: dt/t_R = 3e-5/1.2244e-4 = 0.245
-// is above the fraction 0.2 and dt/t_H = 3e-5/t_H(1 m/s) = 0.115 above 0.1, so
-// the fix warns (default) and reports both ratios as f_ID[1] and f_ID[2].
+// is above the fraction 0.2 and dt/t_H = 3e-5/t_H(1 m/s) = 0.087 above 0.08, so
+// the fix warns (default) and reports both ratios as f_ID[1] and f_ID[2];
+// f_ID[3] = 2 v dt / skin = 2 * 1 * 3e-5 / 0.001 = 0.06.
 TEST_CASE("fix check/timestep/gran reports the Rayleigh and Hertz ratios and warns", "[errors]") {
   const std::string log = "test_errors_check_timestep.log";
   Sim s;
@@ -227,18 +229,34 @@ TEST_CASE("fix check/timestep/gran reports the Rayleigh and Hertz ratios and war
   s.lines(granular_setup());
   s.lines({"create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
            "velocity all set 0.6 0.0 0.8", "fix integr all nve/sphere", "timestep 3e-5",
-           "fix ts all check/timestep/gran 10 0.2 0.1", "run 50", "log none"});
+           "fix ts all check/timestep/gran 10 0.2 0.08", "run 50", "log none"});
   const double ratio_r = 3e-5 / rayleigh_time(), ratio_h = 3e-5 / hertz_time(1.0);
   INFO("expected dt/t_R = " << ratio_r << ", dt/t_H = " << ratio_h);
   CHECK(s.e.fix_value("ts", 1) == Approx(ratio_r).epsilon(1e-12));
   CHECK(s.e.fix_value("ts", 2) == Approx(ratio_h).epsilon(1e-9));
   CHECK(ratio_r == Approx(0.245).epsilon(0.01));
-  CHECK(ratio_h > 0.1);
+  CHECK(ratio_h > 0.08);
+  CHECK(s.e.fix_value("ts", 3) == Approx(2 * 1.0 * 3e-5 / 0.001).epsilon(1e-12));
   CHECK(s.e.update->ntimestep == 50);  // a warning does not stop the run
   const std::string text = read_text(log);
   std::remove(log.c_str());
   CHECK_THAT(text, Contains("WARNING: step 0: timestep 3e-05 s is 24.5% of the Rayleigh time (limit 20%)"));
   CHECK_THAT(text, Contains("reduce the timestep"));
+}
+
+// vmax V: the speed of the Hertz estimate is at least V (a bead at rest here),
+// and a step in which particles may approach by more than the skin is reported.
+TEST_CASE("fix check/timestep/gran vmax keyword and the skin check", "[errors]") {
+  Sim s;
+  s.lines(granular_setup());
+  s.lines({"create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
+           "fix integr all nve/sphere", "timestep 1e-5",
+           "fix ts all check/timestep/gran 10 0.9 0.9 vmax 2.0", "run 10"});
+  CHECK(s.e.fix_value("ts", 2) == Approx(1e-5 / hertz_time(2.0)).epsilon(1e-9));
+  CHECK(s.e.fix_value("ts", 3) == Approx(2 * 2.0 * 1e-5 / 0.001).epsilon(1e-12));
+  // 2 v dt = 2 * 60 * 1e-5 = 1.2 mm > skin 1 mm
+  s.lines({"velocity all set 60.0 0.0 0.0", "fix ts all check/timestep/gran 1 0.99 0.99 error yes"});
+  CHECK_THAT(run_error(s, "run 1"), Contains("neighbour skin"));
 }
 
 // `error yes` turns the warning into a RunError. The bead falls from 1 m/s
