@@ -499,8 +499,9 @@ FixInsert::Result FixInsert::insert(long long n) {
     std::vector<double> all = allgather(e.world, mine);
     for (std::size_t k = 0; k + 3 < all.size(); k += 4)
       grid.add(Vec3(all[k], all[k + 1], all[k + 2]), all[k + 3]);
+    // primitive walls (mesh walls are not checked: contact() describes primitives only)
     for (const auto& f : e.modify->fixes)
-      if (auto* w = dynamic_cast<const FixWallGran*>(f.get())) walls.push_back(w);
+      if (auto* w = dynamic_cast<const FixWallGran*>(f.get()); w && !w->mesh_form()) walls.push_back(w);
   }
 
   struct Placed {
