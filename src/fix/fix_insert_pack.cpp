@@ -167,7 +167,7 @@ void add_owned(Engine& e, const std::vector<NewSphere>& add) {
 // ================================================================ FixInsert
 
 FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::string, int>& style_keywords,
-                     const std::string& usage)
+                     const std::string& usage, bool needs_region)
     : Fix(engine, args) {
   const std::string what = label();
   bool have_seed = false;
@@ -292,14 +292,18 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
   if (!have_seed) throw InputError(what + ": the seed keyword is required; usage: " + usage);
   if (dist_id_.empty())
     throw InputError(what + ": the distributiontemplate keyword is required; usage: " + usage);
-  if (region_id_.empty()) throw InputError(what + ": the region keyword is required; usage: " + usage);
+  if (needs_region && region_id_.empty())
+    throw InputError(what + ": the region keyword is required; usage: " + usage);
+  if (!needs_region && !region_id_.empty())
+    throw InputError(what +
+                     ": takes no region keyword (it builds its own insertion volume); usage: " + usage);
   Fix* d = engine.modify->find_fix(dist_id_);
   if (!d || !dynamic_cast<FixParticleDistributionDiscrete*>(d)) {
     throw InputError(what + ": distributiontemplate " + dist_id_ +
                      (d ? " is not a fix particledistribution/discrete" : " is not defined") +
                      "; define it with fix ID group particledistribution/discrete before this fix");
   }
-  engine.domain->region_or_error(region_id_, what);
+  if (needs_region) engine.domain->region_or_error(region_id_, what);
   gen_.seed(static_cast<std::uint64_t>(seed_));
   size_vector = 2;
   restart_global = true;
@@ -495,8 +499,9 @@ FixInsert::Result FixInsert::insert(long long n) {
     std::vector<double> all = allgather(e.world, mine);
     for (std::size_t k = 0; k + 3 < all.size(); k += 4)
       grid.add(Vec3(all[k], all[k + 1], all[k + 2]), all[k + 3]);
+    // primitive walls (mesh walls are not checked: contact() describes primitives only)
     for (const auto& f : e.modify->fixes)
-      if (auto* w = dynamic_cast<const FixWallGran*>(f.get())) walls.push_back(w);
+      if (auto* w = dynamic_cast<const FixWallGran*>(f.get()); w && !w->mesh_form()) walls.push_back(w);
   }
 
   struct Placed {
@@ -528,6 +533,8 @@ FixInsert::Result FixInsert::insert(long long n) {
         }
       }
       if (region_empty) break;
+      const Vec3 shift = candidate_shift(tp.bounding_radius);
+      x += shift;
       Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
       if (several) {
         if (orientation_ == Orientation::Constant) {
@@ -552,7 +559,7 @@ FixInsert::Result FixInsert::insert(long long n) {
           const bool fixed_lo = dom.boundary[dd][0] == 'f', fixed_hi = dom.boundary[dd][1] == 'f';
           if ((fixed_lo && c[dd] < dom.boxlo[dd]) || (fixed_hi && c[dd] > dom.boxhi[dd])) ok = false;
         }
-        if (ok && all_in_) ok = sphere_inside(reg, c, r);
+        if (ok && all_in_) ok = sphere_inside(reg, c - shift, r);
         if (ok && overlapcheck_) {
           ok = !grid.overlaps(wrapped(dom, c), r);
           for (const FixWallGran* w : walls) {

@@ -51,8 +51,10 @@ class FixInsert : public Fix {
  public:
   /// `style_keywords` maps the style's own keywords to their number of values;
   /// their values are left in style_values_ for the derived constructor.
+  /// `needs_region`: whether the `region` keyword is required (styles that
+  /// build their own insertion volume, like insert/stream, override region()).
   FixInsert(Engine& engine, const Args& args, const std::map<std::string, int>& style_keywords,
-            const std::string& usage);
+            const std::string& usage, bool needs_region = true);
 
   unsigned hooks() const override { return POST_INTEGRATE | PRE_EXCHANGE; }
   void init() override;
@@ -97,7 +99,12 @@ class FixInsert : public Fix {
   std::string label() const { return "fix " + id + " (" + style + ")"; }
 
   FixParticleDistributionDiscrete& dist() const;
-  Region& region() const;
+  /// The insertion volume: the region named by `region`, or one the style builds.
+  virtual Region& region() const;
+  /// Shift from a point drawn in the region to the particle's centre, for a
+  /// particle of bounding radius r (insert/stream: away from the face by r).
+  /// all_in tests the sphere at the unshifted point.
+  virtual Vec3 candidate_shift(double /*r*/) const { return Vec3::Zero(); }
 
   std::map<std::string, Args> style_values_;
   std::string dist_id_, region_id_;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "core/engine.h"
 #include "core/error.h"
@@ -24,11 +25,22 @@ const char* kUsage =
 }  // namespace
 
 FixInsertRateRegion::FixInsertRateRegion(Engine& engine, const Args& args)
-    : FixInsert(engine, args, {{"nparticles", 1}, {"mass", 1}, {"particlerate", 1}, {"massrate", 1}},
-                kUsage) {
+    : FixInsertRateRegion(engine, args, {}, kUsage, false) {}
+
+namespace {
+std::map<std::string, int> with_rate_keywords(std::map<std::string, int> k) {
+  k.insert({{"nparticles", 1}, {"mass", 1}, {"particlerate", 1}, {"massrate", 1}});
+  return k;
+}
+}  // namespace
+
+FixInsertRateRegion::FixInsertRateRegion(Engine& engine, const Args& args,
+                                         std::map<std::string, int> style_keywords, const std::string& usage,
+                                         bool stream)
+    : FixInsert(engine, args, with_rate_keywords(std::move(style_keywords)), usage, !stream) {
   const std::string what = label();
   const bool has_n = style_values_.count("nparticles") > 0, has_m = style_values_.count("mass") > 0;
-  if (has_n == has_m) throw InputError(what + ": give exactly one of nparticles and mass; usage: " + kUsage);
+  if (has_n == has_m) throw InputError(what + ": give exactly one of nparticles and mass; usage: " + usage);
   by_mass_ = has_m;
   const std::string& amount = style_values_[has_m ? "mass" : "nparticles"][0];
   if (amount == "INF") {
@@ -44,15 +56,15 @@ FixInsertRateRegion::FixInsertRateRegion(Engine& engine, const Args& args)
   }
   const bool has_pr = style_values_.count("particlerate") > 0, has_mr = style_values_.count("massrate") > 0;
   if (has_pr == has_mr)
-    throw InputError(what + ": give exactly one of particlerate and massrate; usage: " + kUsage);
+    throw InputError(what + ": give exactly one of particlerate and massrate; usage: " + usage);
   rate_by_mass_ = has_mr;
   rate_ = parse_double(style_values_[has_mr ? "massrate" : "particlerate"][0],
                        what + (has_mr ? " massrate" : " particlerate"));
   if (!(rate_ > 0.0)) throw InputError(what + ": the insertion rate must be positive");
-  bool every_given = false;
   for (std::size_t k = 3; k + 1 < args.size(); ++k)
-    every_given |= args[k] == "insert_every";
-  if (!every_given || insert_every_ == 0) {
+    insert_every_given_ |= args[k] == "insert_every";
+  if (stream) return;
+  if (!insert_every_given_ || insert_every_ == 0) {
     throw InputError(what + ": insert_every STEPS (a positive number of steps between batches) is required");
   }
 }

@@ -9,6 +9,9 @@
 // checks, ids and rank independence are those of FixInsert (fix_insert_pack.h).
 #pragma once
 
+#include <map>
+#include <string>
+
 #include "fix/fix_insert_pack.h"
 
 namespace granary {
@@ -24,9 +27,19 @@ class FixInsertRateRegion : public FixInsert {
   long long target() const { return target_n_; }
 
  protected:
+  /// For styles that share the amount and rate keywords (insert/stream): the
+  /// style's own keywords are added to nparticles, mass, particlerate and
+  /// massrate; `stream` builds its own insertion volume (no region) and may
+  /// derive insert_every itself (then it must set insert_every_ before the run).
+  FixInsertRateRegion(Engine& engine, const Args& args, std::map<std::string, int> style_keywords,
+                      const std::string& usage, bool stream);
+
   long long count_to_insert() override;
   void inserted_batch(const Result& r) override;
   bool done_after_insertion() const override { return target_n_ >= 0 && ninserted_ >= target_n_; }
+
+ protected:
+  bool insert_every_given_ = false;  // insert_every appeared in the command
 
  private:
   bool by_mass_ = false;        // mass M instead of nparticles N

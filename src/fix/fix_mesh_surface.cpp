@@ -33,7 +33,7 @@ namespace {
 
 const char* kUsage =
     "fix ID group mesh/surface file F.stl type T [scale S] [move dx dy dz] "
-    "[rotate axis ax ay az angle DEG] [curvature_tolerant yes|no]";
+    "[rotate axis ax ay az angle DEG] [curvature_tolerant yes|no] [surface_vel VX VY VZ]";
 
 // VTK reports problems through error events: collect their text instead of
 // letting VTK print them.
@@ -97,9 +97,9 @@ void put_bytes(std::string& out, const void* p, std::size_t n) {
 
 }  // namespace
 
-FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, args) {
+FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args, bool stress) : Fix(engine, args) {
   restart_global = true;
-  const std::string where = "fix " + id + " mesh/surface";
+  const std::string where = "fix " + id + " " + style;
   if (args.size() < 5) throw InputError(where + ": missing arguments; usage: " + std::string(kUsage));
   if (args[3] != "file") {
     throw InputError(where +
@@ -156,6 +156,35 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, a
       if (!(axis.norm() > 0.0)) throw InputError(where + ": the rotation axis must not be zero");
       transforms.push_back({'r', axis.normalized(), parse_double(args[k + 6], where + " rotate angle")});
       k += 7;
+    } else if (stress && key == "stress") {
+      need(2, key);
+      if (args[k + 1] != "on")
+        throw InputError(
+            where + ": 'stress " + args[k + 1] +
+            "' is not supported; the forces on the triangles are always summed (use mesh/surface "
+            "for a mesh without stress output)");
+      k += 2;
+    } else if (stress && key == "wear") {
+      need(2, key);
+      if (args[k + 1] != "off") {
+        throw InputError(
+            where + ": 'wear " + args[k + 1] +
+            "' is not supported: Granary has no wear model (LIGGGHTS' Finnie model is documented "
+            "only in a separate report); remove 'wear " +
+            args[k + 1] + "' to get the per-triangle forces and stresses");
+      }
+      k += 2;
+    } else if (stress && key == "reference_point") {
+      need(4, key);
+      for (int c = 0; c < 3; ++c)
+        reference_point_[c] = parse_double(args[k + 1 + c], where + " reference_point");
+      k += 4;
+    } else if (key == "surface_vel") {
+      need(4, key);
+      for (int c = 0; c < 3; ++c)
+        surface_vel_[c] = parse_double(args[k + 1 + c], where + " surface_vel");
+      has_surface_vel_ = true;
+      k += 4;
     } else if (key == "verbose" || key == "curvature_tolerant") {
       need(2, key);
       parse_bool(args[k + 1], where + " " + key);
@@ -173,7 +202,7 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, a
       k += 2;
     } else if (key == "region" || key == "element_exclusion_list" || key == "min_feature_length" ||
                key == "temperature" || key == "mass_temperature" || key == "extrude_planar" ||
-               key == "surface_vel" || key == "surface_ang_vel") {
+               key == "surface_ang_vel") {
       throw InputError(where + ": keyword '" + key +
                        "' is not supported; see doc/fixes/mesh_surface.md for the keywords Granary reads");
     } else {
@@ -196,6 +225,7 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, a
   corners.resize(n);
   MPI_Bcast(corners.data(), static_cast<int>(3 * n), MPI_DOUBLE, 0, engine.world);
 
+  corners.push_back(reference_point_);  // transformed with the mesh (taken off below)
   for (const Transform& t : transforms) {
     for (Vec3& v : corners) {
       if (t.kind == 's')
@@ -206,6 +236,8 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, a
         v = Eigen::AngleAxisd(t.value * M_PI / 180.0, t.v) * v;
     }
   }
+  reference_point_ = corners.back();
+  corners.pop_back();
   // duplicate triangles (the same three corners): removed with heal
   // auto_remove_duplicates, an error otherwise (as in LIGGGHTS)
   {
@@ -240,8 +272,24 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args) : Fix(engine, a
 }
 
 void FixMeshSurface::init() {
-  // fix move/mesh, if any, sets the velocity again in its init (called after this one)
+  // fix move/mesh, if any, sets the motion again in its init (called after this one)
   mesh.velocity.setZero();
+  mesh.omega.setZero();
+  // conveyor belt: on each triangle the surface moves along the projection of
+  // surface_vel onto the triangle's plane, with the full speed |surface_vel|
+  // (so a curved belt runs at one speed everywhere); zero where surface_vel
+  // is normal to the triangle
+  mesh.surface_velocity.clear();
+  if (has_surface_vel_) {
+    mesh.surface_velocity.resize(mesh.ntri());
+    const double speed = surface_vel_.norm();
+    for (int t = 0; t < mesh.ntri(); ++t) {
+      const Vec3& n = mesh.normal(t);
+      const Vec3 tangential = surface_vel_ - surface_vel_.dot(n) * n;
+      const double len = tangential.norm();
+      mesh.surface_velocity[t] = len > 1e-12 * speed ? Vec3(tangential * (speed / len)) : Vec3::Zero();
+    }
+  }
 }
 
 void FixMeshSurface::pre_force() {

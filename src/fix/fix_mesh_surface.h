@@ -1,5 +1,5 @@
 // fix ID group mesh/surface file F.stl type T [scale S] [move dx dy dz]
-//     [rotate axis ax ay az angle DEG] [curvature_tolerant yes|no] ...
+//     [rotate axis ax ay az angle DEG] [curvature_tolerant yes|no] [surface_vel VX VY VZ] ...
 // A triangle mesh read from an ASCII or binary STL file (with VTK's
 // vtkSTLReader on rank 0, broadcast to every rank), transformed by scale, move
 // and rotate in the order given, used as a granular wall by fix wall/gran
@@ -18,7 +18,7 @@ class Modify;
 
 class FixMeshSurface : public Fix {
  public:
-  FixMeshSurface(Engine& engine, const Args& args);
+  FixMeshSurface(Engine& engine, const Args& args) : FixMeshSurface(engine, args, false) {}
   unsigned hooks() const override { return PRE_FORCE; }
   void init() override;
   /// Per-triangle forces are summed afresh every step.
@@ -31,6 +31,16 @@ class FixMeshSurface : public Fix {
   int wall_type = 1;  ///< atom type whose material the mesh has
   std::string file;   ///< the STL file it was read from
 
+ protected:
+  /// `stress`: also read the keywords of mesh/surface/stress (stress,
+  /// wear, reference_point) into the members below.
+  FixMeshSurface(Engine& engine, const Args& args, bool stress);
+
+  Vec3 reference_point_ = Vec3::Zero();  ///< mesh/surface/stress: torque reference
+  Vec3 surface_vel_ = Vec3::Zero();      ///< conveyor belt velocity (surface_vel)
+  bool has_surface_vel_ = false;
+
+ public:
   /// The mesh/surface fix with this ID, or an InputError saying what needs it.
   static FixMeshSurface& find(const Modify& modify, const std::string& id, const std::string& what);
 };

@@ -1,11 +1,18 @@
-// fix ID group move/mesh mesh M linear VX VY VZ (LIGGGHTS syntax): moves the
-// nodes of fix mesh/surface M rigidly at constant velocity V and sets the
-// mesh velocity that the wall contacts see. The position is computed from the
-// positions when the fix was defined, X(t) = X0 + V (t - t0), every step in
-// the initial_integrate stage (when the particles drift), so it does not
-// accumulate round-off. X0, t0 and V go into restart files: the same fix
-// defined again after read_restart with the same V continues the same motion
-// bit for bit. The group is ignored. See doc/fixes/move_mesh.md.
+// fix ID group move/mesh mesh M linear VX VY VZ
+// fix ID group move/mesh mesh M rotate origin PX PY PZ axis AX AY AZ period T
+// (LIGGGHTS syntax): moves the nodes of fix mesh/surface M rigidly, at
+// constant velocity V (linear) or at angular velocity omega = 2 pi / T about
+// the axis through P (rotate, right-hand rule), and sets the velocity field
+// the wall contacts see (V, or omega x (x - P) at each contact point). The
+// position is computed from the positions when the fix was defined,
+// X(t) = X0 + V (t - t0) or X(t) = P + R(omega (t - t0)) (X0 - P), every step
+// in the initial_integrate stage (when the particles drift), so it does not
+// accumulate round-off. X0, t0 and the motion parameters go into restart
+// files: the same fix defined again after read_restart with the same
+// parameters continues the same motion bit for bit. The group is ignored.
+// See doc/fixes/move_mesh.md.
+#include <Eigen/Geometry>
+#include <cmath>
 #include <cstring>
 
 #include "core/engine.h"
@@ -23,20 +30,41 @@ namespace {
 class FixMoveMesh : public Fix {
  public:
   FixMoveMesh(Engine& engine, const Args& args) : Fix(engine, args) {
-    const std::string usage = "fix ID group move/mesh mesh MESH-ID linear VX VY VZ";
+    const std::string usage =
+        "fix ID group move/mesh mesh MESH-ID linear VX VY VZ | rotate origin PX PY PZ axis AX AY AZ period T";
     const std::string where = "fix " + id + " move/mesh";
     if (args.size() < 5 || args[3] != "mesh")
       throw InputError(where + ": expected 'mesh MESH-ID' first; usage: " + usage);
     mesh_id_ = args[4];
     FixMeshSurface& m = FixMeshSurface::find(*engine.modify, mesh_id_, where);
     if (args.size() < 6) throw InputError(where + ": missing the motion style; usage: " + usage);
-    if (args[5] != "linear") {
+    if (args[5] == "linear") {
+      require_args(args, 9, 9, usage);
+      for (int d = 0; d < 3; ++d)
+        velocity_[d] = parse_double(args[6 + d], where + " velocity");
+      params_ = {velocity_[0], velocity_[1], velocity_[2]};
+    } else if (args[5] == "rotate") {
+      require_args(args, 16, 16, usage);
+      if (args[6] != "origin" || args[10] != "axis" || args[14] != "period")
+        throw InputError(where +
+                         ": expected 'rotate origin PX PY PZ axis AX AY AZ period T'; usage: " + usage);
+      Vec3 axis;
+      for (int d = 0; d < 3; ++d) {
+        origin_[d] = parse_double(args[7 + d], where + " rotate origin");
+        axis[d] = parse_double(args[11 + d], where + " rotate axis");
+      }
+      if (!(axis.norm() > 0.0)) throw InputError(where + ": the rotation axis must not be zero");
+      const double period = parse_double(args[15], where + " rotate period");
+      if (!(period != 0.0) || !std::isfinite(period))
+        throw InputError(where + ": the period must be a non-zero number of seconds");
+      rotate_ = true;
+      axis_ = axis.normalized();
+      omega_ = 2.0 * M_PI / period;
+      params_ = {origin_[0], origin_[1], origin_[2], axis_[0], axis_[1], axis_[2], period};
+    } else {
       throw InputError(where + ": motion style '" + args[5] +
-                       "' is not supported; Granary has 'linear' only");
+                       "' is not supported; Granary has 'linear' and 'rotate'");
     }
-    require_args(args, 9, 9, usage);
-    for (int d = 0; d < 3; ++d)
-      velocity_[d] = parse_double(args[6 + d], where + " velocity");
     for (const auto& other : engine.modify->fixes) {
       auto* mover = dynamic_cast<FixMoveMesh*>(other.get());
       if (mover && mover->id != id && mover->mesh_id_ == mesh_id_) {
@@ -52,23 +80,29 @@ class FixMoveMesh : public Fix {
   }
 
   void pack_restart(std::string& out) const override {
-    std::vector<double> v = {t0_, velocity_[0], velocity_[1], velocity_[2],
-                             static_cast<double>(reference_.size())};
+    std::vector<double> v = {t0_, static_cast<double>(params_.size())};
+    v.insert(v.end(), params_.begin(), params_.end());
+    v.push_back(static_cast<double>(reference_.size()));
     for (const Vec3& r : reference_)
       v.insert(v.end(), r.data(), r.data() + 3);
     out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
   }
 
   void unpack_restart(const std::string& in) override {
-    // continue the stored motion when it is the same (same velocity, same node count)
+    // continue the stored motion when it is the same (same style and
+    // parameters, same node count)
     std::vector<double> v(in.size() / sizeof(double));
     std::memcpy(static_cast<void*>(v.data()), in.data(), v.size() * sizeof(double));
-    if (v.size() < 5 || v[1] != velocity_[0] || v[2] != velocity_[1] || v[3] != velocity_[2]) return;
-    const std::size_t n = static_cast<std::size_t>(v[4]);
-    if (n != reference_.size() || v.size() != 5 + 3 * n) return;
+    const std::size_t np = params_.size();
+    if (v.size() < 3 + np || v[1] != static_cast<double>(np)) return;
+    for (std::size_t k = 0; k < np; ++k)
+      if (v[2 + k] != params_[k]) return;
+    const std::size_t head = 3 + np;
+    const std::size_t n = static_cast<std::size_t>(v[head - 1]);
+    if (n != reference_.size() || v.size() != head + 3 * n) return;
     t0_ = v[0];
     for (std::size_t k = 0; k < n; ++k)
-      reference_[k] = Vec3(v[5 + 3 * k], v[6 + 3 * k], v[7 + 3 * k]);
+      reference_[k] = Vec3(v[head + 3 * k], v[head + 1 + 3 * k], v[head + 2 + 3 * k]);
   }
 
   unsigned hooks() const override { return INITIAL_INTEGRATE; }
@@ -80,13 +114,32 @@ class FixMoveMesh : public Fix {
       throw InputError("fix " + id + " move/mesh: mesh " + mesh_id_ +
                        " was redefined with another node count; define fix move/mesh again");
     }
-    m.mesh.velocity = velocity_;
+    set_velocity(m.mesh);
   }
 
   void initial_integrate() override {
     TriMesh& m = mesh_->mesh;
-    m.place(reference_, velocity_ * (engine_.update->time() - t0_));
-    m.velocity = velocity_;
+    const double t = engine_.update->time() - t0_;
+    if (rotate_) {
+      const Eigen::Matrix3d r = Eigen::AngleAxisd(omega_ * t, axis_).toRotationMatrix();
+      std::vector<Vec3> nodes(reference_.size());
+      for (std::size_t k = 0; k < nodes.size(); ++k)
+        nodes[k] = origin_ + r * (reference_[k] - origin_);
+      m.set_nodes(nodes);  // normals and bins follow the rotation
+    } else {
+      m.place(reference_, velocity_ * t);
+    }
+    set_velocity(m);
+  }
+
+  void unfixed() override {
+    // the mesh stands still from now on
+    if (Fix* f = engine_.modify->find_fix(mesh_id_)) {
+      if (auto* m = dynamic_cast<FixMeshSurface*>(f)) {
+        m->mesh.velocity.setZero();
+        m->mesh.omega.setZero();
+      }
+    }
   }
 
  private:
@@ -96,7 +149,17 @@ class FixMoveMesh : public Fix {
 
   std::string mesh_id_;
   FixMeshSurface* mesh_ = nullptr;  // resolved by init for the run
-  Vec3 velocity_ = Vec3::Zero();
+  void set_velocity(TriMesh& m) const {
+    m.velocity = velocity_;
+    m.omega = rotate_ ? Vec3(omega_ * axis_) : Vec3::Zero();
+    m.origin = origin_;
+  }
+
+  Vec3 velocity_ = Vec3::Zero();  // linear
+  bool rotate_ = false;           // rotate: about axis_ through origin_ at omega_ rad/s
+  Vec3 origin_ = Vec3::Zero(), axis_ = Vec3::UnitZ();
+  double omega_ = 0.0;
+  std::vector<double> params_;   // the motion's parameters, as given (restart check)
   std::vector<Vec3> reference_;  // node positions at t0
   double t0_ = 0.0;
 };

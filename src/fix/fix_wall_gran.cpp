@@ -451,7 +451,7 @@ void FixWallGran::post_force_mesh() {
         }
         c.n = ck.n;
         c.overlap = ck.overlap;
-        c.v_rel = v[i] - mesh.velocity;
+        c.v_rel = v[i] - mesh.velocity_at(ck.tri, ck.point);  // the wall material at the contact point
         K::evaluate(spec, c, materials(type[i], meshes_[ck.mesh]->wall_type), hk, res);
         f[i] += res.force;
         torque[i] += res.torque_i;

@@ -46,6 +46,8 @@ class FixWallGran : public Fix {
   bool contact(const Vec3& x, double r, double& overlap, Vec3& n) const;
 
   enum class Shape { XPlane, YPlane, ZPlane, ZCylinder };
+  /// Mesh form (fix mesh/surface walls): contact() does not apply.
+  bool mesh_form() const { return mesh_; }
 
  private:
   contact::ModelSpec spec_;

@@ -11,8 +11,11 @@
 //    that come within `margin` of any point of the bin, so the triangles a
 //    sphere of radius <= margin may touch are read from the one bin holding
 //    its centre;
-//  * the current mesh velocity (rigid translation, set by fix move/mesh) and
-//    per-triangle forces of the current step (summed by the wall fixes).
+//  * the current velocity field of the wall material: a rigid motion
+//    (translation velocity plus angular velocity about an origin, set by fix
+//    move/mesh) and an optional per-triangle surface velocity (a conveyor belt,
+//    fix mesh/surface surface_vel) that moves the material without moving the
+//    nodes; and per-triangle forces of the current step (summed by the wall fixes).
 #pragma once
 
 #include <array>
@@ -83,8 +86,19 @@ class TriMesh {
     if (r > margin_ || bin_start_.empty()) build_bins(r > margin_ ? r : margin_);
   }
 
-  Vec3 velocity = Vec3::Zero();  ///< velocity of every point of the mesh [m/s]
-  std::vector<Vec3> tri_force;   ///< force of the particles on each triangle this step (this rank) [N]
+  /// Velocity of the wall material at point p of triangle t [m/s]: the rigid
+  /// motion velocity + omega x (p - origin), plus the triangle's surface velocity.
+  Vec3 velocity_at(int t, const Vec3& p) const {
+    Vec3 v = velocity + omega.cross(p - origin);
+    if (!surface_velocity.empty()) v += surface_velocity[t];
+    return v;
+  }
+
+  Vec3 velocity = Vec3::Zero();        ///< translation velocity of the mesh [m/s]
+  Vec3 omega = Vec3::Zero();           ///< angular velocity of the mesh about `origin` [rad/s]
+  Vec3 origin = Vec3::Zero();          ///< a point on the rotation axis [m]
+  std::vector<Vec3> surface_velocity;  ///< per triangle, tangential (empty: none) [m/s]
+  std::vector<Vec3> tri_force;         ///< force of the particles on each triangle this step (this rank) [N]
 
  private:
   void update_geometry();

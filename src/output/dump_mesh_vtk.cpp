@@ -3,7 +3,9 @@
 // replicated on every rank, so rank 0 writes the whole frame; per-triangle
 // forces are summed over the ranks first. Cell data: mesh (index of the mesh
 // in the dump's list, from 0), normal, velocity, force (of the particles on
-// the triangle on the last step) and area; field data TimeValue and Step.
+// the triangle on the last step), area, pressure and shear_stress (the
+// normal and tangential force over the area); velocity is that of the wall
+// material at the triangle's centroid (rotation and surface_vel included); field data TimeValue and Step.
 // A .pvd collection lists every frame with its simulated time. The group is
 // ignored. See doc/commands/dump.md.
 #include <mpi.h>
@@ -149,6 +151,10 @@ class DumpMeshVTK : public Dump {
     auto vel = vtkSmartPointer<vtkDoubleArray>::New();
     auto fa = vtkSmartPointer<vtkDoubleArray>::New();
     auto area = vtkSmartPointer<vtkDoubleArray>::New();
+    auto pressure = vtkSmartPointer<vtkDoubleArray>::New();
+    auto shear = vtkSmartPointer<vtkDoubleArray>::New();
+    make(pressure, "pressure", 1);
+    make(shear, "shear_stress", 1);
     make(index, "mesh", 1);
     make(normal, "normal", 3);
     make(vel, "velocity", 3);
@@ -165,12 +171,22 @@ class DumpMeshVTK : public Dump {
           conn->SetValue(3 * cell + c, p0 + mesh.tri(t)[c]);
         index->SetValue(cell, static_cast<int>(mi));
         normal->SetTypedTuple(cell, mesh.normal(t).data());
-        vel->SetTypedTuple(cell, mesh.velocity.data());
+        {
+          // the wall velocity at the triangle's centroid
+          const Vec3 centroid = (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)) / 3.0;
+          const Vec3 vc = mesh.velocity_at(t, centroid);
+          vel->SetTypedTuple(cell, vc.data());
+        }
         fa->SetTypedTuple(cell, force.data() + 3 * cell);
-        area->SetValue(
-            cell,
-            0.5 *
-                (mesh.corner(t, 1) - mesh.corner(t, 0)).cross(mesh.corner(t, 2) - mesh.corner(t, 0)).norm());
+        const double a =
+            0.5 * (mesh.corner(t, 1) - mesh.corner(t, 0)).cross(mesh.corner(t, 2) - mesh.corner(t, 0)).norm();
+        area->SetValue(cell, a);
+        // mean stresses of the particles on the triangle: normal (pressure,
+        // positive when the particles push against the normal) and shear
+        const Vec3 f(force[3 * cell], force[3 * cell + 1], force[3 * cell + 2]);
+        const double fn = f.dot(mesh.normal(t));
+        pressure->SetValue(cell, -fn / a);
+        shear->SetValue(cell, (f - fn * mesh.normal(t)).norm() / a);
       }
       p0 += mesh.nnodes();
     }
@@ -180,7 +196,8 @@ class DumpMeshVTK : public Dump {
     auto ds = vtkSmartPointer<vtkPolyData>::New();
     ds->SetPoints(points);
     ds->SetPolys(cells);
-    for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area})
+    for (vtkDataArray* a :
+         std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area, pressure, shear})
       ds->GetCellData()->AddArray(a);
     return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep, options_,
                                        pvd_);

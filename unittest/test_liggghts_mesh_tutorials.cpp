@@ -1,0 +1,271 @@
+// The LIGGGHTS 3.8 tutorials meshGran, conveyor, insert_stream and
+// movingMeshGran (package liggghts-doc) run in Granary, in shortened form, and
+// agree with LIGGGHTS where the comparison is deterministic.
+//
+// Each tutorial is copied from the installed package to a temporary directory
+// (its input and STL files only); the copy's run lengths are cut (nothing else
+// is changed) and both programs run the same copy:
+// - meshGran (fix insert/stream, 20 particles every 400 steps, dump mesh/stl):
+//   the number of particles after 2200 steps is 6 x 20 = 120 in both.
+// - conveyor (insert/stream by mass, 38.3 particles per batch, surface_vel
+//   belt): after 30001 steps (4 batches) the counts differ by at most 2 (the
+//   programs round the fractional batches differently: 153 and 155).
+// - insert_stream (300 particles per batch, oblique velocity): the kinetic
+//   energy right after the first batch is that of the normal velocity only,
+//   47.118654 J in LIGGGHTS (a batch has the same mass in both programs).
+// - movingMeshGran (move/mesh linear, then rotate, dump mesh/stl): the bucket
+//   mesh written by dump mesh/stl at step 600, after 100 steps of linear motion
+//   and 200 steps of rotation, has the same corners in both files (LIGGGHTS
+//   writes 6 significant digits: tolerance 1e-5 m on a 1 m bucket).
+//
+// Without LIGGGHTS the Granary runs and their own checks still happen; the
+// test is skipped (with a warning) when the tutorials are not installed.
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/engine.h"
+#include "core/input.h"
+#include "particles/particles.h"
+#include "script_engine.h"
+
+namespace {
+
+std::string shell(const std::string& cmd) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return out;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0)
+    out.append(buf, n);
+  pclose(p);
+  return out;
+}
+
+bool have_liggghts() {
+  static const bool have = std::system("command -v liggghts > /dev/null 2>&1") == 0;
+  return have;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+/// Copy the input file and meshes of tutorial `name` into a fresh directory
+/// (with an empty post/); "" (and a warning) when the package is missing.
+std::string copy_tutorial(const std::string& name, const std::string& input) {
+  const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
+  const std::string key = "Tutorials_public/" + name + "/";
+  std::vector<std::string> files;
+  std::istringstream in(listing);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto at = line.find(key);
+    if (at == std::string::npos) continue;
+    const std::string rel = line.substr(at + key.size());
+    const bool wanted = rel == input || rel == input + ".gz" ||
+                        (rel.rfind("meshes/", 0) == 0 && rel.find(".stl") != std::string::npos);
+    if (wanted) files.push_back(line);
+  }
+  if (files.empty()) {
+    WARN("LIGGGHTS tutorial " + name + " (package liggghts-doc) not found: test skipped");
+    return "";
+  }
+  auto t = granary::test::temp_template("granary_tut_");
+  REQUIRE(mkdtemp(t.data()) != nullptr);
+  const std::string dir = t.data();
+  REQUIRE(std::system(("mkdir -p '" + dir + "/meshes' '" + dir + "/post'").c_str()) == 0);
+  for (const std::string& f : files) {
+    std::string rel = f.substr(f.find(key) + key.size());
+    const bool gz = rel.size() > 3 && rel.compare(rel.size() - 3, 3, ".gz") == 0;
+    if (gz) rel.resize(rel.size() - 3);
+    const std::string cmd = (gz ? "gunzip -c '" : "cat '") + f + "' > '" + dir + "/" + rel + "'";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+  }
+  return dir;
+}
+
+/// Replace the first line that starts with `from` (after leading blanks,
+/// blanks collapsed) by `to`.
+void replace_line(std::string& text, const std::string& from, const std::string& to) {
+  std::istringstream in(text);
+  std::string line, out;
+  bool done = false;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string w, norm;
+    while (words >> w)
+      norm += (norm.empty() ? "" : " ") + w;
+    if (!done && norm.rfind(from, 0) == 0) {
+      out += to + "\n";
+      done = true;
+    } else {
+      out += line + "\n";
+    }
+  }
+  REQUIRE(done);
+  text = out;
+}
+
+/// Run `input` in `dir` in this process; returns the engine's final state via f.
+template <class F>
+void run_granary(const std::string& dir, const std::string& input, F&& f) {
+  char cwd[4096];
+  REQUIRE(getcwd(cwd, sizeof cwd) != nullptr);
+  REQUIRE(chdir(dir.c_str()) == 0);
+  {
+    granary::test::ScriptEngine s;
+    try {
+      s.e.input->file(input);
+    } catch (...) {
+      REQUIRE(chdir(cwd) == 0);
+      throw;
+    }
+    f(s);
+  }
+  REQUIRE(chdir(cwd) == 0);
+}
+
+/// Run LIGGGHTS on `input` in `dir` with extra lines appended; its screen output.
+std::string run_liggghts(const std::string& dir, const std::string& input) {
+  const std::string cmd = "cd '" + dir + "' && liggghts -in " + input + " -log none 2>&1";
+  return shell(cmd);
+}
+
+/// The number after `key` in `text` (last occurrence), NaN when absent.
+double value_after(const std::string& text, const std::string& key) {
+  const auto at = text.rfind(key);
+  if (at == std::string::npos) return std::nan("");
+  return std::atof(text.c_str() + at + key.size());
+}
+
+double kinetic_energy(const granary::Particles& p) {
+  double ke = 0;
+  for (int i = 0; i < p.nlocal; ++i)
+    ke += 0.5 * p.rmass[i] * p.v[i].squaredNorm();
+  return ke;
+}
+
+using Corners = std::vector<std::array<double, 3>>;
+Corners stl_corners(const std::string& file) {
+  Corners c;
+  std::istringstream in(read_text(file));
+  std::string w;
+  while (in >> w)
+    if (w == "vertex") {
+      std::array<double, 3> v;
+      in >> v[0] >> v[1] >> v[2];
+      c.push_back(v);
+    }
+  std::sort(c.begin(), c.end());
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("LIGGGHTS tutorial meshGran: insert/stream batches and dump mesh/stl", "[liggghts][tutorial]") {
+  const std::string dir = copy_tutorial("meshGran", "in.meshGran");
+  if (dir.empty()) return;
+  std::string text = read_text(dir + "/in.meshGran");
+  replace_line(text, "run 10000 upto", "run 2001 upto");
+  replace_line(text, "run 40000 upto", "run 2200 upto");
+  write_text(dir + "/in.short", text + "variable nn equal atoms\nprint \"NATOMS ${nn}\"\n");
+  long long n = 0;
+  run_granary(dir, "in.short", [&](granary::test::ScriptEngine& s) { n = s.p().natoms; });
+  CHECK(n == 120);  // batches of 1000/s * 400 * 5e-5 s = 20 at steps 1, 401, ..., 2001
+  CHECK(read_text(dir + "/post/dump2100.stl").find("endsolid cad") != std::string::npos);
+  if (have_liggghts()) CHECK(value_after(run_liggghts(dir, "in.short"), "NATOMS ") == 120.0);
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST_CASE("LIGGGHTS tutorial conveyor: insert/stream by mass onto a surface_vel belt",
+          "[liggghts][tutorial]") {
+  const std::string dir = copy_tutorial("conveyor", "in.conveyor");
+  if (dir.empty()) return;
+  std::string text = read_text(dir + "/in.conveyor");
+  replace_line(text, "run 140000 upto", "run 30001 upto");
+  write_text(dir + "/in.short", text + "variable nn equal atoms\nprint \"NATOMS ${nn}\"\n");
+  long long n = 0;
+  run_granary(dir, "in.short", [&](granary::test::ScriptEngine& s) { n = s.p().natoms; });
+  // 30 kg/s * 0.1 s per batch over a mean particle mass 7.833e-2 kg: 38.30
+  // particles per batch, 4 batches: floor(153.2) (38, 38, 38, 39)
+  CHECK(n == 153);
+  if (have_liggghts()) {
+    // LIGGGHTS rounds each batch on its own and more often up (observed 39,
+    // 38, 39, 39 = 155): at most 2 apart after 4 batches
+    const double nl = value_after(run_liggghts(dir, "in.short"), "NATOMS ");
+    CHECK(std::fabs(nl - static_cast<double>(n)) <= 2.0);
+  }
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST_CASE("LIGGGHTS tutorial insert_stream: held particles move at the normal velocity",
+          "[liggghts][tutorial]") {
+  const std::string dir = copy_tutorial("insert_stream", "in.insert_stream");
+  if (dir.empty()) return;
+  std::string text = read_text(dir + "/in.insert_stream");
+  replace_line(text, "run 1", "run 1\nvariable kk equal ke\nprint \"KE1 ${kk}\"");
+  replace_line(text, "run 100000", "run 10");
+  write_text(dir + "/in.short", text);
+  double ke1 = 0;
+  // the state after run 10: all 300 particles still held (the nearest needs
+  // r / 2 m/s = 7.5 ms = 750 steps to reach the face)
+  run_granary(dir, "in.short", [&](granary::test::ScriptEngine& s) {
+    CHECK(s.p().natoms == 300);
+    ke1 = kinetic_energy(s.p());
+    for (int i = 0; i < s.p().nlocal; ++i)
+      CHECK(s.p().v[i] == granary::Vec3(0.0, 0.0, -2.0));
+  });
+  if (have_liggghts()) CHECK(ke1 == Approx(value_after(run_liggghts(dir, "in.short"), "KE1 ")).epsilon(1e-7));
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+TEST_CASE("LIGGGHTS tutorial movingMeshGran: move/mesh linear then rotate, written by dump mesh/stl",
+          "[liggghts][tutorial]") {
+  const std::string dir = copy_tutorial("movingMeshGran", "in.movingMeshGran");
+  if (dir.empty()) return;
+  std::string text = read_text(dir + "/in.movingMeshGran");
+  replace_line(text, "run 8000 upto", "run 200 upto");
+  replace_line(text, "run 29999 upto", "run 299 upto");
+  replace_line(text, "run 30000 upto", "run 300 upto");
+  replace_line(text, "run 15000", "run 100");
+  replace_line(text, "run 25000", "run 300");
+  write_text(dir + "/in.short", text);
+  run_granary(dir, "in.short", [&](granary::test::ScriptEngine&) {});
+  const Corners mine = stl_corners(dir + "/post/dump600.stl");
+  REQUIRE(mine.size() == 84);  // the bucket's 28 triangles
+  if (have_liggghts()) {
+    REQUIRE(std::system(("mkdir -p '" + dir + "/ref' && mv '" + dir + "/post/dump600.stl' '" + dir + "/ref/'")
+                            .c_str()) == 0);
+    run_liggghts(dir, "in.short");
+    const Corners ref = stl_corners(dir + "/post/dump600.stl");
+    REQUIRE(ref.size() == mine.size());
+    // pair the corners by nearest match (the two files may order them differently)
+    double worst = 0;
+    for (const auto& c : stl_corners(dir + "/ref/dump600.stl")) {
+      double best = 1e30;
+      for (const auto& r : ref)
+        best = std::min(best, std::hypot(c[0] - r[0], c[1] - r[1], c[2] - r[2]));
+      worst = std::max(worst, best);
+    }
+    CHECK(worst < 1e-5);
+  }
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
