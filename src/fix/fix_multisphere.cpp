@@ -514,6 +514,7 @@ void FixMultisphere::fetch_state() {
     B.torque[b] = Vec3(s[15], s[16], s[17]);
     B.quat[b] = Eigen::Quaterniond(s[18], s[19], s[20], s[21]);
     B.current[b] = 1;
+    ++fetched_;
   }
   for (int b : active_) {
     if (!B.current[b]) {

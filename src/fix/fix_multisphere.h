@@ -83,6 +83,11 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   /// Make every rank's record of every body current (collective; cheap when
   /// nothing moved since the last call).
   void sync_bodies();
+  /// Body states this rank received from others because sub-spheres migrated
+  /// to it (since the fix was defined).
+  long long fetched_states() const { return fetched_; }
+  /// Bodies this rank shares with other ranks (partial force sums exchanged each step).
+  int shared_bodies() const { return static_cast<int>(shared_.size()); }
   /// Body centre wrapped into the periodic box [m].
   Vec3 wrapped_centre(int b) const;
 
@@ -159,6 +164,7 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   std::vector<std::pair<int, int>> shared_src_;
   bool reindex_ = true;     // bodies or particles changed: reindex() before the next use
   bool invalidate_ = true;  // mark inactive records not current at the next step
+  long long fetched_ = 0;   // see fetched_states()
   bool stale_ = false;      // some rank's records of inactive bodies are out of date
   int index_field_ = -1;    // per-particle sub-sphere index + 1 (0: not yet placed)
   int mass_field_ = -1;     // per-particle body mass (read by contact models)
