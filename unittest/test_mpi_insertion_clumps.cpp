@@ -78,7 +78,10 @@ Snapshot insert(MPI_Comm comm) {
   for (const auto& l : scene())
     e.input->one(l);
   Snapshot s;
-  const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+  // a rank keeps current only the clumps it owns sub-spheres of: synchronise first
+  auto* ms = granary::FixMultisphere::find(*e.modify);
+  ms->sync_bodies();
+  const granary::Bodies& b = ms->bodies();
   for (int k = 0; k < b.size(); ++k)
     s.bodies[b.tag[k]] = {b.first_id[k], b.xcm[k], b.quat[k]};
   // free spheres and, per body, a bit for "this rank owns one of its sub-spheres"

@@ -116,7 +116,8 @@ Snapshot run_scene(MPI_Comm comm, const std::string& newton) {
     e.input->one("run 500 pre no post no");
     s.contacts += touching();
   }
-  const auto* ms = granary::FixMultisphere::find(*e.modify);
+  auto* ms = granary::FixMultisphere::find(*e.modify);
+  ms->sync_bodies();  // every rank's record of every clump current
   const granary::Bodies& b = ms->bodies();
   s.nbodies = b.size();
   s.natoms = static_cast<long long>(e.particles->natoms);

@@ -29,8 +29,9 @@ class ComputeERotateMultisphere : public Compute {
   }
 
   double compute_scalar() override {
-    const FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
     if (!ms) throw InputError("compute " + id + " erotate/multisphere needs fix multisphere");
+    ms->sync_bodies();  // every rank sums every body once its records are current
     const Bodies& b = ms->bodies();
     double e = 0.0;
     const Region* region = region_id_.empty() ? nullptr

@@ -29,9 +29,10 @@ class ComputeKeMultisphere : public Compute {
   }
 
   double compute_scalar() override {
-    // bodies are replicated on every rank: no communication needed
-    const FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    // every rank sums every body once its records are current
+    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
     if (!ms) throw InputError("compute " + id + " ke/multisphere needs fix multisphere");
+    ms->sync_bodies();
     const Bodies& b = ms->bodies();
     double ke = 0.0;
     const Region* region =

@@ -72,7 +72,8 @@ class ComputeMultisphere : public Compute, public BodyOutput {
   }
 
   void compute_vector() override {
-    const FixMultisphere* ms = fix();
+    FixMultisphere* ms = fix();
+    ms->sync_bodies();
     const int n = ms->bodies().size();
     vector.assign(static_cast<std::size_t>(ncols_) * std::max(1, n), 0.0);
     for (int b = 0; b < n; ++b)
@@ -80,7 +81,10 @@ class ComputeMultisphere : public Compute, public BodyOutput {
   }
 
   void compute_peratom() override {
-    const FixMultisphere* ms = fix();
+    // (the owned sub-spheres' bodies are current on this rank; the call keeps
+    // all ranks' records alike for later outputs and costs nothing when current)
+    FixMultisphere* ms = fix();
+    ms->sync_bodies();
     const Particles& p = *engine_.particles;
     std::vector<double> row(ncols_);
     if (ncols_ == 1)

@@ -65,15 +65,16 @@ class ComputeOrientation : public Compute {
   }
 
   void compute_vector() override {
-    const FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
     if (!ms) throw InputError("compute " + id + " orientation needs fix multisphere");
+    ms->sync_bodies();
     const Region* region =
         region_id_.empty() ? nullptr
                            : engine_.domain->region_or_error(region_id_, "compute " + id + " orientation");
     const Bodies& B = ms->bodies();
     vector.assign(4 + nbins_, 0.0);
     double count = 0.0;
-    // bodies are replicated: every rank computes the same values without communication
+    // every rank holds every (synchronised) body: the same values everywhere
     for (int b = 0; b < B.size(); ++b) {
       if (region && !region->match(ms->wrapped_centre(b))) continue;
       const Vec3 long_axis = B.quat[b] * Vec3(1.0, 0.0, 0.0);

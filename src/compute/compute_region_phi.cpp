@@ -174,7 +174,8 @@ class ComputeRegionPhi : public Compute {
                          " is longer than the periodic box along " + std::string(1, "xyz"[d]));
     }
     const Particles& p = *engine_.particles;
-    const FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    if (ms) ms->sync_bodies();  // body b is evaluated on rank b mod nprocs
     const Bodies* bodies = ms ? &ms->bodies() : nullptr;
     const int nb = bodies ? bodies->size() : 0;
     const std::size_t nt = types_.size();

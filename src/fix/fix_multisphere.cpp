@@ -126,7 +126,10 @@ FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, a
                          " already integrates the clumps; use one fix multisphere");
       }
       // the fix is being redefined: keep the clumps
-      if (auto* old = dynamic_cast<FixMultisphere*>(f.get())) bodies_ = old->bodies_;
+      if (auto* old = dynamic_cast<FixMultisphere*>(f.get())) {
+        old->sync_bodies();  // collective: every rank defines the fix
+        bodies_ = old->bodies_;
+      }
     }
   }
   find_fields();
@@ -167,7 +170,7 @@ void FixMultisphere::add_body(tagint body_id, tagint first_id, const TemplatePar
     throw InputError(std::string("fix multisphere: ") + e.what());
   }
   pending_ = true;
-  pbody_.clear();  // body indices may have moved
+  reindex_ = true;  // body indices may have moved
   bodies_changed();
 }
 
@@ -217,8 +220,7 @@ tagint FixMultisphere::create_clump(const TemplateParticle& particle, const Vec3
   }
   add_body(body_id, first, particle, x, qn, v, omega);
   resolve_new_spheres();
-  compute_rotations();
-  index_spheres();
+  reindex();
   place_spheres(false);
   long long n = p.nlocal, total = 0;
   MPI_Allreduce(&n, &total, 1, MPI_LONG_LONG, MPI_SUM, e.world);
@@ -270,7 +272,7 @@ void FixMultisphere::resolve_new_spheres() {
                    "created with consecutive particle ids first_id .. first_id + n - 1");
   }
   pending_ = false;
-  pbody_.clear();  // sub-spheres taken over
+  reindex_ = true;  // sub-spheres taken over
 }
 
 void FixMultisphere::fill_body_mass() {
@@ -338,7 +340,7 @@ long long FixMultisphere::remove_incomplete_bodies() {
   long long removed_all = 0;
   MPI_Allreduce(&removed, &removed_all, 1, MPI_LONG_LONG, MPI_SUM, e.world);
   bodies_.remove(doomed);
-  pbody_.clear();
+  reindex_ = true;
   bodies_changed();
   p.natoms -= removed_all;
   p.map_clear();
@@ -371,8 +373,7 @@ long long FixMultisphere::remove_bodies(const std::vector<tagint>& ids) {
   }
   bodies_.remove(doomed);
   bodies_changed();
-  compute_rotations();  // body indices moved
-  index_spheres();
+  reindex();  // body indices moved (collective: every rank removes the same bodies)
   p.map_clear();
   return removed;
 }
@@ -392,7 +393,7 @@ void FixMultisphere::rotate_free(Eigen::Quaterniond& q, Vec3& lb, const Vec3& in
 
 void FixMultisphere::compute_rotations() {
   rot_.resize(bodies_.size());
-  for (int b = 0; b < bodies_.size(); ++b)
+  for (int b : active_)
     rot_[b] = bodies_.rotation(b);
 }
 
@@ -422,7 +423,164 @@ Vec3 FixMultisphere::omega_from(int b) const {
 }
 
 void FixMultisphere::check_index() {
-  if (static_cast<int>(pbody_.size()) != engine_.particles->nlocal) index_spheres();
+  if (reindex_) {
+    reindex();
+    return;
+  }
+  if (static_cast<int>(pbody_.size()) == engine_.particles->nlocal) return;
+  // Owned particles changed outside a neighbour-list rebuild: the caches can
+  // be refilled here, the active set (agreed collectively) cannot.
+  index_spheres();
+  for (int b : pbody_) {
+    if (b >= 0 && !is_active_[b]) {
+      throw RunError("fix multisphere " + id +
+                     ": a rank gained a clump sub-sphere outside a neighbour-list rebuild");
+    }
+  }
+}
+
+void FixMultisphere::reindex() {
+  const Particles& p = *engine_.particles;
+  const int nb = bodies_.size();
+  reindex_ = false;
+  is_active_.assign(nb, 0);
+  for (int i = 0; i < p.nlocal; ++i) {
+    int k;
+    const int b = body_of(i, k);
+    if (b >= 0) is_active_[b] = 1;
+  }
+  active_.clear();
+  for (int b = 0; b < nb; ++b)
+    if (is_active_[b]) active_.push_back(b);
+  fetch_state();
+  compute_rotations();
+  index_spheres();
+  find_partners();
+  invalidate_ = true;
+}
+
+void FixMultisphere::fetch_state() {
+  // Bodies that became active here by migration (exchange) were advanced by
+  // the ranks that owned their sub-spheres before; one of them answers.
+  Engine& e = engine_;
+  Bodies& B = bodies_;
+  std::vector<long long> need;
+  for (int b : active_)
+    if (!B.current[b]) need.push_back(B.tag[b]);
+  const int np = e.nprocs;
+  int mine = static_cast<int>(need.size());
+  std::vector<int> counts(np), displs(np + 1, 0);
+  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
+  for (int r = 0; r < np; ++r)
+    displs[r + 1] = displs[r] + counts[r];
+  if (displs[np] == 0) return;
+  std::vector<long long> wanted(displs[np]);
+  MPI_Allgatherv(need.data(), mine, MPI_LONG_LONG, wanted.data(), counts.data(), displs.data(), MPI_LONG_LONG,
+                 e.world);
+  constexpr int kState = 1 + 22;  // id, then the dynamic state
+  std::vector<double> reply;
+  std::vector<char> sent(B.size(), 0);
+  for (int r = 0; r < np; ++r) {
+    if (r == e.rank) continue;
+    for (int k = displs[r]; k < displs[r + 1]; ++k) {
+      const int b = B.find(static_cast<tagint>(wanted[k]));
+      if (b < 0 || !B.current[b] || sent[b]) continue;
+      sent[b] = 1;
+      reply.push_back(static_cast<double>(wanted[k]));
+      const double* groups[] = {B.xcm[b].data(),   B.vcm[b].data(), B.angmom[b].data(),
+                                B.omega[b].data(), B.fcm[b].data(), B.torque[b].data()};
+      for (const double* g : groups)
+        reply.insert(reply.end(), g, g + 3);
+      const Eigen::Quaterniond& q = B.quat[b];
+      reply.insert(reply.end(), {q.w(), q.x(), q.y(), q.z()});
+    }
+  }
+  mine = static_cast<int>(reply.size());
+  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
+  for (int r = 0; r < np; ++r)
+    displs[r + 1] = displs[r] + counts[r];
+  std::vector<double> all(displs[np]);
+  MPI_Allgatherv(reply.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                 e.world);
+  for (std::size_t m = 0; m + kState <= all.size(); m += kState) {
+    const int b = B.find(static_cast<tagint>(all[m]));
+    if (b < 0 || B.current[b] || !is_active_[b]) continue;
+    const double* s = &all[m + 1];
+    B.xcm[b] = Vec3(s[0], s[1], s[2]);
+    B.vcm[b] = Vec3(s[3], s[4], s[5]);
+    B.angmom[b] = Vec3(s[6], s[7], s[8]);
+    B.omega[b] = Vec3(s[9], s[10], s[11]);
+    B.fcm[b] = Vec3(s[12], s[13], s[14]);
+    B.torque[b] = Vec3(s[15], s[16], s[17]);
+    B.quat[b] = Eigen::Quaterniond(s[18], s[19], s[20], s[21]);
+    B.current[b] = 1;
+    ++fetched_;
+  }
+  for (int b : active_) {
+    if (!B.current[b]) {
+      throw RunError("fix multisphere " + id + ": no rank holds the current state of clump " +
+                     std::to_string(B.tag[b]));
+    }
+  }
+}
+
+void FixMultisphere::find_partners() {
+  // A body is shared when this rank owns some but not all of its sub-spheres.
+  // Every rank publishes its shared bodies; the ranks listing the same body
+  // exchange partial force sums for it every step.
+  Engine& e = engine_;
+  const Bodies& B = bodies_;
+  const Particles& p = *e.particles;
+  partners_.clear();
+  shared_.clear();
+  shared_start_.assign(1, 0);
+  shared_src_.clear();
+  if (e.nprocs == 1) return;
+  std::vector<int> count(B.size(), 0);
+  for (int i = 0; i < p.nlocal; ++i)
+    if (pbody_[i] >= 0) ++count[pbody_[i]];
+  std::vector<long long> mine;
+  for (int b : active_)
+    if (count[b] < B.nspheres[b]) mine.push_back(B.tag[b]);
+  const int np = e.nprocs;
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(np), displs(np + 1, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
+  for (int r = 0; r < np; ++r)
+    displs[r + 1] = displs[r] + counts[r];
+  if (displs[np] == 0) return;
+  std::vector<long long> all(displs[np]);
+  MPI_Allgatherv(mine.data(), n, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
+                 e.world);
+  if (n == 0) return;
+  // sources of each shared body's partial sums, in ascending rank order
+  std::vector<std::vector<std::pair<int, int>>> src(mine.size());
+  for (int r = 0; r < np; ++r) {
+    if (r == e.rank) {
+      for (auto& s : src)
+        s.emplace_back(-1, 0);
+      continue;
+    }
+    // both lists ascend by id: merge
+    Partner partner;
+    partner.rank = r;
+    std::size_t a = 0;
+    for (int k = displs[r]; k < displs[r + 1] && a < mine.size(); ++k) {
+      while (a < mine.size() && mine[a] < all[k])
+        ++a;
+      if (a < mine.size() && mine[a] == all[k]) {
+        src[a].emplace_back(static_cast<int>(partners_.size()), static_cast<int>(partner.bodies.size()));
+        partner.bodies.push_back(B.find(static_cast<tagint>(mine[a])));
+      }
+    }
+    if (!partner.bodies.empty()) partners_.push_back(std::move(partner));
+  }
+  for (std::size_t a = 0; a < mine.size(); ++a) {
+    if (src[a].size() < 2) continue;  // no other rank owns its other sub-spheres (yet)
+    shared_.push_back(B.find(static_cast<tagint>(mine[a])));
+    shared_src_.insert(shared_src_.end(), src[a].begin(), src[a].end());
+    shared_start_.push_back(static_cast<int>(shared_src_.size()));
+  }
 }
 
 void FixMultisphere::place_spheres(bool positions) {
@@ -467,14 +625,15 @@ void FixMultisphere::sum_forces() {
   check_index();
   const Particles& p = *engine_.particles;
   const int nb = bodies_.size();
-  buf_.assign(6 * static_cast<std::size_t>(nb), 0.0);
-  sum_.resize(buf_.size());
+  buf_.resize(6 * static_cast<std::size_t>(nb));
+  double* const buf = buf_.data();
+  for (int b : active_)
+    std::fill(buf + 6 * static_cast<std::size_t>(b), buf + 6 * static_cast<std::size_t>(b) + 6, 0.0);
   const int n = p.nlocal;
   const int* const pbody = pbody_.data();
   const Vec3* const poffset = poffset_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
-  double* const buf = buf_.data();
   for (int i = 0; i < n; ++i) {
     const int b = pbody[i];
     if (b < 0) continue;
@@ -485,12 +644,88 @@ void FixMultisphere::sum_forces() {
       s[3 + d] += t[d];
     }
   }
-  if (nb > 0) MPI_Allreduce(buf_.data(), sum_.data(), 6 * nb, MPI_DOUBLE, MPI_SUM, engine_.world);
-  for (int b = 0; b < nb; ++b) {
-    const double* s = &sum_[6 * static_cast<std::size_t>(b)];
+  for (int b : active_) {
+    const double* s = buf + 6 * static_cast<std::size_t>(b);
     bodies_.fcm[b] = Vec3(s[0], s[1], s[2]);
     bodies_.torque[b] = Vec3(s[3], s[4], s[5]);
   }
+  if (partners_.empty()) return;
+  // partial sums of the shared bodies, with the ranks sharing them only
+  std::vector<MPI_Request> req(2 * partners_.size());
+  for (std::size_t k = 0; k < partners_.size(); ++k) {
+    Partner& q = partners_[k];
+    q.recv.resize(6 * q.bodies.size());
+    MPI_Irecv(q.recv.data(), static_cast<int>(q.recv.size()), MPI_DOUBLE, q.rank, 7, engine_.world,
+              &req[2 * k]);
+  }
+  for (std::size_t k = 0; k < partners_.size(); ++k) {
+    Partner& q = partners_[k];
+    q.send.resize(6 * q.bodies.size());
+    for (std::size_t m = 0; m < q.bodies.size(); ++m)
+      std::copy(buf + 6 * static_cast<std::size_t>(q.bodies[m]),
+                buf + 6 * static_cast<std::size_t>(q.bodies[m]) + 6, q.send.begin() + 6 * m);
+    MPI_Isend(q.send.data(), static_cast<int>(q.send.size()), MPI_DOUBLE, q.rank, 7, engine_.world,
+              &req[2 * k + 1]);
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (std::size_t m = 0; m < shared_.size(); ++m) {
+    const int b = shared_[m];
+    double total[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = shared_start_[m]; k < shared_start_[m + 1]; ++k) {
+      const auto [partner, slot] = shared_src_[k];
+      const double* s = partner < 0 ? buf + 6 * static_cast<std::size_t>(b)
+                                    : &partners_[partner].recv[6 * static_cast<std::size_t>(slot)];
+      for (int d = 0; d < 6; ++d)
+        total[d] += s[d];
+    }
+    bodies_.fcm[b] = Vec3(total[0], total[1], total[2]);
+    bodies_.torque[b] = Vec3(total[3], total[4], total[5]);
+  }
+}
+
+void FixMultisphere::sync_bodies() {
+  // Each body's state is taken from the lowest rank where it is current (all
+  // such ranks hold the same numbers); one reduction of ids, one of the state.
+  Engine& e = engine_;
+  if (!stale_) return;
+  stale_ = false;
+  Bodies& B = bodies_;
+  const int nb = B.size();
+  if (nb == 0) return;
+  std::vector<int> holder(nb), first(nb);
+  for (int b = 0; b < nb; ++b)
+    holder[b] = B.current[b] ? e.rank : e.nprocs;
+  MPI_Allreduce(holder.data(), first.data(), nb, MPI_INT, MPI_MIN, e.world);
+  constexpr int kState = 22;
+  std::vector<double> state(kState * static_cast<std::size_t>(nb), 0.0), all(state.size());
+  for (int b = 0; b < nb; ++b) {
+    if (first[b] != e.rank) continue;
+    double* s = &state[kState * static_cast<std::size_t>(b)];
+    const Vec3* groups[] = {&B.xcm[b], &B.vcm[b], &B.angmom[b], &B.omega[b], &B.fcm[b], &B.torque[b]};
+    for (const Vec3* g : groups)
+      for (int d = 0; d < 3; ++d)
+        *s++ = (*g)[d];
+    const Eigen::Quaterniond& q = B.quat[b];
+    s[0] = q.w(), s[1] = q.x(), s[2] = q.y(), s[3] = q.z();
+  }
+  MPI_Allreduce(state.data(), all.data(), static_cast<int>(all.size()), MPI_DOUBLE, MPI_SUM, e.world);
+  for (int b = 0; b < nb; ++b) {
+    if (B.current[b]) continue;
+    if (first[b] >= e.nprocs) {
+      throw RunError("fix multisphere " + id + ": no rank holds the current state of clump " +
+                     std::to_string(B.tag[b]));
+    }
+    const double* s = &all[kState * static_cast<std::size_t>(b)];
+    B.xcm[b] = Vec3(s[0], s[1], s[2]);
+    B.vcm[b] = Vec3(s[3], s[4], s[5]);
+    B.angmom[b] = Vec3(s[6], s[7], s[8]);
+    B.omega[b] = Vec3(s[9], s[10], s[11]);
+    B.fcm[b] = Vec3(s[12], s[13], s[14]);
+    B.torque[b] = Vec3(s[15], s[16], s[17]);
+    B.quat[b] = Eigen::Quaterniond(s[18], s[19], s[20], s[21]);
+    B.current[b] = 1;
+  }
+  invalidate_ = true;
 }
 
 void FixMultisphere::pre_neighbor() {
@@ -498,47 +733,60 @@ void FixMultisphere::pre_neighbor() {
   if (pending_) resolve_new_spheres();
   if (remove_incomplete_bodies() > 0) engine_.comm->borders();
   fill_body_mass();
-  compute_rotations();  // bodies may have come (insertion) or gone since initial_integrate
-  index_spheres();      // particles were reordered
+  reindex();  // particles migrated and were reordered; bodies may have come or gone
 }
 
 void FixMultisphere::setup() {
   if (pending_) resolve_new_spheres();
-  compute_rotations();
-  index_spheres();
+  check_index();
   sum_forces();
   place_spheres(false);
 }
 
 void FixMultisphere::initial_integrate() {
   if (pending_) resolve_new_spheres();
-  const double dt = engine_.update->dt, dtf = 0.5 * dt;
+  check_index();
   Bodies& B = bodies_;
   const int nb = B.size();
+  if (invalidate_) {
+    // from now on only the active bodies are advanced here
+    for (int b = 0; b < nb; ++b)
+      B.current[b] = is_active_[b];
+    invalidate_ = false;
+  }
+  if (engine_.nprocs > 1) stale_ = true;
+  const double dt = engine_.update->dt, dtf = 0.5 * dt;
   rot_.resize(nb);
-  // bodies in groups of four (see rotate_many)
+  // active bodies in groups of four (see rotate_many)
   constexpr int kGroup = 4;
-  for (int b0 = 0; b0 < nb; b0 += kGroup) {
-    const int m = std::min(kGroup, nb - b0);
-    Vec3 lb[kGroup];
+  const int na = static_cast<int>(active_.size());
+  for (int a0 = 0; a0 < na; a0 += kGroup) {
+    const int m = std::min(kGroup, na - a0);
+    const int* const act = &active_[a0];
+    Vec3 lb[kGroup], inertia[kGroup];
+    Eigen::Quaterniond q[kGroup];
     for (int j = 0; j < m; ++j) {
-      const int b = b0 + j;
+      const int b = act[j];
       B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
       B.angmom[b] += dtf * B.torque[b];
       B.xcm[b] += dt * B.vcm[b];
       // torque-free rotation for dt; the space-frame angular momentum is unchanged
       lb[j] = B.quat[b].toRotationMatrix().transpose() * B.angmom[b];
+      q[j] = B.quat[b];
+      inertia[j] = B.inertia[b];
     }
     if (m == kGroup) {
-      rotate_free_many<kGroup>(&B.quat[b0], lb, &B.inertia[b0], dt);
+      rotate_free_many<kGroup>(q, lb, inertia, dt);
     } else {
       for (int j = 0; j < m; ++j)
-        rotate_free(B.quat[b0 + j], lb[j], B.inertia[b0 + j], dt);
+        rotate_free(q[j], lb[j], inertia[j], dt);
     }
     for (int j = 0; j < m; ++j) {
+      const int b = act[j];
+      B.quat[b] = q[j];
       // the rotation matrix of the step, also used for omega (as omega_from_angmom)
-      rot_[b0 + j] = B.rotation(b0 + j);
-      B.omega[b0 + j] = omega_from(b0 + j);
+      rot_[b] = B.rotation(b);
+      B.omega[b] = omega_from(b);
     }
   }
   place_spheres(true);
@@ -548,7 +796,7 @@ void FixMultisphere::final_integrate() {
   sum_forces();
   const double dtf = 0.5 * engine_.update->dt;
   Bodies& B = bodies_;
-  for (int b = 0; b < B.size(); ++b) {
+  for (int b : active_) {
     B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
     B.angmom[b] += dtf * B.torque[b];
     B.omega[b] = omega_from(b);
@@ -570,7 +818,8 @@ void FixMultisphere::unpack_restart(const std::string& in) {
                      ")");
   }
   pending_ = false;
-  pbody_.clear();
+  reindex_ = true;
+  stale_ = false;
   bodies_changed();
 }
 

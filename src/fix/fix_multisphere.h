@@ -3,14 +3,18 @@
 //   fix ID group multisphere [allow_group_and_set yes|no] [allow_heatsource yes|no]
 //
 // Sub-spheres are ordinary particles whose `body` field is the body id; they
-// migrate and are ghosted like any particle. The body state (Bodies) is
-// replicated on every rank: each step every rank sums the forces and torques
-// of the sub-spheres it owns into per-body arrays, one MPI_Allreduce combines
-// them, every rank advances every body identically, and each rank places its
-// own sub-spheres (ghosts follow by forward communication). Centre of mass:
-// velocity Verlet. Rotation: the NO_SQUISH symplectic splitting of the free
-// rotor (Miller et al. 2002), in quaternion form. See doc/fixes/multisphere.md
-// and doc/multisphere_design.md.
+// migrate and are ghosted like any particle. Every rank keeps a record of
+// every body (Bodies), but advances only the bodies with a sub-sphere it owns
+// (its active bodies): each step it sums the forces and torques of its owned
+// sub-spheres per active body, exchanges partial sums only for the bodies
+// whose sub-spheres are owned by several ranks (with just those ranks), and
+// places its own sub-spheres (ghosts follow by forward communication). A rank
+// that gains a sub-sphere of a body it did not advance fetches the body's
+// state at the neighbour-list rebuild; outputs and restarts bring every record
+// up to date collectively (sync_bodies). Centre of mass: velocity Verlet.
+// Rotation: the NO_SQUISH symplectic splitting of the free rotor (Miller et
+// al. 2002), in quaternion form. See doc/fixes/multisphere.md and
+// doc/multisphere_design.md.
 #pragma once
 
 #include <Eigen/Dense>
@@ -70,8 +74,20 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   /// rank (the caller updates the global count).
   long long remove_bodies(const std::vector<tagint>& ids);
 
+  /// The body records. The dynamic state (xcm, vcm, angmom, omega, quat, fcm,
+  /// torque) of a body is current on the ranks that own one of its
+  /// sub-spheres (Bodies::current); call sync_bodies() first (collective) to
+  /// read it for every body.
   const Bodies& bodies() const { return bodies_; }
   Bodies& bodies() { return bodies_; }
+  /// Make every rank's record of every body current (collective; cheap when
+  /// nothing moved since the last call).
+  void sync_bodies();
+  /// Body states this rank received from others because sub-spheres migrated
+  /// to it (since the fix was defined).
+  long long fetched_states() const { return fetched_; }
+  /// Bodies this rank shares with other ranks (partial force sums exchanged each step).
+  int shared_bodies() const { return static_cast<int>(shared_.size()); }
   /// Body centre wrapped into the periodic box [m].
   Vec3 wrapped_centre(int b) const;
 
@@ -94,14 +110,25 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   void compute_rotations();
   /// Set x (optionally), v and omega of the owned sub-spheres from their bodies.
   void place_spheres(bool positions);
-  /// Sum forces and torques of owned sub-spheres and combine over ranks into fcm/torque.
+  /// Sum forces and torques of owned sub-spheres per active body; combine the
+  /// partial sums of shared bodies with the ranks sharing them into fcm/torque.
   void sum_forces();
+  /// After the owned particles or the bodies changed (collective): the active
+  /// bodies, their missing state (fetch_state), their rotation matrices, the
+  /// per-particle caches and the sharing pattern (find_partners).
+  void reindex();
+  /// Fetch the current state of active bodies whose record is not current
+  /// from a rank where it is (collective).
+  void fetch_state();
+  /// Which other ranks own sub-spheres of the bodies this rank shares (collective).
+  void find_partners();
   /// Body index and sub-sphere index of owned particle i (-1 when free).
   int body_of(int i, int& k) const;
   /// Fill the per-particle caches (body index, sub-sphere index, space-frame
   /// offset) of the owned particles from the body field and the current rot_.
   void index_spheres();
-  /// index_spheres() when the owned particles changed since the caches were filled.
+  /// reindex() when bodies or particles changed (collective flag), index_spheres()
+  /// when only the number of owned particles differs from the caches.
   void check_index();
   /// Space-frame angular velocity of body b from its angular momentum and rot_[b].
   Vec3 omega_from(int b) const;
@@ -115,10 +142,33 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   // step (set by place_spheres(true), read by sum_forces and place_spheres(false)).
   std::vector<int> pbody_, psphere_;
   std::vector<Vec3> poffset_;
-  std::vector<double> buf_, sum_;  // per-body force/torque sums
-  int index_field_ = -1;           // per-particle sub-sphere index + 1 (0: not yet placed)
-  int mass_field_ = -1;            // per-particle body mass (read by contact models)
-  bool pending_ = false;           // bodies added whose sub-spheres were not yet taken over
+  std::vector<double> buf_;  // per-body force/torque partial sums (6 per body, active bodies only)
+  // Active bodies: indices of the bodies with an owned, taken-over sub-sphere,
+  // ascending; is_active_ per body. Fixed from one reindex() to the next.
+  std::vector<int> active_;
+  std::vector<char> is_active_;
+  // Force exchange for bodies whose sub-spheres are owned by several ranks.
+  // One Partner per other rank sharing bodies with this one; `bodies` are
+  // the shared body indices in ascending order (the same order on both sides).
+  struct Partner {
+    int rank = -1;
+    std::vector<int> bodies;
+    std::vector<double> send, recv;
+  };
+  std::vector<Partner> partners_;
+  // Shared bodies (ascending) and, per shared body, the sources of its partial
+  // sums in ascending rank order (CSR): partner index, or -1 for this rank,
+  // and the body's slot in that partner's list. Every rank sharing the body
+  // adds the same numbers in the same order, so all get the same total.
+  std::vector<int> shared_, shared_start_;
+  std::vector<std::pair<int, int>> shared_src_;
+  bool reindex_ = true;     // bodies or particles changed: reindex() before the next use
+  bool invalidate_ = true;  // mark inactive records not current at the next step
+  long long fetched_ = 0;   // see fetched_states()
+  bool stale_ = false;      // some rank's records of inactive bodies are out of date
+  int index_field_ = -1;    // per-particle sub-sphere index + 1 (0: not yet placed)
+  int mass_field_ = -1;     // per-particle body mass (read by contact models)
+  bool pending_ = false;    // bodies added whose sub-spheres were not yet taken over
 };
 
 }  // namespace granary

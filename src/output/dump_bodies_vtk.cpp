@@ -152,7 +152,8 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
 }
 
 void DumpBodiesVTK::write() {
-  const FixMultisphere& ms = multisphere();
+  FixMultisphere& ms = multisphere();
+  ms.sync_bodies();  // rank 0 writes every body
   const Bodies& B = ms.bodies();
 
   // a body belongs to the dump's group when one of its sub-spheres does

@@ -35,6 +35,7 @@
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "fix/fix.h"
+#include "fix/fix_multisphere.h"
 #include "fix/fix_property_global.h"
 #include "fix/modify.h"
 #include "neighbor/contact_history.h"
@@ -385,6 +386,9 @@ std::string expand_step(const std::string& file, std::int64_t step) {
 void write_restart(Engine& e, const std::string& file) {
   if (!e.domain->box_exist)
     throw InputError("write_restart needs a box and particles: create_box or read_restart first");
+  // clump records: rank 0 writes every body's state, which only the ranks
+  // owning its sub-spheres keep current during a run
+  if (FixMultisphere* ms = FixMultisphere::find(*e.modify)) ms->sync_bodies();
   std::vector<std::pair<std::string, std::string>> sections;
   const long long natoms = e.update->count_global();
   sections.emplace_back("global", e.rank == 0 ? global_section(e, natoms) : "");

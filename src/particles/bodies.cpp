@@ -94,6 +94,7 @@ int Bodies::add(tagint id, tagint first, int atom_type, double m, double vol, do
   omega.insert(omega.begin() + b, Vec3::Zero());
   fcm.insert(fcm.begin() + b, Vec3::Zero());
   torque.insert(torque.begin() + b, Vec3::Zero());
+  current.insert(current.begin() + b, 1);
   offsets.insert(offsets.begin() + at, body_offsets.begin(), body_offsets.end());
   for (int k = 0; k < ns; ++k)
     offsets[at + k] -= shift;
@@ -140,6 +141,7 @@ void Bodies::remove(const std::vector<char>& doomed) {
   erase_marked(quat, doomed);
   erase_marked(fcm, doomed);
   erase_marked(torque, doomed);
+  erase_marked(current, doomed);
   sphere_start.assign(1, 0);
   for (int ns : nspheres)
     sphere_start.push_back(sphere_start.back() + ns);

@@ -1,11 +1,14 @@
 // Rigid bodies (clumps of spheres) as a structure of arrays.
 //
-// Every rank holds every body (the state is replicated and advanced
-// identically everywhere); the sub-spheres are ordinary particles whose `body`
-// field is the body id. Bodies are kept sorted by id, so their order does not
-// depend on the number of ranks. The body frame is the principal frame: the
-// principal moments are `inertia` (ascending, so body axis x is the long axis
-// of an elongated body) and a vector d in the body frame is R(quat) d in space.
+// Every rank holds a record of every body (ids, mass properties, sub-sphere
+// offsets: identical everywhere), but a rank advances only the bodies with a
+// sub-sphere it owns, so the dynamic state (centre, velocities, orientation,
+// forces) of the other records may be out of date (`current`); fix
+// multisphere brings them up to date when needed (FixMultisphere::sync_bodies).
+// The sub-spheres are ordinary particles whose `body` field is the body id. Bodies are kept sorted by id, so
+// their order does not depend on the number of ranks. The body frame is the principal frame: the principal
+// moments are `inertia` (ascending, so body axis x is the long axis of an elongated body) and a vector d in
+// the body frame is R(quat) d in space.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -39,6 +42,9 @@ class Bodies {
   std::vector<Eigen::Quaterniond> quat;  // body frame -> space frame
   std::vector<Vec3> fcm;                 // total force of the last force evaluation [N]
   std::vector<Vec3> torque;              // total torque about the centre, space frame [N m]
+  /// 1 when this rank's copy of the dynamic state (xcm, vcm, angmom, omega,
+  /// quat, fcm, torque) is the body's current state. Set by add and unpack.
+  std::vector<char> current;
 
   // ---- per-sub-sphere arrays (CSR: sphere_start[b] .. sphere_start[b+1])
   std::vector<Vec3> offsets;  // sub-sphere centres in the body frame [m]
