@@ -42,7 +42,8 @@ struct Coefficients {
 
 /// Normal sub-model: stiffness and damping for the current overlap.
 template <NormalModel N>
-inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c, const PairMaterial& m) {
+[[gnu::always_inline]] inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c,
+                                                               const PairMaterial& m) {
   Coefficients k;
   if constexpr (N == NormalModel::Hertz) {
     // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
@@ -93,8 +94,9 @@ constexpr int rolling_history_size() {
 /// tangential relative velocity of the contact point, `fn` the total normal
 /// force, `shear` the slot's history block (only read for History).
 template <TangentialModel T>
-inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const Coefficients& k, double fn,
-                             const Vec3& vt, double* shear) {
+[[gnu::always_inline]] inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m,
+                                                    const Coefficients& k, double fn, const Vec3& vt,
+                                                    double* shear) {
   const double ft_max = m.friction * std::abs(fn);
   if constexpr (T == TangentialModel::NoHistory) {
     // Pure viscous friction, limited by Coulomb: -min(gamma_t |vt|, mu |Fn|) vt/|vt|.
@@ -133,8 +135,9 @@ inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const
 constexpr double kRollingSpinTolerance = 1e-10;
 
 template <RollingModel R>
-inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const Coefficients& k, double fn,
-                           double fn_elastic, double* hist) {
+[[gnu::always_inline]] inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m,
+                                                  const Coefficients& k, double fn, double fn_elastic,
+                                                  double* hist) {
   if constexpr (R == RollingModel::None) {
     (void)c, (void)m, (void)k, (void)fn, (void)fn_elastic, (void)hist;
     return Vec3::Zero();
@@ -151,7 +154,14 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
       (void)hist, (void)fn;
       // A relative spin at the round-off level of the spins themselves (two
       // bodies turning together) gets no torque: its direction is noise.
-      if (w_full <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm())) return Vec3::Zero();
+      // (|a| + |b|)^2 <= 2 (a^2 + b^2): a relative spin clearly above the
+      // tolerance (the usual case) is recognised without the two square roots;
+      // the factor 4 instead of 2 leaves room for the rounding of the bound.
+      const double w2 = w_full * w_full;
+      const double s2 = c.omega_i.squaredNorm() + c.omega_j.squaredNorm();
+      if (!(w2 > 4.0 * kRollingSpinTolerance * kRollingSpinTolerance * s2) &&
+          w_full <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm()))
+        return Vec3::Zero();
       return (-m.rolling_friction * fn_elastic * c.r_eff / w_full) * w;
     } else {
       // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,
@@ -177,7 +187,7 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
 ///   a^2 = 2 r_i delta - delta^2;
 /// A = pi a^2.
 template <CohesionModel C>
-inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
+[[gnu::always_inline]] inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
   if constexpr (C == CohesionModel::Sjkr) {
     double a2;
     if (c.r_j > 0.0) {
@@ -200,8 +210,8 @@ inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
 /// spec switches (damping, tangential_damping, kt_to_kn_user,
 /// tangential_reduce) are read at run time.
 template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
-inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
-                       ContactResult& out) {
+[[gnu::always_inline]] inline void evaluate_t(const ModelSpec& spec, const ContactState& c,
+                                              const PairMaterial& m, double* history, ContactResult& out) {
   constexpr int kShear = 0;
   constexpr int kRolling = detail::tangential_history_size<T>();
   constexpr int kSize = kRolling + detail::rolling_history_size<R>();
@@ -276,8 +286,8 @@ struct Kernel {
   static constexpr CohesionModel cohesion = C;
   static constexpr int history_size =
       detail::tangential_history_size<T>() + detail::rolling_history_size<R>();
-  static void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
-                       ContactResult& out) {
+  [[gnu::always_inline]] static void evaluate(const ModelSpec& spec, const ContactState& c,
+                                              const PairMaterial& m, double* history, ContactResult& out) {
     evaluate_t<N, T, R, Limit, C>(spec, c, m, history, out);
   }
 };

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <algorithm>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
@@ -123,6 +124,13 @@ void PairGranular::take_restart_history() {
 // The hot loop reads particle data through local pointers: stores to the
 // one-byte touch flags may alias anything, and members read through
 // references would be reloaded after each of them.
+//
+// Two passes per particle: the first runs over all its list entries, finds
+// those in contact and stores their positions without a branch (whether a
+// listed pair touches is close to a coin toss in a dense bed, and a
+// mispredicted branch per entry costs more than the distance test itself);
+// it also clears the history of contacts that just ended. The second runs the
+// contact kernel on the contacts only.
 template <class Kernel>
 void PairGranular::loop() {
   Particles& p = *engine_.particles;
@@ -152,6 +160,11 @@ void PairGranular::loop() {
   double* const hist = history_.values_.data();
   const contact::ModelSpec spec = spec_;
   const MaterialTable& materials = materials_;
+  int maxrow = 0;
+  for (int i = 0; i < nlocal; ++i)
+    maxrow = std::max(maxrow, offset[i + 1] - offset[i]);
+  if (static_cast<int>(contacts_.size()) < maxrow) contacts_.resize(maxrow);
+  int* const in_contact = contacts_.data();
   contact::ContactState c;
   contact::ContactResult res;
   c.dt = engine_.update->history_dt();
@@ -159,25 +172,34 @@ void PairGranular::loop() {
     const Vec3 xi = x[i];
     const double ri = radius[i];
     const int ti = type[i];
-    const int kend = offset[i + 1];
-    for (int k = offset[i]; k < kend; ++k) {
+    const int kbegin = offset[i], kend = offset[i + 1];
+    int ncontact = 0;
+    for (int k = kbegin; k < kend; ++k) {
       const int j = neigh[k];
       const Vec3 d = xi - x[j];
       const double rsum = ri + radius[j];
       const double r2 = d.squaredNorm();
-      double* h = nh > 0 ? hist + static_cast<std::size_t>(k) * nh : dummy;
-      if (r2 >= rsum * rsum || r2 == 0.0) {
-        if constexpr (nh > 0) {
-          if (touch[k]) {
-            touch[k] = 0;
-            for (int q = 0; q < nh; ++q)
-              h[q] = 0.0;
-          }
+      const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
+      in_contact[ncontact] = k;
+      ncontact += touching;
+      if constexpr (nh > 0) {
+        // a contact that ended: forget its history (rare, so well predicted)
+        if (!touching & (touch[k] != 0)) {
+          touch[k] = 0;
+          double* h = hist + static_cast<std::size_t>(k) * nh;
+          for (int q = 0; q < nh; ++q)
+            h[q] = 0.0;
         }
-        continue;
       }
-      const double r = std::sqrt(r2);
+    }
+    for (int m = 0; m < ncontact; ++m) {
+      const int k = in_contact[m];
+      const int j = neigh[k];
+      const Vec3 d = xi - x[j];
       const double rj = radius[j];
+      const double rsum = ri + rj;
+      const double r = std::sqrt(d.squaredNorm());
+      double* h = nh > 0 ? hist + static_cast<std::size_t>(k) * nh : dummy;
       // d * (1/r), not d / r: the same rounding as LIGGGHTS (round-off spins
       // feed the cdt rolling torque, so the last bit matters for agreement)
       c.n = d * (1.0 / r);

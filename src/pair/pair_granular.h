@@ -34,6 +34,7 @@ class PairGranular : public Pair {
   MaterialTable materials_;
   ContactHistory history_;
   bool coeff_set_ = false;
+  std::vector<int> contacts_;  // list positions of one particle's contacts (pair loop scratch)
 };
 
 /// `pair_style gran ...` (LIGGGHTS spelling).
