@@ -20,6 +20,7 @@
 // Formulas and sign conventions: doc/contact_models.md.
 #pragma once
 
+#include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
 #include <algorithm>
 #include <cmath>
@@ -40,14 +41,70 @@ struct Coefficients {
   double gamma_t;  ///< tangential damping coefficient (>= 0)
 };
 
+/// Square roots of one contact that do not depend on its history: those of
+/// the Hertz coefficients and the magnitude of the relative spin. A pair loop
+/// can compute them for all contacts of a particle in a pass of its own
+/// (independent iterations that the processor overlaps) before the kernels
+/// run; otherwise evaluate() computes them first. Same operations either way.
+struct Roots {
+  double sqrt_rd = 0.0;  ///< Hertz: sqrt(R* delta)
+  double root_n = 0.0;   ///< Hertz, restitution damping: sqrt(S_n m*), S_n = 2 Y* sqrt(R* delta)
+  double root_t = 0.0;   ///< Hertz, restitution damping: sqrt(S_t m*), S_t = 8 G* sqrt(R* delta)
+  double spin = 0.0;     ///< rolling models: |omega_i - omega_j|
+};
+
+[[gnu::always_inline]] inline double root(double x) {
+  return std::sqrt(x);
+}
+[[gnu::always_inline]] inline Eigen::Array2d root(const Eigen::Array2d& x) {
+  return x.sqrt();
+}
+
+/// The roots of Roots for one contact (S = double) or two at once (S =
+/// Eigen::Array2d, one contact per lane: packed square roots, the same IEEE
+/// result per lane). `w` is omega_i - omega_j (cdt only).
+template <NormalModel N, RollingModel R, class S>
+[[gnu::always_inline]] inline void contact_roots_lanes(const ModelSpec& spec, const S& r_eff,
+                                                       const S& overlap, const S& m_eff, const S& Y_eff,
+                                                       const S& G_eff, const S& wx, const S& wy, const S& wz,
+                                                       S& sqrt_rd, S& root_n, S& root_t, S& spin) {
+  if constexpr (N == NormalModel::Hertz) {
+    const S sqrtval = root(S(r_eff * overlap));
+    sqrt_rd = sqrtval;
+    if (spec.damping != DampingModel::Viscoelastic) {
+      const S sn = 2.0 * Y_eff * sqrtval;
+      const S st = 8.0 * G_eff * sqrtval;
+      root_n = root(S(sn * m_eff));
+      root_t = root(S(st * m_eff));
+    }
+  } else {
+    (void)spec, (void)r_eff, (void)overlap, (void)m_eff, (void)Y_eff, (void)G_eff, (void)sqrt_rd,
+        (void)root_n, (void)root_t;
+  }
+  // Eigen's norm of a 3-vector: sqrt((x^2 + y^2) + z^2)
+  if constexpr (R == RollingModel::Cdt) {
+    spin = root(S((wx * wx + wy * wy) + wz * wz));
+  } else {
+    (void)wx, (void)wy, (void)wz, (void)spin;
+  }
+}
+
+template <NormalModel N, RollingModel R>
+[[gnu::always_inline]] inline void contact_roots(const ModelSpec& spec, const ContactState& c,
+                                                 const PairMaterial& m, Roots& q) {
+  const Vec3 w = c.omega_i - c.omega_j;
+  contact_roots_lanes<N, R, double>(spec, c.r_eff, c.overlap, c.m_eff, m.Y_eff, m.G_eff, w[0], w[1], w[2],
+                                    q.sqrt_rd, q.root_n, q.root_t, q.spin);
+}
+
 /// Normal sub-model: stiffness and damping for the current overlap.
 template <NormalModel N>
 [[gnu::always_inline]] inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c,
-                                                               const PairMaterial& m) {
+                                                               const PairMaterial& m, const Roots& q) {
   Coefficients k;
   if constexpr (N == NormalModel::Hertz) {
     // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
-    const double sqrtval = std::sqrt(c.r_eff * c.overlap);
+    const double sqrtval = q.sqrt_rd;
     const double sn = 2.0 * m.Y_eff * sqrtval;
     const double st = 8.0 * m.G_eff * sqrtval;
     k.kn = (4.0 / 3.0) * m.Y_eff * sqrtval;
@@ -60,10 +117,11 @@ template <NormalModel N>
       k.gamma_n = m.dissipative_time * sn;
       k.gamma_t = m.dissipative_time * st;
     } else {
-      k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(sn * c.m_eff);
-      k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(st * c.m_eff);
+      k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * q.root_n;
+      k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * q.root_t;
     }
   } else {
+    (void)q;
     // Linear spring whose stiffness gives the Hertz maximum overlap at the
     // characteristic impact velocity V:
     //   kn = 16/15 sqrt(R*) Y* (15 m* V^2 / (16 sqrt(R*) Y*))^(1/5).
@@ -136,15 +194,15 @@ constexpr double kRollingSpinTolerance = 1e-10;
 
 template <RollingModel R>
 [[gnu::always_inline]] inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m,
-                                                  const Coefficients& k, double fn, double fn_elastic,
-                                                  double* hist) {
+                                                  const Coefficients& k, const Roots& q, double fn,
+                                                  double fn_elastic, double* hist) {
   if constexpr (R == RollingModel::None) {
-    (void)c, (void)m, (void)k, (void)fn, (void)fn_elastic, (void)hist;
+    (void)c, (void)m, (void)k, (void)q, (void)fn, (void)fn_elastic, (void)hist;
     return Vec3::Zero();
   } else {
     // Relative spin without its twisting (normal) part.
     Vec3 w = c.omega_i - c.omega_j;
-    const double w_full = w.norm();
+    const double w_full = q.spin;  // |omega_i - omega_j| (cdt only)
     w -= w.dot(c.n) * c.n;
     if constexpr (R == RollingModel::Cdt) {
       // Constant directional torque mu_r (kn delta) R*, opposing the rolling
@@ -166,7 +224,7 @@ template <RollingModel R>
     } else {
       // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,
       // capped at full mobilisation mu_r R* |Fn|.
-      (void)fn_elastic;
+      (void)fn_elastic, (void)w_full;
       Eigen::Map<Vec3> torque(hist);
       const double kr = k.kt * c.r_eff * c.r_eff;
       torque -= (kr * c.dt) * w;
@@ -209,9 +267,12 @@ template <CohesionModel C>
 /// evaluate(); `Limit` replaces spec.limit_force, `C` spec.cohesion, the other
 /// spec switches (damping, tangential_damping, kt_to_kn_user,
 /// tangential_reduce) are read at run time.
+/// evaluate_prepared_t() takes the history-independent square roots from `q`
+/// (detail::contact_roots() of the same contact).
 template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
-[[gnu::always_inline]] inline void evaluate_t(const ModelSpec& spec, const ContactState& c,
-                                              const PairMaterial& m, double* history, ContactResult& out) {
+[[gnu::always_inline]] inline void evaluate_prepared_t(const ModelSpec& spec, const ContactState& c,
+                                                       const PairMaterial& m, const detail::Roots& q,
+                                                       double* history, ContactResult& out) {
   constexpr int kShear = 0;
   constexpr int kRolling = detail::tangential_history_size<T>();
   constexpr int kSize = kRolling + detail::rolling_history_size<R>();
@@ -227,7 +288,7 @@ template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, Cohesion
     return;
   }
 
-  const detail::Coefficients k = detail::normal_coefficients<N>(spec, c, m);
+  const detail::Coefficients k = detail::normal_coefficients<N>(spec, c, m, q);
 
   // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
   // pushes the bodies apart on approach and pulls on separation.
@@ -270,10 +331,18 @@ template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, Cohesion
   }
 
   if constexpr (R != RollingModel::None) {
-    const Vec3 mr = detail::rolling_torque<R>(c, m, k, fn, fn_elastic, history + kRolling);
+    const Vec3 mr = detail::rolling_torque<R>(c, m, k, q, fn, fn_elastic, history + kRolling);
     out.torque_i += mr;
     out.torque_j -= mr;
   }
+}
+
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
+[[gnu::always_inline]] inline void evaluate_t(const ModelSpec& spec, const ContactState& c,
+                                              const PairMaterial& m, double* history, ContactResult& out) {
+  detail::Roots q;
+  if (c.overlap > 0.0) detail::contact_roots<N, R>(spec, c, m, q);
+  evaluate_prepared_t<N, T, R, Limit, C>(spec, c, m, q, history, out);
 }
 
 /// A compiled kernel as a type, handed to the callback of dispatch_model().
@@ -289,6 +358,16 @@ struct Kernel {
   [[gnu::always_inline]] static void evaluate(const ModelSpec& spec, const ContactState& c,
                                               const PairMaterial& m, double* history, ContactResult& out) {
     evaluate_t<N, T, R, Limit, C>(spec, c, m, history, out);
+  }
+  /// The square roots that do not depend on the history (see detail::Roots).
+  [[gnu::always_inline]] static void roots(const ModelSpec& spec, const ContactState& c,
+                                           const PairMaterial& m, detail::Roots& q) {
+    detail::contact_roots<N, R>(spec, c, m, q);
+  }
+  [[gnu::always_inline]] static void evaluate_prepared(const ModelSpec& spec, const ContactState& c,
+                                                       const PairMaterial& m, const detail::Roots& q,
+                                                       double* history, ContactResult& out) {
+    evaluate_prepared_t<N, T, R, Limit, C>(spec, c, m, q, history, out);
   }
 };
 
