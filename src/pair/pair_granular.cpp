@@ -242,6 +242,9 @@ void PairGranular::loop() {
         q.roots.spin = spin[l];
       }
     }
+    // the force and torque on i are summed in registers (j != i, so the
+    // stores to j cannot touch them), in the order of the list as before
+    Vec3 fi = f[i], ti_sum = torque[i];
     for (int m = 0; m < ncontact; ++m) {
       const Prepared& q = prep[m];
       const int k = in_contact[m];
@@ -259,13 +262,15 @@ void PairGranular::loop() {
       c.omega_j = omega[j];
       Kernel::evaluate_prepared(spec, c, materials(ti, type[j]), q.roots, h, res);
       if constexpr (nh > 0) touch[k] = 1;
-      f[i] += res.force;
-      torque[i] += res.torque_i;
+      fi += res.force;
+      ti_sum += res.torque_i;
       if (newton || j < nlocal) {
         f[j] -= res.force;
         torque[j] += res.torque_j;
       }
     }
+    f[i] = fi;
+    torque[i] = ti_sum;
   }
 }
 
