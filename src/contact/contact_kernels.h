@@ -20,6 +20,7 @@
 // Formulas and sign conventions: doc/contact_models.md.
 #pragma once
 
+#include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
 #include <algorithm>
 #include <cmath>
@@ -40,13 +41,70 @@ struct Coefficients {
   double gamma_t;  ///< tangential damping coefficient (>= 0)
 };
 
+/// Square roots of one contact that do not depend on its history: those of
+/// the Hertz coefficients and the magnitude of the relative spin. A pair loop
+/// can compute them for all contacts of a particle in a pass of its own
+/// (independent iterations that the processor overlaps) before the kernels
+/// run; otherwise evaluate() computes them first. Same operations either way.
+struct Roots {
+  double sqrt_rd = 0.0;  ///< Hertz: sqrt(R* delta)
+  double root_n = 0.0;   ///< Hertz, restitution damping: sqrt(S_n m*), S_n = 2 Y* sqrt(R* delta)
+  double root_t = 0.0;   ///< Hertz, restitution damping: sqrt(S_t m*), S_t = 8 G* sqrt(R* delta)
+  double spin = 0.0;     ///< rolling models: |omega_i - omega_j|
+};
+
+[[gnu::always_inline]] inline double root(double x) {
+  return std::sqrt(x);
+}
+[[gnu::always_inline]] inline Eigen::Array2d root(const Eigen::Array2d& x) {
+  return x.sqrt();
+}
+
+/// The roots of Roots for one contact (S = double) or two at once (S =
+/// Eigen::Array2d, one contact per lane: packed square roots, the same IEEE
+/// result per lane). `w` is omega_i - omega_j (cdt only).
+template <NormalModel N, RollingModel R, class S>
+[[gnu::always_inline]] inline void contact_roots_lanes(const ModelSpec& spec, const S& r_eff,
+                                                       const S& overlap, const S& m_eff, const S& Y_eff,
+                                                       const S& G_eff, const S& wx, const S& wy, const S& wz,
+                                                       S& sqrt_rd, S& root_n, S& root_t, S& spin) {
+  if constexpr (N == NormalModel::Hertz) {
+    const S sqrtval = root(S(r_eff * overlap));
+    sqrt_rd = sqrtval;
+    if (spec.damping != DampingModel::Viscoelastic) {
+      const S sn = 2.0 * Y_eff * sqrtval;
+      const S st = 8.0 * G_eff * sqrtval;
+      root_n = root(S(sn * m_eff));
+      root_t = root(S(st * m_eff));
+    }
+  } else {
+    (void)spec, (void)r_eff, (void)overlap, (void)m_eff, (void)Y_eff, (void)G_eff, (void)sqrt_rd,
+        (void)root_n, (void)root_t;
+  }
+  // Eigen's norm of a 3-vector: sqrt((x^2 + y^2) + z^2)
+  if constexpr (R == RollingModel::Cdt) {
+    spin = root(S((wx * wx + wy * wy) + wz * wz));
+  } else {
+    (void)wx, (void)wy, (void)wz, (void)spin;
+  }
+}
+
+template <NormalModel N, RollingModel R>
+[[gnu::always_inline]] inline void contact_roots(const ModelSpec& spec, const ContactState& c,
+                                                 const PairMaterial& m, Roots& q) {
+  const Vec3 w = c.omega_i - c.omega_j;
+  contact_roots_lanes<N, R, double>(spec, c.r_eff, c.overlap, c.m_eff, m.Y_eff, m.G_eff, w[0], w[1], w[2],
+                                    q.sqrt_rd, q.root_n, q.root_t, q.spin);
+}
+
 /// Normal sub-model: stiffness and damping for the current overlap.
 template <NormalModel N>
-inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c, const PairMaterial& m) {
+[[gnu::always_inline]] inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c,
+                                                               const PairMaterial& m, const Roots& q) {
   Coefficients k;
   if constexpr (N == NormalModel::Hertz) {
     // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
-    const double sqrtval = std::sqrt(c.r_eff * c.overlap);
+    const double sqrtval = q.sqrt_rd;
     const double sn = 2.0 * m.Y_eff * sqrtval;
     const double st = 8.0 * m.G_eff * sqrtval;
     k.kn = (4.0 / 3.0) * m.Y_eff * sqrtval;
@@ -59,10 +117,11 @@ inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactStat
       k.gamma_n = m.dissipative_time * sn;
       k.gamma_t = m.dissipative_time * st;
     } else {
-      k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(sn * c.m_eff);
-      k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * std::sqrt(st * c.m_eff);
+      k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * q.root_n;
+      k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * q.root_t;
     }
   } else {
+    (void)q;
     // Linear spring whose stiffness gives the Hertz maximum overlap at the
     // characteristic impact velocity V:
     //   kn = 16/15 sqrt(R*) Y* (15 m* V^2 / (16 sqrt(R*) Y*))^(1/5).
@@ -93,8 +152,9 @@ constexpr int rolling_history_size() {
 /// tangential relative velocity of the contact point, `fn` the total normal
 /// force, `shear` the slot's history block (only read for History).
 template <TangentialModel T>
-inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const Coefficients& k, double fn,
-                             const Vec3& vt, double* shear) {
+[[gnu::always_inline]] inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m,
+                                                    const Coefficients& k, double fn, const Vec3& vt,
+                                                    double* shear) {
   const double ft_max = m.friction * std::abs(fn);
   if constexpr (T == TangentialModel::NoHistory) {
     // Pure viscous friction, limited by Coulomb: -min(gamma_t |vt|, mu |Fn|) vt/|vt|.
@@ -133,15 +193,16 @@ inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m, const
 constexpr double kRollingSpinTolerance = 1e-10;
 
 template <RollingModel R>
-inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const Coefficients& k, double fn,
-                           double fn_elastic, double* hist) {
+[[gnu::always_inline]] inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m,
+                                                  const Coefficients& k, const Roots& q, double fn,
+                                                  double fn_elastic, double* hist) {
   if constexpr (R == RollingModel::None) {
-    (void)c, (void)m, (void)k, (void)fn, (void)fn_elastic, (void)hist;
+    (void)c, (void)m, (void)k, (void)q, (void)fn, (void)fn_elastic, (void)hist;
     return Vec3::Zero();
   } else {
     // Relative spin without its twisting (normal) part.
     Vec3 w = c.omega_i - c.omega_j;
-    const double w_full = w.norm();
+    const double w_full = q.spin;  // |omega_i - omega_j| (cdt only)
     w -= w.dot(c.n) * c.n;
     if constexpr (R == RollingModel::Cdt) {
       // Constant directional torque mu_r (kn delta) R*, opposing the rolling
@@ -151,12 +212,19 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
       (void)hist, (void)fn;
       // A relative spin at the round-off level of the spins themselves (two
       // bodies turning together) gets no torque: its direction is noise.
-      if (w_full <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm())) return Vec3::Zero();
+      // (|a| + |b|)^2 <= 2 (a^2 + b^2): a relative spin clearly above the
+      // tolerance (the usual case) is recognised without the two square roots;
+      // the factor 4 instead of 2 leaves room for the rounding of the bound.
+      const double w2 = w_full * w_full;
+      const double s2 = c.omega_i.squaredNorm() + c.omega_j.squaredNorm();
+      if (!(w2 > 4.0 * kRollingSpinTolerance * kRollingSpinTolerance * s2) &&
+          w_full <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm()))
+        return Vec3::Zero();
       return (-m.rolling_friction * fn_elastic * c.r_eff / w_full) * w;
     } else {
       // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,
       // capped at full mobilisation mu_r R* |Fn|.
-      (void)fn_elastic;
+      (void)fn_elastic, (void)w_full;
       Eigen::Map<Vec3> torque(hist);
       const double kr = k.kt * c.r_eff * c.r_eff;
       torque -= (kr * c.dt) * w;
@@ -177,7 +245,7 @@ inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m, const C
 ///   a^2 = 2 r_i delta - delta^2;
 /// A = pi a^2.
 template <CohesionModel C>
-inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
+[[gnu::always_inline]] inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
   if constexpr (C == CohesionModel::Sjkr) {
     double a2;
     if (c.r_j > 0.0) {
@@ -199,9 +267,12 @@ inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
 /// evaluate(); `Limit` replaces spec.limit_force, `C` spec.cohesion, the other
 /// spec switches (damping, tangential_damping, kt_to_kn_user,
 /// tangential_reduce) are read at run time.
+/// evaluate_prepared_t() takes the history-independent square roots from `q`
+/// (detail::contact_roots() of the same contact).
 template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
-inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
-                       ContactResult& out) {
+[[gnu::always_inline]] inline void evaluate_prepared_t(const ModelSpec& spec, const ContactState& c,
+                                                       const PairMaterial& m, const detail::Roots& q,
+                                                       double* history, ContactResult& out) {
   constexpr int kShear = 0;
   constexpr int kRolling = detail::tangential_history_size<T>();
   constexpr int kSize = kRolling + detail::rolling_history_size<R>();
@@ -217,7 +288,7 @@ inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairM
     return;
   }
 
-  const detail::Coefficients k = detail::normal_coefficients<N>(spec, c, m);
+  const detail::Coefficients k = detail::normal_coefficients<N>(spec, c, m, q);
 
   // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
   // pushes the bodies apart on approach and pulls on separation.
@@ -260,10 +331,18 @@ inline void evaluate_t(const ModelSpec& spec, const ContactState& c, const PairM
   }
 
   if constexpr (R != RollingModel::None) {
-    const Vec3 mr = detail::rolling_torque<R>(c, m, k, fn, fn_elastic, history + kRolling);
+    const Vec3 mr = detail::rolling_torque<R>(c, m, k, q, fn, fn_elastic, history + kRolling);
     out.torque_i += mr;
     out.torque_j -= mr;
   }
+}
+
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
+[[gnu::always_inline]] inline void evaluate_t(const ModelSpec& spec, const ContactState& c,
+                                              const PairMaterial& m, double* history, ContactResult& out) {
+  detail::Roots q;
+  if (c.overlap > 0.0) detail::contact_roots<N, R>(spec, c, m, q);
+  evaluate_prepared_t<N, T, R, Limit, C>(spec, c, m, q, history, out);
 }
 
 /// A compiled kernel as a type, handed to the callback of dispatch_model().
@@ -276,9 +355,19 @@ struct Kernel {
   static constexpr CohesionModel cohesion = C;
   static constexpr int history_size =
       detail::tangential_history_size<T>() + detail::rolling_history_size<R>();
-  static void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
-                       ContactResult& out) {
+  [[gnu::always_inline]] static void evaluate(const ModelSpec& spec, const ContactState& c,
+                                              const PairMaterial& m, double* history, ContactResult& out) {
     evaluate_t<N, T, R, Limit, C>(spec, c, m, history, out);
+  }
+  /// The square roots that do not depend on the history (see detail::Roots).
+  [[gnu::always_inline]] static void roots(const ModelSpec& spec, const ContactState& c,
+                                           const PairMaterial& m, detail::Roots& q) {
+    detail::contact_roots<N, R>(spec, c, m, q);
+  }
+  [[gnu::always_inline]] static void evaluate_prepared(const ModelSpec& spec, const ContactState& c,
+                                                       const PairMaterial& m, const detail::Roots& q,
+                                                       double* history, ContactResult& out) {
+    evaluate_prepared_t<N, T, R, Limit, C>(spec, c, m, q, history, out);
   }
 };
 

@@ -11,6 +11,7 @@
 #include "core/registry.h"
 #include "core/update.h"
 #include "fix/fix_mesh_surface.h"
+#include "neighbor/neighbor.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -173,6 +174,43 @@ bool FixWallGran::contact(const Vec3& x, double r, double& overlap, Vec3& n) con
   return true;
 }
 
+double FixWallGran::gap(const Vec3& x) const {
+  if (shape_ == Shape::ZCylinder) {
+    const double dx = x[0] - cyl_cx_, dy = x[1] - cyl_cy_;
+    return std::fabs(std::sqrt(dx * dx + dy * dy) - cyl_r_);
+  }
+  const int d = shape_ == Shape::XPlane ? 0 : shape_ == Shape::YPlane ? 1 : 2;
+  return std::fabs(x[d] - pos_);
+}
+
+// Between two neighbour-list builds no particle moves more than half the skin
+// when the list is checked every step (neigh_modify every 1 delay 0, the
+// default): Neighbor::decide() rebuilds as soon as one has. So only particles
+// closer to the wall than their radius plus the skin (twice the margin
+// needed) can touch it before the next build; post_force visits just those.
+// The others get their wall history cleared here, as post_force would have
+// done when they left the wall. With other neigh_modify settings post_force
+// visits every particle.
+void FixWallGran::post_neighbor() {
+  near_.clear();
+  near_build_ = -1;
+  const Neighbor& nb = *engine_.neighbor;
+  if (mesh_ || nb.every != 1 || nb.delay != 0 || nb.once) return;
+  Particles& p = *engine_.particles;
+  const double skin = nb.skin;
+  double* const hist = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (gap(p.x[i]) < p.radius[i] + skin) {
+      near_.push_back(i);
+    } else if (hist) {
+      double* h = hist + static_cast<std::size_t>(i) * nhist_;
+      for (int q = 0; q < nhist_; ++q)
+        h[q] = 0.0;
+    }
+  }
+  near_build_ = nb.nbuilds;
+}
+
 void FixWallGran::post_force() {
   if (mesh_) {
     post_force_mesh();
@@ -185,7 +223,7 @@ void FixWallGran::post_force() {
   const int body_mass_field = p.find_field("body_mass");
   const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
   // Planes are tested inline (one coordinate per particle); this loop runs for
-  // every particle and wall on every step, so no calls or stores unless in contact.
+  // every particle near the wall on every step, so no calls or stores unless in contact.
   const bool plane = shape_ != Shape::ZCylinder;
   const int dim = shape_ == Shape::XPlane ? 0 : shape_ == Shape::YPlane ? 1 : 2;
   // local copies: the loop stores forces and history, which would otherwise
@@ -204,6 +242,10 @@ void FixWallGran::post_force() {
   const int wall_type = wall_type_;
   const contact::ModelSpec spec = spec_;
   const MaterialTable& materials = materials_;
+  // the particles near the wall when the list is current, else all of them
+  const bool use_near = near_build_ >= 0 && near_build_ == engine_.neighbor->nbuilds;
+  const int* const near = near_.data();
+  const int nvisit = use_near ? static_cast<int>(near_.size()) : p.nlocal;
   contact::dispatch_model(spec, [&](auto kernel) {
     using K = decltype(kernel);
     constexpr int nh = K::history_size;
@@ -213,8 +255,8 @@ void FixWallGran::post_force() {
     c.r_j = 0.0;
     c.omega_j.setZero();
     double dummy[6] = {0, 0, 0, 0, 0, 0};
-    const int nlocal = p.nlocal;
-    for (int i = 0; i < nlocal; ++i) {
+    for (int m = 0; m < nvisit; ++m) {
+      const int i = use_near ? near[m] : m;
       if (!(mask[i] & bit)) continue;
       double* h = nh > 0 ? hist_base + static_cast<std::size_t>(i) * nh : dummy;
       const double r = radius[i];

@@ -17,6 +17,7 @@
 #include "fix/fix.h"
 #include "pair/materials.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,10 @@ class FixMeshSurface;
 class FixWallGran : public Fix {
  public:
   FixWallGran(Engine& engine, const Args& args);
-  unsigned hooks() const override { return POST_FORCE; }
+  unsigned hooks() const override { return mesh_ ? POST_FORCE : POST_FORCE | POST_NEIGHBOR; }
+  /// Primitive walls: list the particles that can reach the wall before the
+  /// next neighbour-list build.
+  void post_neighbor() override;
   void init() override;
   void post_force() override;
   void setup() override {}
@@ -63,6 +67,12 @@ class FixWallGran : public Fix {
   std::string count_name_;
   int nhist_ = 0;
   std::string field_name_;
+
+  // primitive form: particles within reach of the wall (see post_neighbor)
+  std::vector<int> near_;
+  std::int64_t near_build_ = -1;  // Neighbor::nbuilds when near_ was made; -1: none
+  /// Distance from the particle centre to the wall surface (>= 0).
+  double gap(const Vec3& x) const;
 
   // mesh form
   void post_force_mesh();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <algorithm>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
@@ -123,6 +124,18 @@ void PairGranular::take_restart_history() {
 // The hot loop reads particle data through local pointers: stores to the
 // one-byte touch flags may alias anything, and members read through
 // references would be reloaded after each of them.
+//
+// Three passes per particle. The first runs over all its list entries, finds
+// those in contact and stores their positions without a branch (whether a
+// listed pair touches is close to a coin toss in a dense bed, and a
+// mispredicted branch per entry costs more than the distance test itself);
+// it also clears the history of contacts that just ended. The second computes
+// the contacts' geometry and the square roots and divisions that do not
+// depend on the history (Kernel::roots): in one kernel call they form a long
+// chain of dependent slow operations, while across contacts they are
+// independent and the processor overlaps them. The third runs the rest of
+// the kernel. The operations are those of a single kernel call, in the same
+// order, so the results are the same to the last bit.
 template <class Kernel>
 void PairGranular::loop() {
   Particles& p = *engine_.particles;
@@ -152,6 +165,13 @@ void PairGranular::loop() {
   double* const hist = history_.values_.data();
   const contact::ModelSpec spec = spec_;
   const MaterialTable& materials = materials_;
+  int maxrow = 0;
+  for (int i = 0; i < nlocal; ++i)
+    maxrow = std::max(maxrow, offset[i + 1] - offset[i]);
+  if (static_cast<int>(contacts_.size()) < maxrow) contacts_.resize(maxrow);
+  if (static_cast<int>(prepared_.size()) < maxrow) prepared_.resize(maxrow);
+  int* const in_contact = contacts_.data();
+  Prepared* const prep = prepared_.data();
   contact::ContactState c;
   contact::ContactResult res;
   c.dt = engine_.update->history_dt();
@@ -159,50 +179,98 @@ void PairGranular::loop() {
     const Vec3 xi = x[i];
     const double ri = radius[i];
     const int ti = type[i];
-    const int kend = offset[i + 1];
-    for (int k = offset[i]; k < kend; ++k) {
+    const int kbegin = offset[i], kend = offset[i + 1];
+    int ncontact = 0;
+    for (int k = kbegin; k < kend; ++k) {
       const int j = neigh[k];
       const Vec3 d = xi - x[j];
       const double rsum = ri + radius[j];
       const double r2 = d.squaredNorm();
-      double* h = nh > 0 ? hist + static_cast<std::size_t>(k) * nh : dummy;
-      if (r2 >= rsum * rsum || r2 == 0.0) {
-        if constexpr (nh > 0) {
-          if (touch[k]) {
-            touch[k] = 0;
-            for (int q = 0; q < nh; ++q)
-              h[q] = 0.0;
-          }
+      const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
+      in_contact[ncontact] = k;
+      prep[ncontact].r2 = r2;
+      ncontact += touching;
+      if constexpr (nh > 0) {
+        // a contact that ended: forget its history (rare, so well predicted)
+        if (!touching & (touch[k] != 0)) {
+          touch[k] = 0;
+          double* h = hist + static_cast<std::size_t>(k) * nh;
+          for (int q = 0; q < nh; ++q)
+            h[q] = 0.0;
         }
-        continue;
       }
-      const double r = std::sqrt(r2);
-      const double rj = radius[j];
-      // d * (1/r), not d / r: the same rounding as LIGGGHTS (round-off spins
-      // feed the cdt rolling torque, so the last bit matters for agreement)
-      c.n = d * (1.0 / r);
-      c.overlap = rsum - r;
-      c.r_i = ri;
-      c.r_j = rj;
-      c.r_eff = ri * rj / rsum;
-      double mi = rmass[i], mj = rmass[j];
+    }
+    // two contacts at a time, one per lane of packed operations (an odd last
+    // contact is computed twice)
+    for (int m = 0; m < ncontact; m += 2) {
+      const int m1 = m + 1 < ncontact ? m + 1 : m;
+      const int j0 = neigh[in_contact[m]], j1 = neigh[in_contact[m1]];
+      const contact::PairMaterial& mat0 = materials(ti, type[j0]);
+      const contact::PairMaterial& mat1 = materials(ti, type[j1]);
+      using A2 = Eigen::Array2d;
+      const A2 rj(radius[j0], radius[j1]);
+      const A2 rsum = ri + rj;
+      const A2 r = A2(prep[m].r2, prep[m1].r2).sqrt();
+      // 1/r, then n = d * (1/r), not d / r: the same rounding as LIGGGHTS
+      // (round-off spins feed the cdt rolling torque, so the last bit matters)
+      const A2 inv_r = 1.0 / r;
+      const A2 overlap = rsum - r;
+      const A2 r_eff = ri * rj / rsum;
+      double mi = rmass[i], mj0 = rmass[j0], mj1 = rmass[j1];
       if (body_mass) {
         if (body_mass[i] > 0.0) mi = body_mass[i];
-        if (body_mass[j] > 0.0) mj = body_mass[j];
+        if (body_mass[j0] > 0.0) mj0 = body_mass[j0];
+        if (body_mass[j1] > 0.0) mj1 = body_mass[j1];
       }
-      c.m_eff = mi * mj / (mi + mj);
+      const A2 mj(mj0, mj1);
+      const A2 m_eff = mi * mj / (mi + mj);
+      const Vec3 w0 = omega[i] - omega[j0], w1 = omega[i] - omega[j1];
+      A2 sqrt_rd = A2::Zero(), root_n = A2::Zero(), root_t = A2::Zero(), spin = A2::Zero();
+      contact::detail::contact_roots_lanes<Kernel::normal, Kernel::rolling, A2>(
+          spec, r_eff, overlap, m_eff, A2(mat0.Y_eff, mat1.Y_eff), A2(mat0.G_eff, mat1.G_eff),
+          A2(w0[0], w1[0]), A2(w0[1], w1[1]), A2(w0[2], w1[2]), sqrt_rd, root_n, root_t, spin);
+      Prepared* const out[2] = {&prep[m], &prep[m1]};
+      for (int l = 0; l < 2; ++l) {
+        Prepared& q = *out[l];
+        q.inv_r = inv_r[l];
+        q.overlap = overlap[l];
+        q.r_eff = r_eff[l];
+        q.m_eff = m_eff[l];
+        q.roots.sqrt_rd = sqrt_rd[l];
+        q.roots.root_n = root_n[l];
+        q.roots.root_t = root_t[l];
+        q.roots.spin = spin[l];
+      }
+    }
+    // the force and torque on i are summed in registers (j != i, so the
+    // stores to j cannot touch them), in the order of the list as before
+    Vec3 fi = f[i], ti_sum = torque[i];
+    for (int m = 0; m < ncontact; ++m) {
+      const Prepared& q = prep[m];
+      const int k = in_contact[m];
+      const int j = neigh[k];
+      const Vec3 d = xi - x[j];
+      double* h = nh > 0 ? hist + static_cast<std::size_t>(k) * nh : dummy;
+      c.n = d * q.inv_r;
+      c.overlap = q.overlap;
+      c.r_i = ri;
+      c.r_j = radius[j];
+      c.r_eff = q.r_eff;
+      c.m_eff = q.m_eff;
       c.v_rel = v[i] - v[j];
       c.omega_i = omega[i];
       c.omega_j = omega[j];
-      Kernel::evaluate(spec, c, materials(ti, type[j]), h, res);
+      Kernel::evaluate_prepared(spec, c, materials(ti, type[j]), q.roots, h, res);
       if constexpr (nh > 0) touch[k] = 1;
-      f[i] += res.force;
-      torque[i] += res.torque_i;
+      fi += res.force;
+      ti_sum += res.torque_i;
       if (newton || j < nlocal) {
         f[j] -= res.force;
         torque[j] += res.torque_j;
       }
     }
+    f[i] = fi;
+    torque[i] = ti_sum;
   }
 }
 

@@ -6,6 +6,7 @@
 // force, tangential history and cdt rolling friction.
 #pragma once
 
+#include "contact/contact_kernels.h"
 #include "contact/contact_model.h"
 #include "neighbor/contact_history.h"
 #include "pair/materials.h"
@@ -34,6 +35,14 @@ class PairGranular : public Pair {
   MaterialTable materials_;
   ContactHistory history_;
   bool coeff_set_ = false;
+  // pair loop scratch for the contacts of one particle: list positions, and
+  // geometry and history-independent square roots computed ahead of the kernel
+  std::vector<int> contacts_;
+  struct Prepared {
+    double r2, inv_r, overlap, r_eff, m_eff;
+    contact::detail::Roots roots;
+  };
+  std::vector<Prepared> prepared_;
 };
 
 /// `pair_style gran ...` (LIGGGHTS spelling).
