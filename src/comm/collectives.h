@@ -18,19 +18,21 @@ inline MPI_Datatype mpi_type<long long>() {
   return MPI_LONG_LONG;
 }
 
-/// Every rank's `mine`, concatenated in rank order, on every rank.
+/// Every rank's `mine`, concatenated in rank order, on every rank. With
+/// `offsets`, rank r's values are all[(*offsets)[r] .. (*offsets)[r+1]).
 template <class T>
-std::vector<T> allgather(MPI_Comm comm, const std::vector<T>& mine) {
+std::vector<T> allgather(MPI_Comm comm, const std::vector<T>& mine, std::vector<int>* offsets = nullptr) {
   int nprocs = 1;
   MPI_Comm_size(comm, &nprocs);
   const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  std::vector<int> counts(nprocs), displs(nprocs + 1, 0);
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < nprocs; ++r)
-    displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<T> all(static_cast<std::size_t>(displs.back()) + counts.back());
+  for (int r = 0; r < nprocs; ++r)
+    displs[r + 1] = displs[r] + counts[r];
+  std::vector<T> all(static_cast<std::size_t>(displs[nprocs]));
   MPI_Allgatherv(mine.data(), count, mpi_type<T>(), all.data(), counts.data(), displs.data(), mpi_type<T>(),
                  comm);
+  if (offsets) *offsets = std::move(displs);
   return all;
 }
 

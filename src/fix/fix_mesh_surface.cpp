@@ -336,6 +336,19 @@ FixMeshSurface& FixMeshSurface::find(const Modify& modify, const std::string& me
   return *m;
 }
 
+std::vector<FixMeshSurface*> FixMeshSurface::select(const Modify& modify, const std::vector<std::string>& ids,
+                                                    const std::string& what) {
+  std::vector<FixMeshSurface*> list;
+  if (ids.empty()) {
+    for (const auto& f : modify.fixes)
+      if (auto* m = dynamic_cast<FixMeshSurface*>(f.get())) list.push_back(m);
+  } else {
+    for (const auto& m : ids)
+      list.push_back(&find(modify, m, what));
+  }
+  return list;
+}
+
 GRANARY_FIX_STYLE("mesh/surface", FixMeshSurface);
 
 }  // namespace granary

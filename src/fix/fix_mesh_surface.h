@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "fix/fix.h"
 #include "fix/tri_mesh.h"
@@ -43,6 +44,9 @@ class FixMeshSurface : public Fix {
  public:
   /// The mesh/surface fix with this ID, or an InputError saying what needs it.
   static FixMeshSurface& find(const Modify& modify, const std::string& id, const std::string& what);
+  /// The mesh/surface fixes with these IDs, or every one defined when `ids` is empty.
+  static std::vector<FixMeshSurface*> select(const Modify& modify, const std::vector<std::string>& ids,
+                                             const std::string& what);
 };
 
 }  // namespace granary

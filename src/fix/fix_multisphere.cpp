@@ -9,6 +9,7 @@
 
 #include "comm/comm.h"
 #include "compute/compute.h"
+#include "comm/collectives.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
@@ -468,15 +469,9 @@ void FixMultisphere::fetch_state() {
   for (int b : active_)
     if (!B.current[b]) need.push_back(B.tag[b]);
   const int np = e.nprocs;
-  int mine = static_cast<int>(need.size());
-  std::vector<int> counts(np), displs(np + 1, 0);
-  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 0; r < np; ++r)
-    displs[r + 1] = displs[r] + counts[r];
-  if (displs[np] == 0) return;
-  std::vector<long long> wanted(displs[np]);
-  MPI_Allgatherv(need.data(), mine, MPI_LONG_LONG, wanted.data(), counts.data(), displs.data(), MPI_LONG_LONG,
-                 e.world);
+  std::vector<int> displs;
+  const std::vector<long long> wanted = allgather(e.world, need, &displs);
+  if (wanted.empty()) return;
   constexpr int kState = 1 + 22;  // id, then the dynamic state
   std::vector<double> reply;
   std::vector<char> sent(B.size(), 0);
@@ -495,13 +490,7 @@ void FixMultisphere::fetch_state() {
       reply.insert(reply.end(), {q.w(), q.x(), q.y(), q.z()});
     }
   }
-  mine = static_cast<int>(reply.size());
-  MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 0; r < np; ++r)
-    displs[r + 1] = displs[r] + counts[r];
-  std::vector<double> all(displs[np]);
-  MPI_Allgatherv(reply.data(), mine, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
-                 e.world);
+  const std::vector<double> all = allgather(e.world, reply);
   for (std::size_t m = 0; m + kState <= all.size(); m += kState) {
     const int b = B.find(static_cast<tagint>(all[m]));
     if (b < 0 || B.current[b] || !is_active_[b]) continue;
@@ -543,16 +532,9 @@ void FixMultisphere::find_partners() {
   for (int b : active_)
     if (count[b] < B.nspheres[b]) mine.push_back(B.tag[b]);
   const int np = e.nprocs;
-  int n = static_cast<int>(mine.size());
-  std::vector<int> counts(np), displs(np + 1, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 0; r < np; ++r)
-    displs[r + 1] = displs[r] + counts[r];
-  if (displs[np] == 0) return;
-  std::vector<long long> all(displs[np]);
-  MPI_Allgatherv(mine.data(), n, MPI_LONG_LONG, all.data(), counts.data(), displs.data(), MPI_LONG_LONG,
-                 e.world);
-  if (n == 0) return;
+  std::vector<int> displs;
+  const std::vector<long long> all = allgather(e.world, mine, &displs);
+  if (all.empty() || mine.empty()) return;
   // sources of each shared body's partial sums, in ascending rank order
   std::vector<std::vector<std::pair<int, int>>> src(mine.size());
   for (int r = 0; r < np; ++r) {

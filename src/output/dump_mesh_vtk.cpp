@@ -116,15 +116,7 @@ class DumpMeshVTK : public Dump {
 
  private:
   std::vector<FixMeshSurface*> meshes() const {
-    std::vector<FixMeshSurface*> list;
-    if (mesh_ids_.empty()) {
-      for (const auto& f : engine_.modify->fixes)
-        if (auto* m = dynamic_cast<FixMeshSurface*>(f.get())) list.push_back(m);
-    } else {
-      for (const auto& m : mesh_ids_)
-        list.push_back(&FixMeshSurface::find(*engine_.modify, m, "dump " + id + " mesh/vtk"));
-    }
-    return list;
+    return FixMeshSurface::select(*engine_.modify, mesh_ids_, "dump " + id + " mesh/vtk");
   }
 
   std::string write_frame(const std::string& frame, const std::vector<FixMeshSurface*>& list,
