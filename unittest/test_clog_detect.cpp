@@ -149,6 +149,17 @@ void check_rows(const Csv& c, bool starts_at_clog) {
   }
 }
 
+/// A continued run wrote the same avalanche rows as the reference run (file
+/// rows `ca`), and the fixes' outputs agree.
+void check_same_log(const Csv& ca, const std::string& fb, ScriptEngine& a, ScriptEngine& b) {
+  const Csv cb = read_csv(fb);
+  REQUIRE(cb.rows.size() == ca.rows.size());
+  for (std::size_t k = 0; k < ca.rows.size(); ++k)
+    CHECK(cb.rows[k].text == ca.rows[k].text);
+  for (int i = 0; i <= 12; ++i)
+    CHECK(f(b, i) == f(a, i));
+}
+
 }  // namespace
 
 TEST_CASE("clog-detect: action delete records avalanches; grains are conserved") {
@@ -412,12 +423,7 @@ TEST_CASE("clog-detect: a restart written during an avalanche continues with the
     b.cmd(scene[k]);
   b.cmd(fix + fb);
   b.cmd("run 2400");
-  const Csv cb = read_csv(fb);
-  REQUIRE(cb.rows.size() == ca.rows.size());
-  for (std::size_t k = 0; k < ca.rows.size(); ++k)
-    CHECK(cb.rows[k].text == ca.rows[k].text);
-  for (int i = 0; i <= 12; ++i)
-    CHECK(f(b, i) == f(a, i));
+  check_same_log(ca, fb, a, b);
   std::remove(fa.c_str());
   std::remove(fb.c_str());
   std::remove(mid.c_str());
@@ -453,12 +459,7 @@ TEST_CASE("clog-detect: a restart in the middle of the discharge gives the same 
   b.cmds(clog_scene::restarted(mid, true));
   b.cmd(fix + fb);
   b.cmd("run 6000");
-  const Csv cb = read_csv(fb);
-  REQUIRE(cb.rows.size() == ca.rows.size());
-  for (std::size_t k = 0; k < ca.rows.size(); ++k)
-    CHECK(cb.rows[k].text == ca.rows[k].text);
-  for (int i = 0; i <= 12; ++i)
-    CHECK(f(b, i) == f(a, i));
+  check_same_log(ca, fb, a, b);
   CHECK(grains(b) == grains(a));
   // the continuation is exact: positions agree to the bit
   CHECK(b.e.group_function("xcm", {"grains", "z"}) == a.e.group_function("xcm", {"grains", "z"}));

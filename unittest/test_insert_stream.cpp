@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/engine.h"
+#include "insert_stream_scene.h"
 #include "mesh_files.h"
 #include "particles/particles.h"
 #include "script_engine.h"
@@ -34,30 +35,17 @@ std::string face_file() {
 // dt 1e-5, normal speed 1 m/s, extrude_length 0.02 m: a batch every 2000 steps
 // of 1234 * 0.02 = 24.68 particles (radius 2 mm); no gravity.
 std::vector<std::string> scene(const std::string& ins_extra = "extrude_length 0.02") {
-  return {
-      "units si",
-      "atom_style granular",
-      "boundary f f f",
-      "newton off",
-      "communicate single vel yes",
-      "region box block -0.05 0.15 -0.05 0.15 -0.2 0.15 units box",
-      "create_box 1 box",
-      "neighbor 0.001 bin",
-      "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
-      "pair_style gran model hertz tangential history",
-      "pair_coeff * *",
-      "timestep 1e-5",
-      "fix face all mesh/surface file " + face_file() + " type 1",
-      "fix pts1 all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant 0.002",
-      "fix pdd1 all particledistribution/discrete 15485867 1 pts1 1.0",
-      "fix ins all insert/stream seed 32452843 distributiontemplate pdd1 nparticles INF particlerate 1234 "
-      "vel constant 0.3 0. -1.0 overlapcheck yes insertion_face face " +
-          ins_extra,
-      "fix integr all nve/sphere"};
+  std::vector<std::string> s = insert_stream_scene::box(face_file());
+  s.insert(
+      s.end(),
+      {"fix pts1 all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant "
+       "0.002",
+       "fix pdd1 all particledistribution/discrete 15485867 1 pts1 1.0",
+       "fix ins all insert/stream seed 32452843 distributiontemplate pdd1 nparticles INF particlerate 1234 "
+       "vel constant 0.3 0. -1.0 overlapcheck yes insertion_face face " +
+           ins_extra,
+       "fix integr all nve/sphere"});
+  return s;
 }
 
 std::map<long long, Vec3> positions(const granary::Particles& p) {

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "core/engine.h"
+#include "comm/collectives.h"
+#include "insert_stream_scene.h"
 #include "mesh_files.h"
 #include "particles/particles.h"
 #include "script_engine.h"
@@ -23,24 +25,8 @@ namespace {
 
 std::map<long long, std::vector<double>> run_stream(MPI_Comm comm, const std::string& face) {
   granary::test::ScriptEngine s(comm);
-  s.cmds({"units si",
-          "atom_style granular",
-          "boundary f f f",
-          "newton off",
-          "communicate single vel yes",
-          "region box block -0.05 0.15 -0.05 0.15 -0.2 0.15 units box",
-          "create_box 1 box",
-          "neighbor 0.001 bin",
-          "neigh_modify delay 0",
-          "fix m1 all property/global youngsModulus peratomtype 5.e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
-          "pair_style gran model hertz tangential history",
-          "pair_coeff * *",
-          "timestep 1e-5",
-          "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
-          "fix face all mesh/surface file " + face + " type 1",
+  s.cmds(insert_stream_scene::box(face));
+  s.cmds({"fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
           "fix pts1 all particletemplate/sphere 15485863 atom_type 1 density constant 2500 radius constant "
           "0.002",
           "fix pts2 all particletemplate/sphere 15485867 atom_type 1 density constant 2500 radius constant "
@@ -48,21 +34,13 @@ std::map<long long, std::vector<double>> run_stream(MPI_Comm comm, const std::st
           "fix pdd1 all particledistribution/discrete 15485867 2 pts1 0.4 pts2 0.6",
           "fix ins all insert/stream seed 32452843 distributiontemplate pdd1 nparticles 500 massrate 0.5 "
           "vel constant 0.3 0.1 -1.0 overlapcheck yes insertion_face face extrude_length 0.02",
-          "fix integr all nve/sphere",
-          "run 6002"});
+          "fix integr all nve/sphere", "run 6002"});
   const auto& p = s.p();
   std::vector<double> mine;
   for (int i = 0; i < p.nlocal; ++i)
     mine.insert(mine.end(), {double(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2], p.v[i][0], p.v[i][1],
                              p.v[i][2], p.radius[i]});
-  int n = static_cast<int>(mine.size()), nprocs = 1;
-  MPI_Comm_size(comm, &nprocs);
-  std::vector<int> counts(nprocs), displs(nprocs, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 1; r < nprocs; ++r)
-    displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm);
+  const std::vector<double> all = granary::allgather(comm, mine);
   std::map<long long, std::vector<double>> out;
   for (std::size_t k = 0; k + 7 < all.size(); k += 8)
     out[static_cast<long long>(all[k])] = std::vector<double>(all.begin() + k + 1, all.begin() + k + 8);

@@ -96,27 +96,14 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
   conn->SetNumberOfValues(n);
   auto cells = vtkSmartPointer<vtkCellArray>::New();
 
-  auto make = [n](vtkDataArray* a, const char* name, int nc) {
-    a->SetName(name);
-    a->SetNumberOfComponents(nc);
-    a->SetNumberOfTuples(n);
-  };
-  auto ids = vtkSmartPointer<vtkTypeInt64Array>::New();
-  auto types = vtkSmartPointer<vtkIntArray>::New();
-  auto mass = vtkSmartPointer<vtkDoubleArray>::New();
-  auto quat = vtkSmartPointer<vtkDoubleArray>::New();
-  auto axis = vtkSmartPointer<vtkDoubleArray>::New();
-  auto vel = vtkSmartPointer<vtkDoubleArray>::New();
-  auto omega = vtkSmartPointer<vtkDoubleArray>::New();
-  auto nsph = vtkSmartPointer<vtkIntArray>::New();
-  make(ids, "id", 1);
-  make(types, "type", 1);
-  make(mass, "mass", 1);
-  make(quat, "quaternion", 4);
-  make(axis, "long_axis", 3);
-  make(vel, "velocity", 3);
-  make(omega, "angular_velocity", 3);
-  make(nsph, "nspheres", 1);
+  auto ids = vtkio::named_array<vtkTypeInt64Array>("id", 1, n);
+  auto types = vtkio::named_array<vtkIntArray>("type", 1, n);
+  auto mass = vtkio::named_array<vtkDoubleArray>("mass", 1, n);
+  auto quat = vtkio::named_array<vtkDoubleArray>("quaternion", 4, n);
+  auto axis = vtkio::named_array<vtkDoubleArray>("long_axis", 3, n);
+  auto vel = vtkio::named_array<vtkDoubleArray>("velocity", 3, n);
+  auto omega = vtkio::named_array<vtkDoubleArray>("angular_velocity", 3, n);
+  auto nsph = vtkio::named_array<vtkIntArray>("nspheres", 1, n);
   // the component names ParaView shows for the quaternion
   const char* qnames[4] = {"w", "x", "y", "z"};
   for (int c = 0; c < 4; ++c)

@@ -133,25 +133,13 @@ class DumpMeshVTK : public Dump {
     auto conn = vtkSmartPointer<vtkIdTypeArray>::New();
     offsets->SetNumberOfValues(ncells + 1);
     conn->SetNumberOfValues(3 * ncells);
-    auto make = [ncells](vtkDataArray* a, const char* name, int nc) {
-      a->SetName(name);
-      a->SetNumberOfComponents(nc);
-      a->SetNumberOfTuples(ncells);
-    };
-    auto index = vtkSmartPointer<vtkIntArray>::New();
-    auto normal = vtkSmartPointer<vtkDoubleArray>::New();
-    auto vel = vtkSmartPointer<vtkDoubleArray>::New();
-    auto fa = vtkSmartPointer<vtkDoubleArray>::New();
-    auto area = vtkSmartPointer<vtkDoubleArray>::New();
-    auto pressure = vtkSmartPointer<vtkDoubleArray>::New();
-    auto shear = vtkSmartPointer<vtkDoubleArray>::New();
-    make(pressure, "pressure", 1);
-    make(shear, "shear_stress", 1);
-    make(index, "mesh", 1);
-    make(normal, "normal", 3);
-    make(vel, "velocity", 3);
-    make(fa, "force", 3);
-    make(area, "area", 1);
+    auto index = vtkio::named_array<vtkIntArray>("mesh", 1, ncells);
+    auto normal = vtkio::named_array<vtkDoubleArray>("normal", 3, ncells);
+    auto vel = vtkio::named_array<vtkDoubleArray>("velocity", 3, ncells);
+    auto fa = vtkio::named_array<vtkDoubleArray>("force", 3, ncells);
+    auto area = vtkio::named_array<vtkDoubleArray>("area", 1, ncells);
+    auto pressure = vtkio::named_array<vtkDoubleArray>("pressure", 1, ncells);
+    auto shear = vtkio::named_array<vtkDoubleArray>("shear_stress", 1, ncells);
     vtkIdType p0 = 0, cell = 0;
     for (std::size_t mi = 0; mi < list.size(); ++mi) {
       const TriMesh& mesh = list[mi]->mesh;

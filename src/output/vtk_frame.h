@@ -21,6 +21,16 @@
 namespace granary {
 namespace vtkio {
 
+/// A VTK data array named `name` with `ncomp` components and `n` tuples.
+template <class Array>
+vtkSmartPointer<Array> named_array(const char* name, int ncomp, vtkIdType n) {
+  auto a = vtkSmartPointer<Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(ncomp);
+  a->SetNumberOfTuples(n);
+  return a;
+}
+
 /// Attach the simulated time (TimeValue) and the step (Step) as field data.
 inline void add_time_step(vtkDataObject* ds, double time, std::int64_t step) {
   auto tv = vtkSmartPointer<vtkDoubleArray>::New();
