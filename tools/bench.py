@@ -34,6 +34,11 @@ What is measured, per run (each run is started from a fresh measuring subprocess
                process (getrusage RUSAGE_CHILDREN ru_maxrss) is also kept in
                the JSON output as max_rank_rss_mib
   bytes/particle     peak RSS (sum over ranks) / particles
+A second table gives each run's time split from the programs' own end-of-run
+reports (pair, neighbour lists, communication, fixes, output, other; each the
+mean over the ranks, summed over the run commands; LIGGGHTS 3.8 reports fixes
+under "other") and, on several ranks, the load imbalance max/avg of Granary's
+compute sections.
 
 1-rank runs start the program directly, runs on more ranks go through mpirun
 (Open MPI: --allow-run-as-root is added when running as root and
@@ -65,6 +70,13 @@ DEFAULT_GRANARY = os.path.join("build", "granary")
 
 LOOP_RE = re.compile(r"^Loop time of\s+(\S+)\s+on\s+(\d+)\s+procs?\s+for\s+(\d+)\s+steps?"
                      r"\s+with\s+(\d+)\s+atoms")
+# time split at the end of a run: LIGGGHTS 3.8 / old LAMMPS ("Pair  time (%) = 1.47 (30.2)",
+# the mean over ranks) and Granary / current LAMMPS ("Pair | min | avg | max | %varavg | %total")
+SPLIT_OLD_RE = re.compile(r"^(Pair|Neigh|Comm|Outpt|Modify|Other)\s+time \(%\) = (\S+) \((\S+)\)")
+SPLIT_NEW_RE = re.compile(r"^(Pair|Neigh|Comm|Output|Modify|Other)\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|")
+SPLIT_KEYS = {"Pair": "pair", "Neigh": "neigh", "Comm": "comm", "Outpt": "output", "Output": "output",
+              "Modify": "fixes", "Other": "other"}
+SPLIT_COLUMNS = ["pair", "neigh", "comm", "fixes", "output", "other"]
 
 
 # ---------------------------------------------------------------------------
@@ -165,7 +177,20 @@ def parse_output(text):
     loops = []
     last_atoms = None
     header = None
+    split = {}
+    split_max = {}
     for line in text.splitlines():
+        m = SPLIT_OLD_RE.match(line.strip())
+        if m:
+            key = SPLIT_KEYS[m.group(1)]
+            split[key] = split.get(key, 0.0) + float(m.group(2))
+            continue
+        m = SPLIT_NEW_RE.match(line.strip())
+        if m:
+            key = SPLIT_KEYS[m.group(1)]
+            split[key] = split.get(key, 0.0) + float(m.group(3))
+            split_max[key] = split_max.get(key, 0.0) + float(m.group(4))
+            continue
         m = LOOP_RE.match(line.strip())
         if m:
             loops.append((float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))))
@@ -186,6 +211,10 @@ def parse_output(text):
             version = line.strip()
             break
     info = {"version": version}
+    if split:
+        info["time_split_s"] = split  # mean over ranks, summed over the runs
+    if split_max:
+        info["time_split_max_s"] = split_max  # slowest rank
     if loops:
         info["loop_s"] = sum(l[0] for l in loops)
         info["procs"] = loops[-1][1]
@@ -352,6 +381,38 @@ def print_table(rows, out=sys.stdout):
         out.write(row(l) + "\n")
 
 
+def print_split(rows, out=sys.stdout):
+    """Time split of each run: mean over the ranks of each section, seconds summed over the runs."""
+    have = [r for r in rows if "error" not in r and r.get("time_split_s")]
+    if not have:
+        return
+    heads = ["program", "ranks"] + ["%s s" % c for c in SPLIT_COLUMNS] + ["max/avg"]
+    lines = []
+    for r in have:
+        sp = r["time_split_s"]
+        cells = [r["program"], str(r["ranks"])]
+        for c in SPLIT_COLUMNS:
+            cells.append(fmt(sp.get(c), ".2f"))
+        # load imbalance: the slowest rank's compute sections over their mean
+        mx = r.get("time_split_max_s")
+        if mx and r["ranks"] > 1:
+            busy = sum(sp.get(c, 0.0) for c in ("pair", "neigh", "fixes"))
+            busy_max = sum(mx.get(c, 0.0) for c in ("pair", "neigh", "fixes"))
+            cells.append(fmt(busy_max / busy if busy > 0 else None, ".2f"))
+        else:
+            cells.append("-")
+        lines.append(cells)
+    widths = [max(len(h), *(len(l[i]) for l in lines)) for i, h in enumerate(heads)]
+    def row(cells):
+        return "| " + " | ".join(c.ljust(w) if i == 0 else c.rjust(w)
+                                 for i, (c, w) in enumerate(zip(cells, widths))) + " |"
+    out.write(row(heads) + "\n")
+    out.write("|" + "|".join("-" * (w + 1) + ":" if i else "-" * (w + 2)
+                             for i, w in enumerate(widths)) + "|\n")
+    for l in lines:
+        out.write(row(l) + "\n")
+
+
 def main(argv):
     if argv and argv[0] == "--_measure":
         return measure_main(argv[1:])
@@ -469,6 +530,11 @@ def main(argv):
           "particle-steps/s at equal ranks;")
     print("speed-up = vs. 1 rank of the same program; CPU s = user + system time of all ranks;")
     print("peak RSS = sum of the ranks' peak resident set sizes.")
+    if any(r.get("time_split_s") for r in ok):
+        print()
+        print("time split (each section's mean over the ranks, s; LIGGGHTS 3.8 counts fixes under other;")
+        print("max/avg = the slowest rank's pair + neigh + fixes time over the mean):")
+        print_split(rows)
 
     if args.json:
         doc = {

@@ -4,12 +4,15 @@
 // skin, and skips the others until the next build (no particle moves more than
 // half the skin in between). These tests pour beads into a box of five walls,
 // once with the near list and once with every particle visited at every step,
-// and require identical trajectories and wall histories.
+// and require identical trajectories and wall histories. Mesh walls do the
+// same while their meshes stand still; a moving mesh makes them visit every
+// particle.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "mesh_files.h"
 #include "neighbor/neighbor.h"
 #include "script_engine.h"
 
@@ -26,8 +29,28 @@ struct Pour {
 // `delay` 0 uses the near lists; `delay 1` visits every particle and rebuilds
 // at the same steps (decide() runs after the step counter since the last build
 // was incremented, so it is never below 1).
+// A box of five meshed walls (floor at z = 0 and four sides at +-6 mm, 0.5 mm
+// triangles are finer than the beads, so contacts cross triangle edges).
+std::string box_mesh(bool floor) {
+  static const std::string dir = mesh_files::temp_dir();
+  std::vector<mesh_files::Triangle> t;
+  const double a = 0.006, h = 0.04;
+  if (floor) {
+    mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(2 * a, 0, 0), Vec3(0, 2 * a, 0), 8, 8);
+  } else {
+    mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(2 * a, 0, 0), Vec3(0, 0, h), 6, 10);
+    mesh_files::add_rectangle(t, Vec3(-a, a, 0), Vec3(2 * a, 0, 0), Vec3(0, 0, h), 6, 10);
+    mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(0, 2 * a, 0), Vec3(0, 0, h), 6, 10);
+    mesh_files::add_rectangle(t, Vec3(a, -a, 0), Vec3(0, 2 * a, 0), Vec3(0, 0, h), 6, 10);
+  }
+  const std::string file = dir + (floor ? "/floor.stl" : "/sides.stl");
+  mesh_files::write_ascii(file, t);
+  return file;
+}
+
 Pour pour(const std::string& neigh_modify, const std::string& side_walls) {
   granary::test::ScriptEngine s;
+  const bool mesh = side_walls == "mesh" || side_walls == "moving mesh";
   std::vector<std::string> script = {
       "units si",
       "atom_style granular",
@@ -50,11 +73,18 @@ Pour pour(const std::string& neigh_modify, const std::string& side_walls) {
       "set type 1 diameter 0.002 density 2500",
       "velocity all set 0.3 -0.2 -0.5",
       "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
-      "fix zwall all wall/gran model hertz tangential history rolling_friction cdt primitive type 1 zplane "
-      "0.0",
   };
   const std::string model = "wall/gran model hertz tangential history rolling_friction cdt primitive type 1 ";
-  if (side_walls == "planes") {
+  if (!mesh) script.push_back("fix zwall all " + model + "zplane 0.0");
+  if (mesh) {
+    script.push_back("fix floor all mesh/surface file " + box_mesh(true) + " type 1");
+    script.push_back("fix sides all mesh/surface file " + box_mesh(false) + " type 1");
+    script.push_back(
+        "fix walls all wall/gran model hertz tangential history rolling_friction cdt mesh n_meshes 2 meshes "
+        "floor sides");
+    // a floor creeping sideways by 0.1 um per step moves the mesh nodes every step
+    if (side_walls == "moving mesh") script.push_back("fix creep all move/mesh mesh floor linear 0.005 0. 0.");
+  } else if (side_walls == "planes") {
     script.push_back("fix xw1 all " + model + "xplane -0.006");
     script.push_back("fix xw2 all " + model + "xplane 0.006");
     script.push_back("fix yw1 all " + model + "yplane -0.006");
@@ -120,4 +150,24 @@ TEST_CASE("a cylinder wall with near lists gives the trajectories of a full scan
   require_same(near, full);
   for (std::size_t k = 1; k < near.x.size(); ++k)
     CHECK(std::hypot(near.x[k][0], near.x[k][1]) < 0.0065);
+}
+
+TEST_CASE("mesh walls with near lists give the trajectories of a full scan", "[wall][mesh][physics]") {
+  const Pour near = pour("neigh_modify delay 0", "mesh");
+  const Pour full = pour("neigh_modify delay 1", "mesh");
+  CHECK(near.wall_contacts > 20);
+  CHECK(near.builds > 10);
+  require_same(near, full);
+  for (std::size_t k = 1; k < near.x.size(); ++k) {
+    CHECK(std::fabs(near.x[k][0]) < 0.006);
+    CHECK(std::fabs(near.x[k][1]) < 0.006);
+  }
+}
+
+TEST_CASE("a moving mesh wall is scanned in full and matches the trajectories of delay 1",
+          "[wall][mesh][physics]") {
+  const Pour near = pour("neigh_modify delay 0", "moving mesh");
+  const Pour full = pour("neigh_modify delay 1", "moving mesh");
+  CHECK(near.wall_contacts > 20);
+  require_same(near, full);
 }

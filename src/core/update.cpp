@@ -238,6 +238,14 @@ std::int64_t Update::count_global() const {
   return total;
 }
 
+bool Update::step_observed() const {
+  const Engine& e = engine_;
+  if (!running || ntimestep == laststep || halt_requested) return true;
+  if (e.thermo->every > 0 && ntimestep % e.thermo->every == 0) return true;
+  if (ntimestep == e.output->next) return true;
+  return e.modify->end_of_step_due(ntimestep);
+}
+
 void Update::step_loop(std::int64_t n) {
   Engine& e = engine_;
   Modify& modify = *e.modify;
@@ -317,20 +325,30 @@ void Update::report() {
                   static_cast<double>(e.particles->natoms) * steps / run_wall_time, steps / run_wall_time);
     e.logger->print(line);
   }
-  static const char* names[kNumTimers] = {"Pair", "Neigh", "Comm", "Modify", "Output"};
+  // LAMMPS' MPI task timing breakdown: each section's time on the ranks
+  // (minimum, mean, maximum); %varavg is the spread (max - min) relative to the
+  // mean, so a large value marks a load imbalance. "Other" is the loop time not
+  // in any section on the rank where it is largest.
+  static const char* names[kNumTimers + 1] = {"Pair", "Neigh", "Comm", "Modify", "Output", "Other"};
+  double mine[kNumTimers + 1], tmin[kNumTimers + 1], tsum[kNumTimers + 1], tmax[kNumTimers + 1];
   double other = run_wall_time;
-  e.logger->print("Section |  time (s) | %total\n");
   for (int k = 0; k < kNumTimers; ++k) {
-    double tmax = 0.0;
-    MPI_Allreduce(&timers[k], &tmax, 1, MPI_DOUBLE, MPI_MAX, e.world);
-    other -= tmax;
-    std::snprintf(line, sizeof line, "%-7s | %9.4g | %5.1f\n", names[k], tmax,
-                  run_wall_time > 0 ? 100.0 * tmax / run_wall_time : 0.0);
+    mine[k] = timers[k];
+    other -= timers[k];
+  }
+  mine[kNumTimers] = std::max(0.0, other);
+  MPI_Allreduce(mine, tmin, kNumTimers + 1, MPI_DOUBLE, MPI_MIN, e.world);
+  MPI_Allreduce(mine, tsum, kNumTimers + 1, MPI_DOUBLE, MPI_SUM, e.world);
+  MPI_Allreduce(mine, tmax, kNumTimers + 1, MPI_DOUBLE, MPI_MAX, e.world);
+  e.logger->print("Section |  min time  |  avg time  |  max time  |%varavg| %total\n"
+                  "---------------------------------------------------------------\n");
+  for (int k = 0; k <= kNumTimers; ++k) {
+    const double avg = tsum[k] / e.nprocs;
+    std::snprintf(line, sizeof line, "%-7s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", names[k], tmin[k], avg,
+                  tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
+                  run_wall_time > 0 ? 100.0 * avg / run_wall_time : 0.0);
     e.logger->print(line);
   }
-  std::snprintf(line, sizeof line, "%-7s | %9.4g | %5.1f\n", "Other", std::max(0.0, other),
-                run_wall_time > 0 ? 100.0 * std::max(0.0, other) / run_wall_time : 0.0);
-  e.logger->print(line);
   std::snprintf(line, sizeof line, "Neighbor list builds = %lld\n\n",
                 static_cast<long long>(e.neighbor->nbuilds));
   e.logger->print(line);

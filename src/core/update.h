@@ -59,6 +59,13 @@ class Update {
   enum TimerSlot { kPair, kNeigh, kComm, kModify, kOutput, kNumTimers };
   double timers[kNumTimers] = {0, 0, 0, 0, 0};
 
+  /// Whether anything reads the particles after the end-of-step fixes of the
+  /// current step: the step ends the run, writes thermo or output, or runs an
+  /// end-of-step fix. Integrators may leave derived per-particle state (e.g.
+  /// the velocities of clump sub-spheres, recomputed at the start of every
+  /// step) out of date at the end of steps nobody observes.
+  bool step_observed() const;
+
   /// Global particle count (collective).
   std::int64_t count_global() const;
 

@@ -783,7 +783,10 @@ void FixMultisphere::final_integrate() {
     B.angmom[b] += dtf * B.torque[b];
     B.omega[b] = omega_from(b);
   }
-  place_spheres(false);
+  // The sub-spheres' velocities are set again from the bodies at the start of
+  // the next step, before any force uses them; here they are only needed by
+  // whatever reads the particles at the end of this step.
+  if (engine_.update->step_observed()) place_spheres(false);
 }
 
 // ---------------------------------------------------------------- restart

@@ -195,7 +195,11 @@ void FixWallGran::post_neighbor() {
   near_.clear();
   near_build_ = -1;
   const Neighbor& nb = *engine_.neighbor;
-  if (mesh_ || nb.every != 1 || nb.delay != 0 || nb.once) return;
+  if (nb.every != 1 || nb.delay != 0 || nb.once) return;
+  if (mesh_) {
+    list_near_mesh();
+    return;
+  }
   Particles& p = *engine_.particles;
   const double skin = nb.skin;
   double* const hist = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
@@ -209,6 +213,62 @@ void FixWallGran::post_neighbor() {
     }
   }
   near_build_ = nb.nbuilds;
+}
+
+// Mesh form: a particle is listed when a triangle of one of the meshes lies
+// within its radius plus the skin. The list holds only while no mesh moves
+// (fix move/mesh changes the nodes every step): post_force checks the meshes'
+// move counters and visits every particle when one changed.
+void FixWallGran::list_near_mesh() {
+  Particles& p = *engine_.particles;
+  const double skin = engine_.neighbor->skin;
+  double rmax = 0.0;
+  for (int i = 0; i < p.nlocal; ++i)
+    rmax = std::max(rmax, p.radius[i]);
+  moves_.clear();
+  for (FixMeshSurface* m : meshes_) {
+    m->mesh.ensure_margin(rmax + skin);
+    moves_.push_back(m->mesh.moves());
+  }
+  const int stride = kSlotHeader + nhist_;
+  double* const hist = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
+  double* const count = nhist_ > 0 ? p.extras[count_field_].data.data() : nullptr;
+  for (int i = 0; i < p.nlocal; ++i) {
+    const Vec3 xi = p.x[i];
+    const double reach = p.radius[i] + skin;
+    bool close = false;
+    for (FixMeshSurface* m : meshes_) {
+      const TriMesh& mesh = m->mesh;
+      int nnear = 0;
+      const int* near = mesh.near(xi, nnear);
+      for (int q = 0; q < nnear && !close; ++q) {
+        const int t = near[q];
+        const double dn = (xi - mesh.corner(t, 0)).dot(mesh.normal(t));
+        if (dn >= reach || dn <= -reach) continue;
+        TriMesh::Feature feature;
+        close = (mesh.closest_point(t, xi, feature) - xi).squaredNorm() < reach * reach;
+      }
+      if (close) break;
+    }
+    if (close) {
+      near_.push_back(i);
+    } else if (hist && count[i] != 0.0) {
+      double* h = hist + static_cast<std::size_t>(i) * kMeshSlots * stride;
+      for (int q = 0; q < kMeshSlots * stride; ++q)
+        h[q] = 0.0;
+      count[i] = 0.0;
+    }
+  }
+  near_build_ = engine_.neighbor->nbuilds;
+}
+
+bool FixWallGran::near_current() const {
+  if (near_build_ < 0 || near_build_ != engine_.neighbor->nbuilds) return false;
+  if (!mesh_) return true;
+  if (moves_.size() != meshes_.size()) return false;
+  for (std::size_t m = 0; m < meshes_.size(); ++m)
+    if (meshes_[m]->mesh.moves() != moves_[m]) return false;
+  return true;
 }
 
 void FixWallGran::post_force() {
@@ -243,7 +303,7 @@ void FixWallGran::post_force() {
   const contact::ModelSpec spec = spec_;
   const MaterialTable& materials = materials_;
   // the particles near the wall when the list is current, else all of them
-  const bool use_near = near_build_ >= 0 && near_build_ == engine_.neighbor->nbuilds;
+  const bool use_near = near_current();
   const int* const near = near_.data();
   const int nvisit = use_near ? static_cast<int>(near_.size()) : p.nlocal;
   contact::dispatch_model(spec, [&](auto kernel) {
@@ -362,8 +422,12 @@ void FixWallGran::post_force_mesh() {
     c.omega_j.setZero();
     double fresh[kMeshSlots * stride + 1];  // this step's slots, written back at the end
     double zeros[nh > 0 ? nh : 1] = {};
-    const int nlocal = p.nlocal;
-    for (int i = 0; i < nlocal; ++i) {
+    // the particles near the meshes when the list is current, else all of them
+    const bool use_near = near_current();
+    const int* const near_list = near_.data();
+    const int nvisit = use_near ? static_cast<int>(near_.size()) : p.nlocal;
+    for (int visit = 0; visit < nvisit; ++visit) {
+      const int i = use_near ? near_list[visit] : visit;
       if (!(mask[i] & bit)) continue;
       const double r = radius[i];
       const Vec3 xi = x[i];

@@ -28,9 +28,9 @@ class FixMeshSurface;
 class FixWallGran : public Fix {
  public:
   FixWallGran(Engine& engine, const Args& args);
-  unsigned hooks() const override { return mesh_ ? POST_FORCE : POST_FORCE | POST_NEIGHBOR; }
-  /// Primitive walls: list the particles that can reach the wall before the
-  /// next neighbour-list build.
+  unsigned hooks() const override { return POST_FORCE | POST_NEIGHBOR; }
+  /// List the particles that can reach the wall before the next
+  /// neighbour-list build (mesh walls: while the meshes do not move).
   void post_neighbor() override;
   void init() override;
   void post_force() override;
@@ -68,9 +68,13 @@ class FixWallGran : public Fix {
   int nhist_ = 0;
   std::string field_name_;
 
-  // primitive form: particles within reach of the wall (see post_neighbor)
+  // particles within reach of the wall (see post_neighbor)
   std::vector<int> near_;
-  std::int64_t near_build_ = -1;  // Neighbor::nbuilds when near_ was made; -1: none
+  std::int64_t near_build_ = -1;   // Neighbor::nbuilds when near_ was made; -1: none
+  std::vector<long long> moves_;  // mesh form: TriMesh::moves() of each mesh when near_ was made
+  /// Whether near_ holds every particle that can touch the wall now.
+  bool near_current() const;
+  void list_near_mesh();
   /// Distance from the particle centre to the wall surface (>= 0).
   double gap(const Vec3& x) const;
 

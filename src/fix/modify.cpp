@@ -191,6 +191,12 @@ void Modify::end_of_step(std::int64_t step) {
   for (Fix* f : end_of_step_)
     if (step % f->nevery == 0) f->end_of_step();
 }
+bool Modify::end_of_step_due(std::int64_t step) const {
+  for (const Fix* f : end_of_step_)
+    if (step % f->nevery == 0) return true;
+  return false;
+}
+
 void Modify::reset_dt() {
   for (auto& f : fixes)
     f->reset_dt();

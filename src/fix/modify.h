@@ -44,6 +44,8 @@ class Modify {
   void post_force();
   void final_integrate();
   void end_of_step(std::int64_t step);
+  /// Whether end_of_step(step) calls any fix.
+  bool end_of_step_due(std::int64_t step) const;
   void reset_dt();
 
   bool has_integrator() const;

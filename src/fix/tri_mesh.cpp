@@ -80,12 +80,14 @@ void TriMesh::update_geometry() {
 }
 
 void TriMesh::translate(const Vec3& d) {
+  ++moves_;
   for (Vec3& v : node_)
     v += d;
   lo_ += d;
 }
 
 void TriMesh::set_nodes(const std::vector<Vec3>& nodes) {
+  ++moves_;
   node_ = nodes;
   update_geometry();
   bin_start_.clear();

@@ -48,6 +48,7 @@ class TriMesh {
   /// Node k at reference[k] + shift (a rigid translation of a reference
   /// configuration with the same node count; the bin grid moves along).
   void place(const std::vector<Vec3>& reference, const Vec3& shift) {
+    ++moves_;
     lo_ += (reference[0] + shift) - node_[0];
     for (std::size_t k = 0; k < node_.size(); ++k)
       node_[k] = reference[k] + shift;
@@ -81,6 +82,9 @@ class TriMesh {
     return bin_tri_.data() + bin_start_[b];
   }
   double margin() const { return margin_; }
+  /// Counts the changes of node positions (translate, place, set_nodes), so
+  /// users can tell whether the geometry moved since they last looked.
+  long long moves() const { return moves_; }
   /// Rebuild the bins when spheres of radius r are larger than the current margin.
   void ensure_margin(double r) {
     if (r > margin_ || bin_start_.empty()) build_bins(r > margin_ ? r : margin_);
@@ -113,6 +117,7 @@ class TriMesh {
   // neighbour nodes of node k: node_nbr_[node_start_[k] .. node_start_[k+1])
   std::vector<int> node_start_, node_nbr_;
 
+  long long moves_ = 0;
   Vec3 lo_ = Vec3::Zero();
   double inv_h_ = 1.0, margin_ = 0.0;
   int nbin_[3] = {0, 0, 0};

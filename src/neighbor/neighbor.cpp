@@ -208,40 +208,71 @@ void Neighbor::build() {
     return std::clamp(c, 0, nbin[d] - 1);
   };
   const std::size_t nbins = static_cast<std::size_t>(nbin[0]) * nbin[1] * nbin[2];
-  binhead_.assign(nbins, -1);
-  binnext_.assign(nall, -1);
-  std::vector<int> bin_of(nall);
-  // insert in reverse so each bin's chain runs in increasing index order
-  for (int i = nall - 1; i >= 0; --i) {
-    const int b = (coord(p.x[i], 2) * nbin[1] + coord(p.x[i], 1)) * nbin[0] + coord(p.x[i], 0);
-    bin_of[i] = b;
-    binnext_[i] = binhead_[b];
-    binhead_[b] = i;
+  const Vec3* const x = p.x.data();
+  const double* const radius = p.radius.data();
+  const tagint* const id = p.id.data();
+  const tagint* const body = p.body.data();
+  // counting sort of all particles (owned, then ghosts) into the bins; a
+  // stable pass in index order keeps every bin in ascending index order
+  bin_of_.resize(nall);
+  binstart_.assign(nbins + 1, 0);
+  for (int i = 0; i < nall; ++i) {
+    const int b = (coord(x[i], 2) * nbin[1] + coord(x[i], 1)) * nbin[0] + coord(x[i], 0);
+    bin_of_[i] = b;
+    ++binstart_[b + 1];
   }
+  for (std::size_t b = 0; b < nbins; ++b)
+    binstart_[b + 1] += binstart_[b];
+  binpart_.resize(nall);
+  binx_.resize(nall);
+  binr_.resize(nall);
+  {
+    std::vector<int> fill(binstart_.begin(), binstart_.end() - 1);
+    for (int i = 0; i < nall; ++i) {
+      const int k = fill[bin_of_[i]]++;
+      binpart_[k] = i;
+      binx_[k] = x[i];
+      binr_[k] = radius[i];
+    }
+  }
+  const int* const bstart = binstart_.data();
+  const int* const bpart = binpart_.data();
+  const Vec3* const bx = binx_.data();
+  const double* const br = binr_.data();
+  const bool other_exclusions = !exclude_types_.empty() || !exclude_groups_.empty();
+  const double sk = skin;
 
   neigh.reserve(static_cast<std::size_t>(nlocal) * 8);
   for (int i = 0; i < nlocal; ++i) {
     offset[i] = static_cast<int>(neigh.size());
-    const int cx = coord(p.x[i], 0), cy = coord(p.x[i], 1), cz = coord(p.x[i], 2);
-    const double ri = p.radius[i];
+    const int cx = coord(x[i], 0), cy = coord(x[i], 1), cz = coord(x[i], 2);
+    const double ri = radius[i];
+    const Vec3 xi = x[i];
+    const tagint bi = exclude_body_ ? body[i] : -1;
     for (int dz = -1; dz <= 1; ++dz) {
       const int z = cz + dz;
       if (z < 0 || z >= nbin[2]) continue;
       for (int dy = -1; dy <= 1; ++dy) {
         const int y = cy + dy;
         if (y < 0 || y >= nbin[1]) continue;
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xb = cx + dx;
-          if (xb < 0 || xb >= nbin[0]) continue;
-          for (int j = binhead_[(z * nbin[1] + y) * nbin[0] + xb]; j >= 0; j = binnext_[j]) {
-            if (j < nlocal) {
-              if (j <= i) continue;
-            } else if (p.id[j] == p.id[i] || (newton && p.id[j] < p.id[i])) {
-              continue;
-            }
-            const double rc = ri + p.radius[j] + skin;
-            if ((p.x[i] - p.x[j]).squaredNorm() >= rc * rc) continue;
-            if (excluded(i, j)) continue;
+        const int row = (z * nbin[1] + y) * nbin[0];
+        const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nbin[0] - 1);
+        for (int xb = x0; xb <= x1; ++xb) {
+          // each pair once: only partners of higher index (every ghost's
+          // index is above every owned one), found by bisection in the bin
+          // (after spatial sorting a bin's indices are mostly all above or
+          // all below i, so the ends are tested first)
+          const int kbeg = bstart[row + xb], kend = bstart[row + xb + 1];
+          if (kbeg == kend || bpart[kend - 1] <= i) continue;
+          const int kfirst =
+              bpart[kbeg] > i ? kbeg : static_cast<int>(std::upper_bound(bpart + kbeg, bpart + kend, i) - bpart);
+          for (int k = kfirst; k < kend; ++k) {
+            const double rc = ri + br[k] + sk;
+            if ((xi - bx[k]).squaredNorm() >= rc * rc) continue;
+            const int j = bpart[k];
+            if (j >= nlocal && (id[j] == id[i] || (newton && id[j] < id[i]))) continue;
+            if (bi >= 0 && body[j] == bi) continue;
+            if (other_exclusions && excluded(i, j)) continue;
             neigh.push_back(j);
           }
         }
@@ -250,8 +281,18 @@ void Neighbor::build() {
     // Neighbours in id order: each particle's forces are then summed in an
     // order that does not depend on when the list was built (restarts
     // continue bit for bit).
-    std::sort(neigh.begin() + offset[i], neigh.end(),
-              [&p](int a, int b) { return p.id[a] != p.id[b] ? p.id[a] < p.id[b] : a < b; });
+    int* const lst = neigh.data() + offset[i];
+    const int m = static_cast<int>(neigh.size()) - offset[i];
+    for (int a = 1; a < m; ++a) {  // short lists: insertion sort by (id, index)
+      const int v = lst[a];
+      const tagint key = id[v];
+      int b = a - 1;
+      while (b >= 0 && (id[lst[b]] > key || (id[lst[b]] == key && lst[b] > v))) {
+        lst[b + 1] = lst[b];
+        --b;
+      }
+      lst[b + 1] = v;
+    }
   }
   offset[nlocal] = static_cast<int>(neigh.size());
 }

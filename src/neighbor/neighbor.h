@@ -67,8 +67,12 @@ class Neighbor {
   std::vector<std::pair<int, int>> exclude_types_;
   std::vector<std::pair<int, int>> exclude_groups_;
   bool exclude_body_ = true;  // sub-spheres of one clump never interact
-  // bins
-  std::vector<int> binhead_, binnext_;
+  // bins: the particles of bin b are binpart_[binstart_[b] .. binstart_[b+1])
+  // in ascending index order, with their positions and radii in the same
+  // order (binx_, binr_) so that scanning a bin reads contiguous memory
+  std::vector<int> binstart_, binpart_, bin_of_;
+  std::vector<Vec3> binx_;
+  std::vector<double> binr_;
 };
 
 }  // namespace granary
