@@ -17,6 +17,10 @@
 #include "core/logger.h"
 #include "core/variable.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #ifndef GRANARY_VERSION
 #define GRANARY_VERSION "0.1.0"
 #endif
@@ -138,6 +142,13 @@ void run(granary::Engine& engine, const Options& opt) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef __GLIBC__
+  // Large blocks (per-particle arrays, neighbour lists, set-up scratch) are
+  // mapped and unmapped on their own. Without a fixed threshold glibc raises
+  // it after the first large free, and later large blocks stay in the heap
+  // after being freed: the peak memory then holds every transient at once.
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
   MPI_Init(&argc, &argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

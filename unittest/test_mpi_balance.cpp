@@ -10,7 +10,9 @@
 // with fix balance moving the cuts every 100 steps: the physics must agree
 // with the same script on one rank within the tolerances of
 // test_mpi_invariance, and the restart file written with balanced cuts must
-// read on one rank. Weighting by measured time is checked for valid cuts only.
+// read on one rank. Weighting by measured time is checked for valid cuts only;
+// weighting by neighbour counts must even out the neighbour-list entries of
+// the ranks where a dense bed lies under a dilute gas.
 #include <mpi.h>
 
 #include <algorithm>
@@ -203,6 +205,88 @@ TEST_CASE("balance shift xz evens out particles in a corner of a 2 x 1 x 2 grid"
   CHECK(s.e.comm->split[2][1] < 0.4);  // z cut inside the filled 80 mm
 }
 
+namespace {
+
+/// Largest over average number of neighbour-list entries per rank (both ends
+/// of a pair count; the lists of the last build).
+double list_imbalance(granary::Engine& e) {
+  const auto& nb = *e.neighbor;
+  const int n = e.particles->nlocal;
+  double mine = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int k = nb.offset[i]; k < nb.offset[i + 1]; ++k)
+      mine += nb.neigh[k] < n ? 2.0 : 1.0;
+  double most = 0.0, total = 0.0;
+  MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, e.world);
+  MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, e.world);
+  return total > 0 ? most * e.nprocs / total : 1.0;
+}
+
+// 1500 touching beads in a dense layer at the bottom (spacing 2.1 mm, a
+// neighbour skin of 0.6 mm reaches the next beads) under 1000 beads spread
+// through the rest of the box (few neighbours).
+std::vector<std::string> bed_and_gas_script() {
+  std::vector<std::string> s = {
+      "units si",
+      "atom_style granular",
+      "boundary f f f",
+      "processors 1 1 *",
+      "region box block 0 0.03 0 0.03 0 0.2 units box",
+      "create_box 1 box",
+      "region bed block 0.001 0.029 0.001 0.029 0.001 0.012 units box",
+      "region gas block 0.001 0.029 0.001 0.029 0.02 0.199 units box",
+      "create_atoms 1 random 1500 4711 bed overlap 0.00201 maxtry 500",
+      "create_atoms 1 random 1000 4712 gas overlap 0.0021 maxtry 200",
+      "set type 1 diameter 0.002 density 2500",
+  };
+  for (const auto& l : physics())
+    s.push_back(l);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("balance weight neigh evens out the neighbour-list entries of a bed under a gas") {
+  double by_count = 0.0, by_neigh = 0.0;
+  for (const bool neigh : {false, true}) {
+    granary::test::ScriptEngine s(MPI_COMM_WORLD);
+    s.cmds(bed_and_gas_script());
+    s.cmd("run 0");
+    s.cmd(neigh ? "balance 1.0 shift z 30 1.01 weight neigh 1.0" : "balance 1.0 shift z 30 1.01");
+    s.cmd("run 0");
+    check_cuts(s.e);
+    (neigh ? by_neigh : by_count) = list_imbalance(s.e);
+    if (s.e.nprocs > 1 && neigh) {
+      // the weighted cut lies inside the bed (below half the particles)
+      CHECK(rank_imbalance(s.e) > 1.1);
+    }
+  }
+  int nprocs = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  INFO("list-entry imbalance on " << nprocs << " ranks: balanced by count " << by_count << ", by neighbours "
+                                  << by_neigh);
+  if (nprocs == 1) {
+    CHECK(by_count == 1.0);
+    CHECK(by_neigh == 1.0);
+  } else {
+    CHECK(by_count > 1.3);
+    CHECK(by_neigh < 1.1);
+  }
+}
+
+TEST_CASE("fix balance weight neigh moves the cuts during a run") {
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds(bed_and_gas_script());
+  s.cmd("fix bal all balance 50 1.02 shift z 30 1.01 weight neigh 1.0");
+  s.cmd("run 100");
+  check_cuts(s.e);
+  if (s.e.nprocs > 1) {
+    INFO("list-entry imbalance " << list_imbalance(s.e));
+    CHECK(list_imbalance(s.e) < 1.15);
+    CHECK(rank_imbalance(s.e) > 1.1);
+  }
+}
+
 TEST_CASE("fix balance during a draining column keeps the physics of one rank") {
   int nprocs = 1, rank = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
@@ -300,7 +384,10 @@ TEST_CASE("balance and fix balance refuse bad arguments") {
   CHECK_THROWS_WITH(s.cmd("balance 1.1 rcb"), Contains("rcb is not available"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 bisect z"), Contains("unknown balance style 'bisect'"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight neigh 0.5"),
-                    Contains("only 'weight time FACTOR'"));
+                    Contains("needs the neighbour lists of the current particles"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight mass 0.5"),
+                    Contains("'weight neigh FACTOR'"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight neigh 0"), Contains("must be in (0, 1]"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight time 1.5"), Contains("must be in (0, 1]"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 extra"), Contains("unknown balance keyword 'extra'"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 z uniform weight time 0.5"), Contains("needs the shift style"));

@@ -51,27 +51,30 @@ ShiftSettings parse_shift(const Args& args, std::size_t first, const std::string
   return s;
 }
 
-double parse_weight(const Args& args, std::size_t first, const std::string& what) {
-  double factor = 0.0;
+WeightSettings parse_weight(const Args& args, std::size_t first, const std::string& what) {
+  WeightSettings out;
   std::size_t k = first;
   while (k < args.size()) {
     const std::string& w = args[k];
     if (w == "weight") {
-      if (k + 2 >= args.size() || args[k + 1] != "time") {
+      if (k + 2 >= args.size() || (args[k + 1] != "time" && args[k + 1] != "neigh")) {
         throw InputError(what +
-                         " weight: only 'weight time FACTOR' is supported (the measured cost per particle of "
-                         "each rank)");
+                         " weight: expected 'weight time FACTOR' (the measured cost per particle of each "
+                         "rank) or 'weight neigh FACTOR' (each particle's neighbour count)");
       }
-      factor = parse_double(args[k + 2], what + " weight time FACTOR");
-      if (!(factor > 0.0 && factor <= 1.0)) throw InputError(what + " weight time FACTOR must be in (0, 1]");
+      out.kind = args[k + 1] == "time" ? WeightSettings::kTime : WeightSettings::kNeigh;
+      out.factor = parse_double(args[k + 2], what + " weight " + args[k + 1] + " FACTOR");
+      if (!(out.factor > 0.0 && out.factor <= 1.0))
+        throw InputError(what + " weight " + args[k + 1] + " FACTOR must be in (0, 1]");
       k += 3;
     } else if (w == "out") {
       throw InputError(what + " keyword 'out' is not supported");
     } else {
-      throw InputError("unknown " + what + " keyword '" + w + "'; expected weight time FACTOR");
+      throw InputError("unknown " + what + " keyword '" + w +
+                       "'; expected weight time FACTOR or weight neigh FACTOR");
     }
   }
-  return factor;
+  return out;
 }
 
 Balancer::Balancer(Engine& engine) : engine_(engine) {}
@@ -87,6 +90,35 @@ void Balancer::set_time_weight(double factor, double seconds) {
   weight_ = (1.0 - factor) + factor * here / mean;
 }
 
+void Balancer::set_neigh_weight(double factor) {
+  const Particles& p = *engine_.particles;
+  const Neighbor& nb = *engine_.neighbor;
+  const int n = p.nlocal;
+  // list entries per owned particle, both ends of each pair
+  // The list covers the particles owned at its build; particles appended
+  // since (insertion) come after them. With fewer particles than the list
+  // (deleted since) the indices no longer match and every weight is 1.
+  std::vector<double> count(n, 0.0);
+  const int built = static_cast<int>(nb.offset.size()) - 1;
+  const int covered = built >= 0 && built <= n ? built : 0;
+  for (int i = 0; i < covered; ++i) {
+    for (int k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
+      count[i] += 1.0;
+      const int j = nb.neigh[k];
+      if (j < covered) count[j] += 1.0;  // an owned partner (ghosts were indexed from `built` on)
+    }
+  }
+  double mine[2] = {0.0, static_cast<double>(std::max(covered, 0))}, all[2] = {0.0, 0.0};
+  for (int i = 0; i < covered; ++i)
+    mine[0] += count[i];
+  MPI_Allreduce(mine, all, 2, MPI_DOUBLE, MPI_SUM, engine_.world);
+  weights_.assign(n, 1.0);
+  if (!(all[0] > 0.0) || !(all[1] > 0.0)) return;
+  const double mean = all[0] / all[1];
+  for (int i = 0; i < covered; ++i)
+    weights_[i] = (1.0 - factor) + factor * count[i] / mean;
+}
+
 std::vector<double> Balancer::cell_loads(const std::array<std::vector<double>, 3>& cuts) const {
   const Comm& c = *engine_.comm;
   const Particles& p = *engine_.particles;
@@ -95,7 +127,7 @@ std::vector<double> Balancer::cell_loads(const std::array<std::vector<double>, 3
     int loc[3];
     for (int d = 0; d < 3; ++d)
       loc[d] = c.slab_of(d, p.x[i][d], cuts[d]);
-    local[c.rank_at(loc[0], loc[1], loc[2])] += weight_;
+    local[c.rank_at(loc[0], loc[1], loc[2])] += weights_.empty() ? weight_ : weights_[i];
   }
   MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, engine_.world);
   return all;
@@ -244,7 +276,7 @@ std::string Balancer::summary(const BalanceResult& r) const {
 // balance THRESH x|y|z uniform|CUTS... [x|y|z ...]
 void cmd_balance(Engine& e, const Args& a) {
   const std::string usage =
-      "balance THRESH shift DIMSTR NITER STOPTHRESH [weight time FACTOR], or balance THRESH x|y|z "
+      "balance THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR], or balance THRESH x|y|z "
       "uniform|C1 ... "
       "(e.g. balance 1.1 shift z 20 1.05)";
   if (!e.domain->box_exist)
@@ -263,11 +295,18 @@ void cmd_balance(Engine& e, const Args& a) {
   BalanceResult r;
   if (a[1] == "shift") {
     const ShiftSettings s = parse_shift(a, 2, "balance");
-    const double factor = parse_weight(a, 5, "balance");
+    const WeightSettings weight = parse_weight(a, 5, "balance");
+    if (weight.kind == WeightSettings::kNeigh &&
+        e.neighbor->offset.size() != static_cast<std::size_t>(e.particles->nlocal) + 1) {
+      throw InputError(
+          "balance weight neigh needs the neighbour lists of the current particles; they are built by a "
+          "run (use 'run 0' after creating or deleting particles)");
+    }
     const double minwidth = prepare();
     // cost measured over the last run: its pair and neighbour time on this rank
-    if (factor > 0.0)
-      bal.set_time_weight(factor, e.update->timers[Update::kPair] + e.update->timers[Update::kNeigh]);
+    if (weight.kind == WeightSettings::kTime)
+      bal.set_time_weight(weight.factor, e.update->timers[Update::kPair] + e.update->timers[Update::kNeigh]);
+    if (weight.kind == WeightSettings::kNeigh) bal.set_neigh_weight(weight.factor);
     r = bal.shift(thresh, s, minwidth);
   } else if (a[1] == "x" || a[1] == "y" || a[1] == "z") {
     // explicit cuts per dimension, LAMMPS' x/y/z styles

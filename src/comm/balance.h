@@ -17,6 +17,9 @@
 // the measured pair and neighbour time of its rank per owned particle,
 // relative to the average over all ranks, blended with 1 by FACTOR. All
 // particles of a rank share its weight, since the cost is only known per rank.
+// With `weight neigh FACTOR` every particle has its own weight: its number of
+// neighbour-list entries relative to the mean over all particles, blended with
+// 1 by FACTOR (a particle in a dense bed costs more than one falling freely).
 #pragma once
 
 #include <array>
@@ -47,9 +50,14 @@ struct BalanceResult {
 /// Parse `DIMSTR NITER STOPTHRESH` at args[first..first+2]; `what` names the
 /// command in messages.
 ShiftSettings parse_shift(const Args& args, std::size_t first, const std::string& what);
+/// Optional weighting of the shift style.
+struct WeightSettings {
+  enum Kind { kNone, kTime, kNeigh } kind = kNone;
+  double factor = 0.0;  // in (0, 1]
+};
 /// Parse the optional keywords after the shift arguments (from args[first]):
-/// `weight time FACTOR`; returns FACTOR, or 0 without weighting.
-double parse_weight(const Args& args, std::size_t first, const std::string& what);
+/// `weight time FACTOR` or `weight neigh FACTOR`.
+WeightSettings parse_weight(const Args& args, std::size_t first, const std::string& what);
 
 class Balancer {
  public:
@@ -60,6 +68,12 @@ class Balancer {
   /// by `factor` (0 < factor <= 1). Without time on any rank the weights stay 1.
   /// Collective.
   void set_time_weight(double factor, double seconds);
+  /// Weigh each owned particle by its neighbour-list entries (both ends of
+  /// every listed pair), relative to the mean over all particles of all
+  /// ranks, blended with 1 by `factor`. Uses the current neighbour list; a
+  /// particle the list does not cover (added since the build) counts 1.
+  /// Collective.
+  void set_neigh_weight(double factor);
   double weight() const { return weight_; }
 
   /// Load (weighted particle count) of every grid cell (rank) for the given cuts; collective.
@@ -85,7 +99,8 @@ class Balancer {
 
  private:
   Engine& engine_;
-  double weight_ = 1.0;  // weight of each particle owned by this rank
+  double weight_ = 1.0;          // weight of each particle owned by this rank
+  std::vector<double> weights_;  // per owned particle (weight neigh); empty: weight_
 };
 
 }  // namespace granary

@@ -314,31 +314,35 @@ void Comm::exchange_known(const std::vector<double>& send, int sendproc, std::ve
 void Comm::forward_comm() {
   Particles& p = *engine_.particles;
   const int per = ghost_velocity ? 9 : 3;
+  Vec3* const x = p.x.data();
+  Vec3* const v = p.v.data();
+  Vec3* const w = p.omega.data();
   for (const Swap& s : swaps_) {
     if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
-    sendbuf_.clear();
-    sendbuf_.reserve(s.sendlist.size() * per);
+    sendbuf_.resize(s.sendlist.size() * per);
+    double* out = sendbuf_.data();
+    const Vec3 shift = s.shift;
     for (int i : s.sendlist) {
       for (int d = 0; d < 3; ++d)
-        sendbuf_.push_back(p.x[i][d] + s.shift[d]);
+        *out++ = x[i][d] + shift[d];
       if (ghost_velocity) {
         for (int d = 0; d < 3; ++d)
-          sendbuf_.push_back(p.v[i][d]);
+          *out++ = v[i][d];
         for (int d = 0; d < 3; ++d)
-          sendbuf_.push_back(p.omega[i][d]);
+          *out++ = w[i][d];
       }
     }
     exchange_known(sendbuf_, s.sendproc, recvbuf_, static_cast<std::size_t>(s.nrecv) * per, s.recvproc);
-    std::size_t m = 0;
-    for (int k = 0; k < s.nrecv && m < recvbuf_.size(); ++k) {
+    const int n = std::min<int>(s.nrecv, static_cast<int>(recvbuf_.size() / per));
+    const double* in = recvbuf_.data();
+    for (int k = 0; k < n; ++k) {
       const int j = s.firstrecv + k;
-      for (int d = 0; d < 3; ++d)
-        p.x[j][d] = recvbuf_[m++];
+      x[j] = Vec3(in[0], in[1], in[2]);
+      in += 3;
       if (ghost_velocity) {
-        for (int d = 0; d < 3; ++d)
-          p.v[j][d] = recvbuf_[m++];
-        for (int d = 0; d < 3; ++d)
-          p.omega[j][d] = recvbuf_[m++];
+        v[j] = Vec3(in[0], in[1], in[2]);
+        w[j] = Vec3(in[3], in[4], in[5]);
+        in += 6;
       }
     }
   }

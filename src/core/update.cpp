@@ -152,9 +152,27 @@ void Update::setup() {
       saved_pair = history->values_;
       saved_touch = history->touch_;
     }
-    std::vector<std::vector<double>> saved_fields;
-    for (const auto& field : e.particles->extras)
-      if (field.history) saved_fields.push_back(field.data);
+    // Per-particle history fields (wall contacts) are mostly zero: only the
+    // rows of particles with history are kept, and restored over a cleared field.
+    struct SavedRows {
+      std::vector<int> rows;
+      std::vector<double> values;
+    };
+    std::vector<SavedRows> saved_fields;
+    for (const auto& field : e.particles->extras) {
+      if (!field.history) continue;
+      SavedRows saved;
+      const std::size_t nc = static_cast<std::size_t>(field.ncomp);
+      const std::size_t nrows = nc > 0 ? field.data.size() / nc : 0;
+      for (std::size_t r = 0; r < nrows; ++r) {
+        const double* row = field.data.data() + r * nc;
+        if (std::any_of(row, row + nc, [](double v) { return v != 0.0; })) {
+          saved.rows.push_back(static_cast<int>(r));
+          saved.values.insert(saved.values.end(), row, row + nc);
+        }
+      }
+      saved_fields.push_back(std::move(saved));
+    }
     in_setup_forces = true;
     compute_forces();
     in_setup_forces = false;
@@ -163,8 +181,15 @@ void Update::setup() {
       history->touch_.swap(saved_touch);
     }
     std::size_t k = 0;
-    for (auto& field : e.particles->extras)
-      if (field.history) field.data.swap(saved_fields[k++]);
+    for (auto& field : e.particles->extras) {
+      if (!field.history) continue;
+      const SavedRows& saved = saved_fields[k++];
+      const std::size_t nc = static_cast<std::size_t>(field.ncomp);
+      std::fill(field.data.begin(), field.data.end(), 0.0);
+      for (std::size_t m = 0; m < saved.rows.size(); ++m)
+        std::copy(saved.values.begin() + m * nc, saved.values.begin() + (m + 1) * nc,
+                  field.data.begin() + saved.rows[m] * nc);
+    }
   }
   // collective: a rank may hold none of the particles of the restart file
   long long stored = static_cast<long long>(restart_forces.size()), any = 0;

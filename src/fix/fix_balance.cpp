@@ -1,6 +1,6 @@
 // fix balance: dynamic load balancing by moving the cut planes of the
 // processor grid (see src/comm/balance.h).
-//   fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time FACTOR]
+//   fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR]
 // At the setup of every run, and on every step that is a multiple of NEVERY
 // (NEVERY = 0: setup only), the fix forces a reneighbouring and, in its
 // pre_exchange hook (before particles migrate), moves the cuts when the
@@ -26,7 +26,7 @@ class FixBalance : public Fix {
  public:
   FixBalance(Engine& engine, const Args& args) : Fix(engine, args) {
     const std::string usage =
-        "fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time FACTOR]";
+        "fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR]";
     if (args.size() < 6) throw InputError("fix balance: too few arguments; usage: " + usage);
     const long long n = parse_int(args[3], "fix balance NEVERY");
     if (n < 0) throw InputError("fix balance NEVERY must be >= 0 (0: balance only at the setup of each run)");
@@ -39,7 +39,7 @@ class FixBalance : public Fix {
           "fix balance style rcb is not available; use shift (cut planes of the processor grid)");
     if (args[5] != "shift") throw InputError("unknown fix balance style '" + args[5] + "'; usage: " + usage);
     settings_ = parse_shift(args, 6, "fix balance");
-    factor_ = parse_weight(args, 9, "fix balance");
+    weight_ = parse_weight(args, 9, "fix balance");
     scalar_flag = true;
     size_vector = 3;
   }
@@ -70,14 +70,18 @@ class FixBalance : public Fix {
     Balancer bal(engine_);
     // the shrink-wrapped box the exchange will use (reset_box is idempotent)
     engine_.domain->reset_box();
-    if (factor_ > 0.0 && !at_setup) {
+    // the neighbour lists of the last build still index the owned particles
+    // here (particles added since count 1); at run setup they are the lists
+    // of the previous run, if any
+    if (weight_.kind == WeightSettings::kNeigh) bal.set_neigh_weight(weight_.factor);
+    if (weight_.kind == WeightSettings::kTime && !at_setup) {
       // pair and neighbour time of this rank since the last balancing (the
       // timers restart with every run; at run setup nothing is measured yet,
       // so the particles count with weight 1 there)
       const Update& u = *engine_.update;
       const double now = u.timers[Update::kPair] + u.timers[Update::kNeigh];
       const double spent = now >= mark_ ? now - mark_ : now;
-      bal.set_time_weight(factor_, spent);
+      bal.set_time_weight(weight_.factor, spent);
       mark_ = now;
     }
     last_ = bal.shift(thresh_, settings_, bal.min_width());
@@ -95,7 +99,7 @@ class FixBalance : public Fix {
 
  private:
   long long every_ = 0;
-  double factor_ = 0.0;  // weight time FACTOR (0: particle count)
+  WeightSettings weight_;  // weight time|neigh FACTOR (none: particle count)
   double mark_ = 0.0;    // pair + neighbour time of this rank at the last balancing
   double thresh_ = 1.0;
   ShiftSettings settings_;

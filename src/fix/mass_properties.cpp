@@ -97,80 +97,114 @@ MassProperties sphere_union_properties(const std::vector<Vec3>& centres, const s
   }
 
   // Refine while the next level is expected to keep >= 8 samples per cell
-  // (surface cells multiply by about 4 per level).
+  // (surface cells multiply by about 4 per level); the surface cells of the
+  // last level are sampled.
   constexpr int kMaxLevels = 40;
   std::vector<int> cut;
+  std::mt19937_64 gen(seed);
+  auto uniform01 = [&gen]() { return static_cast<double>(gen() >> 11) * 0x1.0p-53; };
+  // Jittered sampling of one surface cell with k^3 points.
+  auto sample = [&](const Vec3& clo, const Vec3& chi, const std::vector<int>& candidates, int k) {
+    const int npts = k * k * k;
+    const Vec3 e = chi - clo;
+    const double vol = e[0] * e[1] * e[2];
+    const double w = vol / npts;
+    out.volume_bound += vol;
+    int inside = 0;
+    double sum_t = 0.0, sum_t2 = 0.0;
+    for (int ix = 0; ix < k; ++ix) {
+      for (int iy = 0; iy < k; ++iy) {
+        for (int iz = 0; iz < k; ++iz) {
+          const Vec3 x(clo[0] + (ix + uniform01()) * e[0] / k, clo[1] + (iy + uniform01()) * e[1] / k,
+                       clo[2] + (iz + uniform01()) * e[2] / k);
+          bool in = false;
+          for (int s : candidates) {
+            if ((x - c[s]).squaredNorm() <= radii[s] * radii[s]) {
+              in = true;
+              break;
+            }
+          }
+          if (!in) continue;
+          ++inside;
+          m.v += w;
+          m.s1 += w * x;
+          m.s2 += w * x * x.transpose();
+          const double t = x.squaredNorm();
+          sum_t += t;
+          sum_t2 += t * t;
+        }
+      }
+    }
+    out.samples += npts;
+    // sample variances of the indicator and of |x|^2 times the indicator
+    const double p = static_cast<double>(inside) / npts;
+    const double var_in = p * (1.0 - p) * npts / (npts - 1.0);
+    const double mean_t = sum_t / npts;
+    const double var_t = std::max(0.0, (sum_t2 / npts - mean_t * mean_t) * npts / (npts - 1.0));
+    m.var_v += vol * vol * var_in / npts;
+    m.var_t += vol * vol * var_t / npts;
+  };
+  auto samples_per_cell = [&](std::size_t ncells) {
+    const double per_cell = static_cast<double>(ntry) / static_cast<double>(ncells);
+    return std::max(2, static_cast<int>(std::floor(std::cbrt(per_cell) + 1e-9)));
+  };
+  auto octant = [](const Cell& cell, int oct, Vec3& a, Vec3& b) {
+    const Vec3 mid = 0.5 * (cell.lo + cell.hi);
+    for (int d = 0; d < 3; ++d) {
+      const bool upper = (oct >> d) & 1;
+      a[d] = upper ? mid[d] : cell.lo[d];
+      b[d] = upper ? cell.hi[d] : mid[d];
+    }
+  };
+  bool sampled = false;
   while (!level.empty() && out.levels < kMaxLevels &&
          32.0 * static_cast<double>(level.size()) <= static_cast<double>(ntry)) {
-    std::vector<Cell> next;
-    next.reserve(level.size() * 4);
+    // Count the next level's surface cells first: when it is the last level
+    // (too many cells to refine further) its cells are sampled as they are
+    // made instead of being stored, which would take most of the memory.
+    std::size_t nnext = 0;
+    Vec3 a, b;
     for (const Cell& cell : level) {
-      const Vec3 mid = 0.5 * (cell.lo + cell.hi);
       for (int oct = 0; oct < 8; ++oct) {
-        Vec3 a, b;
-        for (int d = 0; d < 3; ++d) {
-          const bool upper = (oct >> d) & 1;
-          a[d] = upper ? mid[d] : cell.lo[d];
-          b[d] = upper ? cell.hi[d] : mid[d];
-        }
+        octant(cell, oct, a, b);
+        if (classify(a, b, c, radii, &cell.candidates, cut) == Kind::Surface) ++nnext;
+      }
+    }
+    const bool last = nnext == 0 || out.levels + 1 >= kMaxLevels ||
+                      32.0 * static_cast<double>(nnext) > static_cast<double>(ntry);
+    std::vector<Cell> next;
+    if (!last) next.reserve(nnext);
+    const int k = last && nnext > 0 ? samples_per_cell(nnext) : 0;
+    // interior boxes of the whole level first, then the samples (the order
+    // in which the moments are summed)
+    for (const Cell& cell : level) {
+      for (int oct = 0; oct < 8; ++oct) {
+        octant(cell, oct, a, b);
         const Kind kind = classify(a, b, c, radii, &cell.candidates, cut);
         if (kind == Kind::Inside)
           m.add_box(a, b);
-        else if (kind == Kind::Surface)
+        else if (kind == Kind::Surface && !last)
           next.push_back(Cell{a, b, cut});
       }
     }
-    level.swap(next);
     ++out.levels;
-  }
-
-  // Jittered sampling of the remaining surface cells: k^3 points per cell.
-  std::mt19937_64 gen(seed);
-  auto uniform01 = [&gen]() { return static_cast<double>(gen() >> 11) * 0x1.0p-53; };
-  if (!level.empty()) {
-    const double per_cell = static_cast<double>(ntry) / static_cast<double>(level.size());
-    const int k = std::max(2, static_cast<int>(std::floor(std::cbrt(per_cell) + 1e-9)));
-    const int npts = k * k * k;
-    for (const Cell& cell : level) {
-      const Vec3 e = cell.hi - cell.lo;
-      const double vol = e[0] * e[1] * e[2];
-      const double w = vol / npts;
-      out.volume_bound += vol;
-      int inside = 0;
-      double sum_t = 0.0, sum_t2 = 0.0;
-      for (int ix = 0; ix < k; ++ix) {
-        for (int iy = 0; iy < k; ++iy) {
-          for (int iz = 0; iz < k; ++iz) {
-            const Vec3 x(cell.lo[0] + (ix + uniform01()) * e[0] / k,
-                         cell.lo[1] + (iy + uniform01()) * e[1] / k,
-                         cell.lo[2] + (iz + uniform01()) * e[2] / k);
-            bool in = false;
-            for (int s : cell.candidates) {
-              if ((x - c[s]).squaredNorm() <= radii[s] * radii[s]) {
-                in = true;
-                break;
-              }
-            }
-            if (!in) continue;
-            ++inside;
-            m.v += w;
-            m.s1 += w * x;
-            m.s2 += w * x * x.transpose();
-            const double t = x.squaredNorm();
-            sum_t += t;
-            sum_t2 += t * t;
-          }
+    if (last) {
+      for (const Cell& cell : level) {
+        for (int oct = 0; oct < 8; ++oct) {
+          octant(cell, oct, a, b);
+          if (classify(a, b, c, radii, &cell.candidates, cut) == Kind::Surface) sample(a, b, cut, k);
         }
       }
-      out.samples += npts;
-      // sample variances of the indicator and of |x|^2 times the indicator
-      const double p = static_cast<double>(inside) / npts;
-      const double var_in = p * (1.0 - p) * npts / (npts - 1.0);
-      const double mean_t = sum_t / npts;
-      const double var_t = std::max(0.0, (sum_t2 / npts - mean_t * mean_t) * npts / (npts - 1.0));
-      m.var_v += vol * vol * var_in / npts;
-      m.var_t += vol * vol * var_t / npts;
+      level.clear();
+      sampled = true;
+      break;
     }
+    level.swap(next);
+  }
+  if (!sampled && !level.empty()) {
+    const int k = samples_per_cell(level.size());
+    for (const Cell& cell : level)
+      sample(cell.lo, cell.hi, cell.candidates, k);
   }
   if (!(m.v > 0.0)) throw std::invalid_argument("the spheres enclose no volume");
 

@@ -102,37 +102,53 @@ void Particles::clear_ghosts() {
 }
 
 namespace {
+// Rows k of `a` (ncomp values each) become the former rows order[k], in place:
+// each cycle of the permutation is rotated through one saved row, so no copy
+// of the array is made (the largest per-particle fields take megabytes).
 template <class T>
-void reorder(std::vector<T>& a, const std::vector<int>& order, std::vector<T>& tmp) {
-  tmp.resize(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    tmp[k] = a[order[k]];
-  std::copy(tmp.begin(), tmp.end(), a.begin());
+void reorder(T* a, std::size_t ncomp, const std::vector<int>& order, std::vector<char>& done) {
+  const std::size_t n = order.size();
+  done.assign(n, 0);
+  std::vector<T> saved(ncomp);
+  for (std::size_t start = 0; start < n; ++start) {
+    if (done[start] || static_cast<std::size_t>(order[start]) == start) {
+      done[start] = 1;
+      continue;
+    }
+    std::copy_n(a + start * ncomp, ncomp, saved.begin());
+    std::size_t k = start;
+    for (;;) {
+      done[k] = 1;
+      const std::size_t from = static_cast<std::size_t>(order[k]);
+      if (from == start) {
+        std::copy_n(saved.begin(), ncomp, a + k * ncomp);
+        break;
+      }
+      std::copy_n(a + from * ncomp, ncomp, a + k * ncomp);
+      k = from;
+    }
+  }
+}
+template <class T>
+void reorder(std::vector<T>& a, const std::vector<int>& order, std::vector<char>& done) {
+  reorder(a.data(), 1, order, done);
 }
 }  // namespace
 
 void Particles::permute(const std::vector<int>& order) {
-  std::vector<tagint> t64;
-  std::vector<int> ti;
-  std::vector<double> td;
-  std::vector<Vec3> tv;
-  reorder(id, order, t64);
-  reorder(body, order, t64);
-  reorder(type, order, ti);
-  reorder(mask, order, ti);
-  reorder(image, order, ti);
-  reorder(radius, order, td);
-  reorder(density, order, td);
-  reorder(rmass, order, td);
+  std::vector<char> done;
+  reorder(id, order, done);
+  reorder(body, order, done);
+  reorder(type, order, done);
+  reorder(mask, order, done);
+  reorder(image, order, done);
+  reorder(radius, order, done);
+  reorder(density, order, done);
+  reorder(rmass, order, done);
   for (auto* a : {&x, &v, &f, &omega, &torque})
-    reorder(*a, order, tv);
-  for (auto& e : extras) {
-    td.resize(order.size() * e.ncomp);
-    for (std::size_t k = 0; k < order.size(); ++k)
-      std::copy_n(e.data.begin() + static_cast<std::size_t>(order[k]) * e.ncomp, e.ncomp,
-                  td.begin() + k * e.ncomp);
-    std::copy(td.begin(), td.end(), e.data.begin());
-  }
+    reorder(*a, order, done);
+  for (auto& e : extras)
+    reorder(e.data.data(), static_cast<std::size_t>(e.ncomp), order, done);
 }
 
 // The fields every particle record starts with (migration and ghosts alike):
