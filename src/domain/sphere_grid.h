@@ -13,17 +13,36 @@
 
 namespace granary {
 
-/// Spheres of radius up to rmax hashed into cells 2 rmax wide; queries include
-/// the periodic images of the query sphere.
+/// Spheres of radius up to rmax in cells 2 rmax wide; queries include the
+/// periodic images of the query sphere. The cells of the box (and two cells
+/// around it) are a dense table of linked lists when there are not too many
+/// of them; cells outside it, or all cells of a huge sparse box, are hashed.
 class SphereGrid {
  public:
-  SphereGrid(const Domain& dom, double rmax) : dom_(dom), rmax_(rmax), cell_(2.0 * rmax) {}
+  SphereGrid(const Domain& dom, double rmax) : dom_(dom), rmax_(rmax), cell_(2.0 * rmax) {
+    double total = 1.0;
+    for (int d = 0; d < 3; ++d) {
+      const double n = std::ceil(dom.prd[d] / cell_) + 2 * kMargin;
+      n_[d] = n < 1e9 ? static_cast<long long>(n) : 0;
+      total *= n;
+    }
+    if (total > 0.0 && total <= kMaxDense) head_.assign(static_cast<std::size_t>(total), -1);
+  }
 
   /// Add a sphere; x must lie inside the box in periodic dimensions.
   void add(const Vec3& x, double r) {
+    const int n = static_cast<int>(centres_.size());
     centres_.push_back(x);
     radii_.push_back(r);
-    cells_[key(cell(x))].push_back(static_cast<int>(centres_.size()) - 1);
+    const auto c = cell(x);
+    const long long at = dense_index(c);
+    if (at >= 0) {
+      next_.push_back(head_[at]);
+      head_[at] = n;
+    } else {
+      next_.push_back(-1);
+      cells_[key(c)].push_back(n);
+    }
   }
 
   /// True when (x, r) overlaps a stored sphere (distance < sum of radii).
@@ -47,6 +66,15 @@ class SphereGrid {
           for (long long i = base[0] - 1; i <= base[0] + 1; ++i) {
             for (long long j = base[1] - 1; j <= base[1] + 1; ++j) {
               for (long long k = base[2] - 1; k <= base[2] + 1; ++k) {
+                const long long at = dense_index({i, j, k});
+                if (at >= 0) {
+                  for (int n = head_[at]; n >= 0; n = next_[n]) {
+                    const double s = r + radii_[n];
+                    if ((centres_[n] - xs).squaredNorm() < s * s) return true;
+                  }
+                  continue;
+                }
+                if (cells_.empty()) continue;
                 auto it = cells_.find(key({i, j, k}));
                 if (it == cells_.end()) continue;
                 for (int n : it->second) {
@@ -63,6 +91,19 @@ class SphereGrid {
   }
 
  private:
+  static constexpr long long kMargin = 2;      // dense cells beyond each box face
+  static constexpr double kMaxDense = 8.0e6;  // largest dense table (cells)
+  /// Position of cell c in the dense table, -1 when outside it (or no table).
+  long long dense_index(const std::array<long long, 3>& c) const {
+    if (head_.empty()) return -1;
+    long long at = 0;
+    for (int d = 2; d >= 0; --d) {
+      const long long k = c[d] + kMargin;
+      if (k < 0 || k >= n_[d]) return -1;
+      at = at * n_[d] + k;
+    }
+    return at;
+  }
   std::array<long long, 3> cell(const Vec3& x) const {
     std::array<long long, 3> c;
     for (int d = 0; d < 3; ++d)
@@ -76,6 +117,9 @@ class SphereGrid {
   }
   const Domain& dom_;
   double rmax_, cell_;
+  long long n_[3] = {0, 0, 0};  // dense table size per dimension
+  std::vector<int> head_;        // first sphere of each dense cell, -1: none
+  std::vector<int> next_;        // next sphere in the same dense cell
   std::vector<Vec3> centres_;
   std::vector<double> radii_;
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;

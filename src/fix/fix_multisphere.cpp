@@ -752,8 +752,10 @@ void FixMultisphere::initial_integrate() {
       B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
       B.angmom[b] += dtf * B.torque[b];
       B.xcm[b] += dt * B.vcm[b];
-      // torque-free rotation for dt; the space-frame angular momentum is unchanged
-      lb[j] = B.quat[b].toRotationMatrix().transpose() * B.angmom[b];
+      // torque-free rotation for dt; the space-frame angular momentum is
+      // unchanged (rot_[b] is the rotation matrix of quat[b]: set at the end of
+      // the last step, or by compute_rotations when the body became active)
+      lb[j] = rot_[b].transpose() * B.angmom[b];
       q[j] = B.quat[b];
       inertia[j] = B.inertia[b];
     }
@@ -778,15 +780,16 @@ void FixMultisphere::final_integrate() {
   sum_forces();
   const double dtf = 0.5 * engine_.update->dt;
   Bodies& B = bodies_;
+  // The bodies' spins and the sub-spheres' velocities are set again at the
+  // start of the next step, before any force uses them; here they are only
+  // needed by whatever reads the bodies or particles at the end of this step.
+  const bool observed = engine_.update->step_observed();
   for (int b : active_) {
     B.vcm[b] += (dtf / B.mass[b]) * B.fcm[b];
     B.angmom[b] += dtf * B.torque[b];
-    B.omega[b] = omega_from(b);
+    if (observed) B.omega[b] = omega_from(b);
   }
-  // The sub-spheres' velocities are set again from the bodies at the start of
-  // the next step, before any force uses them; here they are only needed by
-  // whatever reads the particles at the end of this step.
-  if (engine_.update->step_observed()) place_spheres(false);
+  if (observed) place_spheres(false);
 }
 
 // ---------------------------------------------------------------- restart
