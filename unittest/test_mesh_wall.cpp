@@ -129,7 +129,7 @@ TEST_CASE("unfix of a mesh wall frees its per-particle contact history", "[mesh]
           "fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere",
           "run 200"});
   const auto& p = s.p();
-  const std::string slots = "mesh_wall_history/floor/6/3";
+  const std::string slots = "mesh_wall_history/floor/2/3";
   REQUIRE(p.find_field(slots) >= 0);
   CHECK(p.extras[p.find_field(slots)].data[4] != 0.0);  // a sliding contact holds shear history
   const std::size_t nfields = p.extras.size();
@@ -370,6 +370,79 @@ TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_
     node_restarted = mesh_fix(s, "cad").mesh.node(0);
   }
   CHECK(node_restarted == node_straight);
+  for (int i = 0; i < 2; ++i) {
+    CHECK(restarted[i].x == straight[i].x);
+    CHECK(restarted[i].v == straight[i].v);
+    CHECK(restarted[i].w == straight[i].w);
+  }
+}
+
+TEST_CASE("mesh contacts beyond the per-particle slots survive write_restart and read_restart", "[mesh][restart]") {
+  // Spheres wedged in a channel narrower than they are (side walls at
+  // y = +-2^-10 m, 1 um inside the radius) touch the floor and both walls:
+  // three contacts, the third kept in the wall fix's table of extra slots,
+  // which goes into the restart file. The run split by a restart continues
+  // bit for bit.
+  std::vector<Triangle> t;
+  const double w = 0.0009765625, l = 0.04, h = 0.004;
+  mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 2 * w, 0), 8, 1);
+  mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
+  mesh_files::add_rectangle(t, Vec3(0, w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
+  mesh_files::write_ascii(path("channel.stl"), t);
+  auto setup = [&](ScriptEngine& s) {
+    // friction 0.1: the wedged spheres keep sliding on all three faces
+    s.cmds({"fix m4 all property/global coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
+            "fix gravi all gravity 9.81 vector 1.0 0.0 -1.0",
+            "fix cad all mesh/surface file " + path("channel.stl") + " type 2",
+            "fix walls all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere"});
+  };
+  auto fresh = [&](ScriptEngine& s) {
+    s.cmds(scene(0.1));
+    s.cmds({"create_atoms 1 single 0.002 0.0 0.0009774625 units box",
+            "create_atoms 1 single 0.006 0.0 0.0009774625 units box",
+            "set group all diameter 0.001955125 density 2500", "velocity all set 0.4 0.0 0.0 units box"});
+    setup(s);
+  };
+  auto contacts = [](const ScriptEngine& s) {
+    const auto& p = s.p();
+    const int f = p.find_field("mesh_wall_contacts/walls");
+    REQUIRE(f >= 0);
+    int least = 100;
+    for (int i = 0; i < p.nlocal; ++i)
+      least = std::min(least, static_cast<int>(p.extras[f].data[i]));
+    return least;
+  };
+  Body straight[2], restarted[2];
+  {
+    ScriptEngine s;
+    fresh(s);
+    s.cmd("run 1600");
+    CHECK(contacts(s) == 3);
+    for (int i = 0; i < 2; ++i)
+      straight[s.p().id[i] - 1] = body(s, i);
+  }
+  const std::string file = path("channel.restart");
+  {
+    ScriptEngine s;
+    fresh(s);
+    s.cmd("run 800");
+    CHECK(contacts(s) == 3);
+    s.cmd("write_restart " + file);
+  }
+  {
+    ScriptEngine s;
+    s.cmds({"atom_style granular", "read_restart " + file});
+    for (const auto& l : scene(0.1))
+      if (l.rfind("fix m", 0) == 0 || l.rfind("pair", 0) == 0 || l.rfind("timestep", 0) == 0 ||
+          l.rfind("neigh", 0) == 0)
+        s.cmd(l);
+    setup(s);
+    s.cmd("run 800");
+    CHECK(contacts(s) == 3);
+    for (int i = 0; i < 2; ++i)
+      restarted[s.p().id[i] - 1] = body(s, i);
+  }
+  CHECK(straight[0].x[0] > 0.004);  // slid along the channel
   for (int i = 0; i < 2; ++i) {
     CHECK(restarted[i].x == straight[i].x);
     CHECK(restarted[i].v == straight[i].v);

@@ -61,6 +61,10 @@ class Fix {
 
   /// Global state kept in restart files (counters, random-number state, ...).
   /// A fix defined after read_restart with the same ID and style gets it back.
+  /// Called on every rank (collective) before a restart file is written, so
+  /// that state held in parts on the ranks can be gathered for pack_restart,
+  /// which runs on the writing rank only.
+  virtual void prepare_restart() {}
   virtual void pack_restart(std::string& /*out*/) const {}
   virtual void unpack_restart(const std::string& /*in*/) {}
   bool restart_global = false;  // set by fixes that implement the two above

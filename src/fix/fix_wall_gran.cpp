@@ -2,9 +2,12 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
+#include "comm/collectives.h"
 #include "contact/contact_kernels.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -53,9 +56,10 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
     nhist_ = contact::history_size(spec_);
     if (nhist_ > 0) {
       // slots of (triangle key, contact point, history); the name records the layout
-      const int ncomp = kMeshSlots * (kSlotHeader + nhist_);
+      const int ncomp = kInlineSlots * (kSlotHeader + nhist_);
       field_name_ =
-          "mesh_wall_history/" + id + "/" + std::to_string(kMeshSlots) + "/" + std::to_string(nhist_);
+          "mesh_wall_history/" + id + "/" + std::to_string(kInlineSlots) + "/" + std::to_string(nhist_);
+      restart_global = true;  // the extra slots (see extra_)
       field_ = engine.particles->add_field(field_name_, ncomp, false, true);
       engine.particles->extras[field_].history = true;
       count_name_ = "mesh_wall_contacts/" + id;
@@ -111,6 +115,87 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
 void FixWallGran::unfixed() {
   if (!field_name_.empty()) engine_.particles->release_field(field_name_);
   if (!count_name_.empty()) engine_.particles->release_field(count_name_);
+  extra_.clear();
+  incoming_.clear();
+}
+
+// ------------------------------------------------ extra mesh contact slots
+
+void FixWallGran::pack_extra(std::vector<double>& out) const {
+  const int stride = kSlotHeader + nhist_;
+  for (const auto& [tag, slots] : extra_) {
+    out.push_back(static_cast<double>(tag));
+    out.push_back(static_cast<double>(slots.size() / stride));
+    out.insert(out.end(), slots.begin(), slots.end());
+  }
+}
+
+void FixWallGran::pre_exchange() {
+  if (!mesh_ || nhist_ == 0 || engine_.nprocs == 1) return;
+  long long mine = static_cast<long long>(extra_.size()), any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_LONG_LONG, MPI_MAX, engine_.world);
+  if (any == 0) return;
+  std::vector<double> local;
+  pack_extra(local);
+  extra_.clear();
+  const std::vector<double> all = allgather(engine_.world, local);
+  incoming_.insert(incoming_.end(), all.begin(), all.end());
+}
+
+void FixWallGran::adopt_extra() {
+  if (incoming_.empty() && extra_.empty()) return;
+  Particles& p = *engine_.particles;
+  std::unordered_map<tagint, int> local;
+  local.reserve(static_cast<std::size_t>(p.nlocal));
+  for (int i = 0; i < p.nlocal; ++i)
+    local.emplace(p.id[i], i);
+  // records of particles no longer here (migrated, deleted) are dropped
+  for (auto it = extra_.begin(); it != extra_.end();)
+    it = local.count(it->first) ? std::next(it) : extra_.erase(it);
+  const std::size_t stride = static_cast<std::size_t>(kSlotHeader + nhist_);
+  for (std::size_t m = 0; m + 2 <= incoming_.size();) {
+    const tagint tag = static_cast<tagint>(incoming_[m]);
+    const std::size_t n = static_cast<std::size_t>(incoming_[m + 1]) * stride;
+    if (m + 2 + n > incoming_.size()) break;
+    if (local.count(tag)) extra_[tag].assign(incoming_.begin() + m + 2, incoming_.begin() + m + 2 + n);
+    m += 2 + n;
+  }
+  incoming_.clear();
+}
+
+void FixWallGran::clear_slots(int i, double* hist, double* count) {
+  const int stride = kSlotHeader + nhist_;
+  if (count[i] > kInlineSlots) extra_.erase(engine_.particles->id[i]);
+  double* h = hist + static_cast<std::size_t>(i) * kInlineSlots * stride;
+  for (int q = 0; q < kInlineSlots * stride; ++q)
+    h[q] = 0.0;
+  count[i] = 0.0;
+}
+
+void FixWallGran::prepare_restart() {
+  restart_extra_.clear();
+  if (!mesh_ || nhist_ == 0) return;
+  std::vector<double> local;
+  pack_extra(local);
+  restart_extra_ = allgather(engine_.world, local);
+}
+
+void FixWallGran::pack_restart(std::string& out) const {
+  const std::uint64_t n = restart_extra_.size();
+  out.append(reinterpret_cast<const char*>(&n), sizeof n);
+  out.append(reinterpret_cast<const char*>(restart_extra_.data()), n * sizeof(double));
+}
+
+void FixWallGran::unpack_restart(const std::string& in) {
+  std::uint64_t n = 0;
+  if (in.size() < sizeof n) return;
+  std::memcpy(&n, in.data(), sizeof n);
+  if (in.size() != sizeof n + n * sizeof(double)) {
+    throw InputError("fix " + id + " wall/gran: the restart file's mesh contact data is unreadable");
+  }
+  const std::size_t at = incoming_.size();
+  incoming_.resize(at + n);
+  std::memcpy(incoming_.data() + at, in.data() + sizeof n, n * sizeof(double));
 }
 
 void FixWallGran::init() {
@@ -121,12 +206,17 @@ void FixWallGran::init() {
     Particles& p = *engine_.particles;
     count_field_ = p.find_field(count_name_);
     const int stride = kSlotHeader + nhist_;
+    adopt_extra();  // records read from a restart file
     const double* h = p.extras[field_].data.data();
     double* count = p.extras[count_field_].data.data();
     for (int i = 0; i < p.nlocal; ++i) {
       int n = 0;
-      while (n < kMeshSlots && h[(static_cast<std::size_t>(i) * kMeshSlots + n) * stride] != 0.0)
+      while (n < kInlineSlots && h[(static_cast<std::size_t>(i) * kInlineSlots + n) * stride] != 0.0)
         ++n;
+      if (n == kInlineSlots) {
+        auto it = extra_.find(p.id[i]);
+        if (it != extra_.end()) n += static_cast<int>(it->second.size()) / stride;
+      }
       count[i] = n;
     }
   }
@@ -194,6 +284,7 @@ double FixWallGran::gap(const Vec3& x) const {
 void FixWallGran::post_neighbor() {
   near_.clear();
   near_build_ = -1;
+  if (mesh_ && nhist_ > 0) adopt_extra();
   const Neighbor& nb = *engine_.neighbor;
   if (nb.every != 1 || nb.delay != 0 || nb.once) return;
   if (mesh_) {
@@ -230,7 +321,6 @@ void FixWallGran::list_near_mesh() {
     m->mesh.ensure_margin(rmax + skin);
     moves_.push_back(m->mesh.moves());
   }
-  const int stride = kSlotHeader + nhist_;
   double* const hist = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
   double* const count = nhist_ > 0 ? p.extras[count_field_].data.data() : nullptr;
   for (int i = 0; i < p.nlocal; ++i) {
@@ -253,10 +343,7 @@ void FixWallGran::list_near_mesh() {
     if (close) {
       near_.push_back(i);
     } else if (hist && count[i] != 0.0) {
-      double* h = hist + static_cast<std::size_t>(i) * kMeshSlots * stride;
-      for (int q = 0; q < kMeshSlots * stride; ++q)
-        h[q] = 0.0;
-      count[i] = 0.0;
+      clear_slots(i, hist, count);
     }
   }
   near_build_ = engine_.neighbor->nbuilds;
@@ -421,7 +508,11 @@ void FixWallGran::post_force_mesh() {
     c.r_j = 0.0;
     c.omega_j.setZero();
     double fresh[kMeshSlots * stride + 1];  // this step's slots, written back at the end
+    double prev[kMeshSlots * stride + 1];   // the slots of a particle with extra ones
     double zeros[nh > 0 ? nh : 1] = {};
+    // At run setup the forces leave the history as it was: the per-particle
+    // slots are restored by Update, the extra ones are not written.
+    const bool keep_extra = engine_.update->in_setup_forces;
     // the particles near the meshes when the list is current, else all of them
     const bool use_near = near_current();
     const int* const near_list = near_.data();
@@ -431,7 +522,19 @@ void FixWallGran::post_force_mesh() {
       if (!(mask[i] & bit)) continue;
       const double r = radius[i];
       const Vec3 xi = x[i];
-      double* h = nh > 0 ? hist_base + static_cast<std::size_t>(i) * kMeshSlots * stride : nullptr;
+      // this particle's stored slots: the per-particle ones, followed by its
+      // extra ones when it had more contacts than those hold
+      double* const h_inline = nh > 0 ? hist_base + static_cast<std::size_t>(i) * kInlineSlots * stride : nullptr;
+      const double* h = h_inline;
+      int nold = nh > 0 ? static_cast<int>(count[i]) : 0;
+      if (nold > kInlineSlots) {
+        auto it = extra_.find(p.id[i]);
+        const int nextra = it != extra_.end() ? static_cast<int>(it->second.size()) / stride : 0;
+        nold = std::min(kInlineSlots + nextra, kMeshSlots);
+        std::copy_n(h_inline, kInlineSlots * stride, prev);
+        if (nextra > 0) std::copy_n(it->second.data(), (nold - kInlineSlots) * stride, prev + kInlineSlots * stride);
+        h = prev;
+      }
       int ncand = 0;
       for (int m = 0; m < nmesh; ++m) {
         TriMesh& mesh = meshes_[m]->mesh;
@@ -473,9 +576,13 @@ void FixWallGran::post_force_mesh() {
       if (ncand == 0) {
         if constexpr (nh > 0) {
           if (count[i] != 0.0) {
-            for (int q = 0; q < kMeshSlots * stride; ++q)
-              h[q] = 0.0;
-            count[i] = 0.0;
+            if (keep_extra) {
+              for (int q = 0; q < kInlineSlots * stride; ++q)
+                h_inline[q] = 0.0;
+              count[i] = 0.0;
+            } else {
+              clear_slots(i, hist_base, count);
+            }
           }
         }
         continue;
@@ -513,7 +620,7 @@ void FixWallGran::post_force_mesh() {
           const Candidate& ck = cand[kept[k]];
           const double key = key_base_[ck.mesh] + ck.tri + 1;
           source[k] = -1;
-          for (int s = 0; s < kMeshSlots && h[s * stride] != 0.0; ++s)
+          for (int s = 0; s < nold && h[s * stride] != 0.0; ++s)
             if (!used[s] && h[s * stride] == key) {
               source[k] = s;
               used[s] = true;
@@ -524,7 +631,7 @@ void FixWallGran::post_force_mesh() {
           if (source[k] >= 0) continue;
           const Vec3& pk = cand[kept[k]].point;
           double best = 0.25 * r * r;
-          for (int s = 0; s < kMeshSlots && h[s * stride] != 0.0; ++s) {
+          for (int s = 0; s < nold && h[s * stride] != 0.0; ++s) {
             if (used[s]) continue;
             const double dd =
                 (Vec3(h[s * stride + 1], h[s * stride + 2], h[s * stride + 3]) - pk).squaredNorm();
@@ -565,10 +672,17 @@ void FixWallGran::post_force_mesh() {
         mesh.tri_force[ck.tri] -= res.force;
       }
       if constexpr (nh > 0) {
-        for (int q = 0; q < nkept * stride; ++q)
-          h[q] = fresh[q];
-        for (int q = nkept * stride; q < kMeshSlots * stride; ++q)
-          h[q] = 0.0;
+        const int ninline = std::min(nkept, kInlineSlots);
+        for (int q = 0; q < ninline * stride; ++q)
+          h_inline[q] = fresh[q];
+        for (int q = ninline * stride; q < kInlineSlots * stride; ++q)
+          h_inline[q] = 0.0;
+        if (!keep_extra) {
+          if (nkept > kInlineSlots)
+            extra_[p.id[i]].assign(fresh + kInlineSlots * stride, fresh + nkept * stride);
+          else if (count[i] > kInlineSlots)
+            extra_.erase(p.id[i]);
+        }
         count[i] = nkept;
       }
     }

@@ -7,9 +7,11 @@
 // The wall is a material of atom type T (its Young's modulus, Poisson ratio
 // and the pair coefficients of T with each particle type apply). Contact
 // history is kept per particle per wall and migrates with the particle. Mesh
-// walls (fix mesh/surface) keep a fixed number of contact slots per particle,
-// keyed by triangle; see doc/architecture.md for how the contacts of a sphere
-// with neighbouring triangles are reduced to the physical ones.
+// walls (fix mesh/surface) keep contact slots keyed by triangle: two per
+// particle in a per-particle field, and the further ones of the few particles
+// that touch more than two triangles (in corners) in a table by particle id;
+// see doc/architecture.md for how the contacts of a sphere with neighbouring
+// triangles are reduced to the physical ones.
 #pragma once
 
 #include "contact/contact_model.h"
@@ -19,6 +21,7 @@
 
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace granary {
@@ -28,7 +31,15 @@ class FixMeshSurface;
 class FixWallGran : public Fix {
  public:
   FixWallGran(Engine& engine, const Args& args);
-  unsigned hooks() const override { return POST_FORCE | POST_NEIGHBOR; }
+  unsigned hooks() const override { return POST_FORCE | POST_NEIGHBOR | (mesh_ ? PRE_EXCHANGE : 0u); }
+  /// Mesh form: the extra contact slots (beyond the per-particle ones) of all
+  /// ranks are handed round before particles migrate; each rank keeps those
+  /// of its particles at the next post_neighbor.
+  void pre_exchange() override;
+  /// Mesh form: the extra contact slots of every rank go into the restart file.
+  void prepare_restart() override;
+  void pack_restart(std::string& out) const override;
+  void unpack_restart(const std::string& in) override;
   /// List the particles that can reach the wall before the next
   /// neighbour-list build (mesh walls: while the meshes do not move).
   void post_neighbor() override;
@@ -40,9 +51,11 @@ class FixWallGran : public Fix {
   /// Mesh form: total force of the particles on the meshes (x, y, z), summed over ranks [N].
   double compute_vector(int i) override;
 
-  /// Mesh walls: contact slots per particle, and doubles per slot before the
-  /// contact history (triangle key, contact point x y z).
-  static constexpr int kMeshSlots = 6;
+  /// Mesh walls: contact slots per particle in the per-particle field, most
+  /// contacts one particle may have, and doubles per slot before the contact
+  /// history (triangle key, contact point x y z).
+  static constexpr int kInlineSlots = 2;
+  static constexpr int kMeshSlots = 32;
   static constexpr int kSlotHeader = 4;
 
   /// Signed distance-based contact with the primitive: overlap and unit normal
@@ -75,6 +88,18 @@ class FixWallGran : public Fix {
   /// Whether near_ holds every particle that can touch the wall now.
   bool near_current() const;
   void list_near_mesh();
+
+  // mesh form: slots kInlineSlots.. of the particles with more contacts, by
+  // particle id (slot data only, count = the particle's count - kInlineSlots)
+  std::unordered_map<std::int64_t, std::vector<double>> extra_;
+  // (id, count, slots) records handed round before migration or read from a
+  // restart file, kept for the particles this rank owns at post_neighbor
+  std::vector<double> incoming_;
+  std::vector<double> restart_extra_;  // all ranks' records, for pack_restart
+  void adopt_extra();
+  void pack_extra(std::vector<double>& out) const;
+  /// Clear all slots of particle i (inline and extra).
+  void clear_slots(int i, double* hist, double* count);
   /// Distance from the particle centre to the wall surface (>= 0).
   double gap(const Vec3& x) const;
 

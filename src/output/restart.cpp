@@ -389,6 +389,8 @@ void write_restart(Engine& e, const std::string& file) {
   // clump records: rank 0 writes every body's state, which only the ranks
   // owning its sub-spheres keep current during a run
   if (FixMultisphere* ms = FixMultisphere::find(*e.modify)) ms->sync_bodies();
+  for (const auto& f : e.modify->fixes)
+    if (f->restart_global) f->prepare_restart();
   std::vector<std::pair<std::string, std::string>> sections;
   const long long natoms = e.update->count_global();
   sections.emplace_back("global", e.rank == 0 ? global_section(e, natoms) : "");
