@@ -95,12 +95,21 @@ void ContactHistory::restore(const Neighbor& list, const Particles& p) {
         return &vals_[static_cast<std::size_t>(row->start + e) * nvalues_];
     return nullptr;
   };
+  // Only spheres that overlap now can keep their history: the pair loop
+  // clears the history of every listed pair that does not touch before it
+  // reads any (the same test as there), so the others are not looked up.
   if (nvalues_ > 0 && !rows_.empty()) {
+    const Vec3* const x = p.x.data();
+    const double* const radius = p.radius.data();
     for (int i = 0; i < p.nlocal; ++i) {
       const tagint idi = p.id[i];
       const Row* row = find_row(idi);
       for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-        const tagint idj = p.id[list.neigh[k]];
+        const int j = list.neigh[k];
+        const double rsum = radius[i] + radius[j];
+        const double r2 = (x[i] - x[j]).squaredNorm();
+        if (!((r2 < rsum * rsum) & (r2 != 0.0))) continue;
+        const tagint idj = p.id[j];
         double* out = &values_[k * static_cast<std::size_t>(nvalues_)];
         if (const double* v = find(row, idj)) {
           std::copy_n(v, nvalues_, out);

@@ -7,7 +7,9 @@
 // particles, and after the rebuild each list entry finds its values in the row
 // of its first particle (a handful of partners to search). Values seen from the
 // other particle get the swap signs applied. Saving and restoring are linear
-// passes over the list: no hashing per contact.
+// passes over the list; restoring looks up only the pairs of spheres that
+// overlap (the granular pair loop clears the history of the others before
+// reading it).
 #pragma once
 
 #include <cstdint>
