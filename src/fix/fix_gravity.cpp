@@ -86,8 +86,13 @@ class FixGravity : public Fix {
   void post_force() override {
     if (variable()) acc_ = acceleration();
     Particles& p = *engine_.particles;
-    for (int i = 0; i < p.nlocal; ++i)
-      if (p.mask[i] & groupbit) p.f[i] += p.rmass[i] * acc_;
+    Vec3* const f = p.f.data();
+    const double* const rmass = p.rmass.data();
+    const int* const mask = p.mask.data();
+    const Vec3 acc = acc_;
+    const int bit = groupbit, n = p.nlocal;
+    for (int i = 0; i < n; ++i)
+      if (mask[i] & bit) f[i] += rmass[i] * acc;
   }
 
   /// Gravitational potential energy of the group (collective).
