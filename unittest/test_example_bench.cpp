@@ -1,0 +1,87 @@
+// The benchmark scripts of examples/bench, shortened: each runs unchanged
+// (variables set beforehand take precedence over the scripts' `index`
+// defaults) and its first steps are checked against what they must do.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+
+#include "core/update.h"
+#include "script_engine.h"
+
+namespace {
+
+using granary::test::ScriptEngine;
+
+const std::string kBench = std::string(GRANARY_SOURCE_DIR) + "/examples/bench";
+
+double thermo(ScriptEngine& s, const std::string& key) {
+  bool found = false;
+  const double v = s.e.thermo_keyword(key, found);
+  REQUIRE(found);
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("bench_spheres: the lattice falls freely for its first 300 steps", "[example]") {
+  // bcc lattice of 2 mm spheres 2.165 mm apart, lowest layer 5.1 mm above the
+  // floor: nothing touches for 3 ms, so every sphere moves at 0.5 m/s + g t
+  // (velocity Verlet is exact for a constant force)
+  ScriptEngine s;
+  s.cmds({"variable nsteps index 300", "include " + kBench + "/in.bench_spheres"});
+  REQUIRE(s.p().natoms == 20184);
+  const double t = 300 * 1e-5, v = 0.5 + 9.81 * t;
+  const double m = 2500.0 * 4.0 / 3.0 * M_PI * 1e-9;
+  const double ke = 20184 * 0.5 * m * v * v;
+  CHECK(thermo(s, "ke") == Approx(ke).epsilon(1e-10));
+  CHECK(s.e.compute_value("rke", 0) == 0.0);  // no contact: no spin
+}
+
+TEST_CASE("bench_silo: clumps and glass spheres fill the silo and fall without loss", "[example]") {
+  ScriptEngine s;
+  s.cmds({"variable nfill index 100", "variable nsteps index 50", "variable dir index " + kBench,
+          "include " + kBench + "/in.bench_silo"});
+  const auto& p = s.p();
+  // about 2700 particles at phi = 0.3 of the fill region: cylinders of 10 spheres and single spheres
+  long long clump_spheres = 0, singles = 0;
+  for (int i = 0; i < p.nlocal; ++i)
+    (p.body[i] >= 0 ? clump_spheres : singles) += 1;
+  INFO(clump_spheres << " clump spheres, " << singles << " glass spheres");
+  CHECK(clump_spheres % 10 == 0);
+  CHECK(clump_spheres > 20000);
+  CHECK(singles > 200);
+  CHECK(p.natoms == clump_spheres + singles);  // nothing left the box in 150 steps
+  // inserted at 0.5 m/s downwards and falling: the kinetic energy grows
+  const double v = 0.5 + 9.81 * 150 * 1e-5;
+  const double mass = s.e.group_function("mass", {"all"});
+  CHECK(thermo(s, "ke") > 0.5 * mass * 0.25);
+  CHECK(thermo(s, "ke") < 0.5 * mass * v * v * 1.001);
+}
+
+TEST_CASE("bench_silo_balanced: the variant runs and balance reports one rank as balanced", "[example]") {
+  ScriptEngine s;
+  s.cmds({"variable nfill index 60", "variable nsteps index 20", "variable dir index " + kBench,
+          "include " + kBench + "/in.bench_silo_balanced"});
+  CHECK(s.p().natoms > 20000);
+  CHECK(s.e.update->ntimestep == 80);
+}
+
+TEST_CASE("bench_drain: the frozen floor stays in place while the grains settle and drain", "[example]") {
+  ScriptEngine s;
+  s.cmds({"variable nsettle index 200", "variable ncycle index 200", "variable ncycles index 1",
+          "variable balance index yes", "include " + kBench + "/in.bench_drain"});
+  const auto& p = s.p();
+  int floor = 0;
+  double worst = 0.0;
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (p.type[i] != 2) continue;
+    ++floor;
+    // lattice sites of the floor plate: z = 0, x and y multiples of 4 mm
+    worst = std::max({worst, std::fabs(p.x[i][2]), std::fabs(std::remainder(p.x[i][0], 0.004)),
+                      std::fabs(std::remainder(p.x[i][1], 0.004))});
+  }
+  CHECK(floor > 100);
+  CHECK(worst < 1e-12);
+  CHECK(s.e.update->ntimestep == 400);
+  CHECK(p.natoms > 4000);
+}
