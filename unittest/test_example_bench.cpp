@@ -4,7 +4,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
+#include <vector>
 
+#include "comm/comm.h"
 #include "core/update.h"
 #include "script_engine.h"
 
@@ -58,12 +60,13 @@ TEST_CASE("bench_silo: clumps and glass spheres fill the silo and fall without l
   CHECK(thermo(s, "ke") < 0.5 * mass * v * v * 1.001);
 }
 
-TEST_CASE("bench_silo_balanced: the variant runs and balance reports one rank as balanced", "[example]") {
+TEST_CASE("bench_silo_balanced: fill, balance and discharge run; one rank keeps the whole box", "[example]") {
   ScriptEngine s;
   s.cmds({"variable nfill index 60", "variable nsteps index 20", "variable dir index " + kBench,
           "include " + kBench + "/in.bench_silo_balanced"});
   CHECK(s.p().natoms > 20000);
   CHECK(s.e.update->ntimestep == 80);
+  CHECK(s.e.comm->split[2] == std::vector<double>({0.0, 1.0}));
 }
 
 TEST_CASE("bench_drain: the frozen floor stays in place while the grains settle and drain", "[example]") {
