@@ -162,7 +162,7 @@ void check_same_log(const Csv& ca, const std::string& fb, ScriptEngine& a, Scrip
 
 }  // namespace
 
-TEST_CASE("clog-detect: action delete records avalanches; grains are conserved") {
+TEST_CASE("clog-detect: action delete records avalanches, and grains are conserved") {
   const std::string fa = temp_name("clog_a_") + ".csv";
   const std::string fix =
       "fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete height_region bed file ";
@@ -214,7 +214,7 @@ TEST_CASE("clog-detect: action delete records avalanches; grains are conserved")
   std::remove(fa.c_str());
 }
 
-TEST_CASE("clog-detect: action halt ends the run at the clog; stop_height ends the discharge") {
+TEST_CASE("clog-detect: action halt ends the run at the clog, and stop_height ends the discharge") {
   const std::string fh = temp_name("clog_h_") + ".csv";
   ScriptEngine s;
   s.cmds(clog_scene::restarted(filled_restart()));

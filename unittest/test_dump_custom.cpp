@@ -197,7 +197,7 @@ TEST_CASE("dump custom: sort id gives ascending ids, sort -N descending values",
   }
 }
 
-TEST_CASE("dump custom: one file holds every frame; append yes keeps it", "[dump][custom]") {
+TEST_CASE("dump custom: one file holds every frame, and append yes keeps it", "[dump][custom]") {
   const std::string dir = fresh_dir("append");
   const std::string file = dir + "/all.txt";
   {

@@ -22,7 +22,7 @@ TEST_CASE("comments are stripped outside quotes only", "[input][parse]") {
   CHECK(script::strip_comment("no comment here") == "no comment here");
 }
 
-TEST_CASE("lines split into words; quotes group words and are removed", "[input][parse]") {
+TEST_CASE("lines split into words, quotes group words and are removed", "[input][parse]") {
   CHECK(script::split_words("  fix 1\tall   nve ") == Args{"fix", "1", "all", "nve"});
   CHECK(script::split_words("print 'a b' \"c  d\" e") == Args{"print", "a b", "c  d", "e"});
   CHECK(script::split_words("print \"\"\"line1\nline2\"\"\"") == Args{"print", "line1\nline2"});

@@ -172,7 +172,7 @@ TEST_CASE("if / elif / else pick one branch", "[input][script]") {
   CHECK_THROWS_WITH(q.input.one("if 1 then a else b elif 1 c"), Catch::Contains("after 'else'"));
 }
 
-TEST_CASE("include runs another file; its variables remain", "[input][script]") {
+TEST_CASE("include runs another file, and its variables remain", "[input][script]") {
   Scratch s;
   Quiet q;
   s.write("in.settings", "variable radius equal 0.002\nvariable name string silo\n");
@@ -236,7 +236,7 @@ TEST_CASE("quit stops all files and keeps its status", "[input][script]") {
   CHECK_FALSE(q.input.variables().find("after"));
 }
 
-TEST_CASE("print to files; comments, continuation and triple quotes in files", "[input][script]") {
+TEST_CASE("print to files, and comments, continuation and triple quotes in files", "[input][script]") {
   Scratch s;
   Quiet q;
   const std::string out = s.path("out.txt");

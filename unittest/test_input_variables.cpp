@@ -181,7 +181,7 @@ TEST_CASE("redefinition, delete and command-line variables", "[input][variable]"
   CHECK_THROWS_WITH(v.set({"x"}), Catch::Contains("too few arguments"));
 }
 
-TEST_CASE("variables refer to each other; cycles and unknown names are errors", "[input][variable]") {
+TEST_CASE("variables refer to each other, and cycles and unknown names are errors", "[input][variable]") {
   Variables v;
   v.set({"a", "equal", "2"});
   v.set({"b", "equal", "v_a^3"});
