@@ -214,7 +214,7 @@ def parse_output(text):
     if split:
         info["time_split_s"] = split  # mean over ranks, summed over the runs
     if split_max:
-        info["time_split_max_s"] = split_max  # slowest rank
+        info["time_split_max_s"] = split_max  # each section's largest rank time
     if loops:
         info["loop_s"] = sum(l[0] for l in loops)
         info["procs"] = loops[-1][1]
@@ -354,6 +354,20 @@ def fmt(v, spec):
     return format(v, spec)
 
 
+def write_markdown(heads, lines, out):
+    """Markdown table, columns padded for reading in a terminal as well."""
+    widths = [max(len(h), *(len(l[i]) for l in lines)) if lines else len(h)
+              for i, h in enumerate(heads)]
+    def row(cells):
+        return "| " + " | ".join(c.ljust(w) if i == 0 else c.rjust(w)
+                                 for i, (c, w) in enumerate(zip(cells, widths))) + " |"
+    out.write(row(heads) + "\n")
+    out.write("|" + "|".join("-" * (w + 1) + ":" if i else "-" * (w + 2)
+                             for i, w in enumerate(widths)) + "|\n")
+    for l in lines:
+        out.write(row(l) + "\n")
+
+
 def print_table(rows, out=sys.stdout):
     heads = ["program", "ranks", "particles", "steps", "wall s", "loop s", "CPU s", "particle-steps/s",
              "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle"]
@@ -368,17 +382,7 @@ def print_table(rows, out=sys.stdout):
                       fmt(r.get("particle_steps_per_s"), ".4g"),
                       fmt(r.get("speed_ratio"), ".2f"), fmt(r.get("speedup"), ".2f"),
                       fmt(r.get("peak_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle"), ".0f")])
-    # markdown table, columns padded for reading in a terminal as well
-    widths = [max(len(h), *(len(l[i]) for l in lines)) if lines else len(h)
-              for i, h in enumerate(heads)]
-    def row(cells):
-        return "| " + " | ".join(c.ljust(w) if i == 0 else c.rjust(w)
-                                 for i, (c, w) in enumerate(zip(cells, widths))) + " |"
-    out.write(row(heads) + "\n")
-    out.write("|" + "|".join("-" * (w + 1) + ":" if i else "-" * (w + 2)
-                             for i, w in enumerate(widths)) + "|\n")
-    for l in lines:
-        out.write(row(l) + "\n")
+    write_markdown(heads, lines, out)
 
 
 def print_split(rows, out=sys.stdout):
@@ -393,7 +397,8 @@ def print_split(rows, out=sys.stdout):
         cells = [r["program"], str(r["ranks"])]
         for c in SPLIT_COLUMNS:
             cells.append(fmt(sp.get(c), ".2f"))
-        # load imbalance: the slowest rank's compute sections over their mean
+        # load imbalance: the compute sections' largest rank times over their
+        # means (summed; at least the slowest rank's share, so an upper bound)
         mx = r.get("time_split_max_s")
         if mx and r["ranks"] > 1:
             busy = sum(sp.get(c, 0.0) for c in ("pair", "neigh", "fixes"))
@@ -402,15 +407,7 @@ def print_split(rows, out=sys.stdout):
         else:
             cells.append("-")
         lines.append(cells)
-    widths = [max(len(h), *(len(l[i]) for l in lines)) for i, h in enumerate(heads)]
-    def row(cells):
-        return "| " + " | ".join(c.ljust(w) if i == 0 else c.rjust(w)
-                                 for i, (c, w) in enumerate(zip(cells, widths))) + " |"
-    out.write(row(heads) + "\n")
-    out.write("|" + "|".join("-" * (w + 1) + ":" if i else "-" * (w + 2)
-                             for i, w in enumerate(widths)) + "|\n")
-    for l in lines:
-        out.write(row(l) + "\n")
+    write_markdown(heads, lines, out)
 
 
 def main(argv):
@@ -533,7 +530,7 @@ def main(argv):
     if any(r.get("time_split_s") for r in ok):
         print()
         print("time split (each section's mean over the ranks, s; LIGGGHTS 3.8 counts fixes under other;")
-        print("max/avg = the slowest rank's pair + neigh + fixes time over the mean):")
+        print("max/avg = pair + neigh + fixes, each at its slowest rank, over their means):")
         print_split(rows)
 
     if args.json:

@@ -98,12 +98,17 @@ std::vector<std::string> drain_script(const std::string& restart) {
   return s;
 }
 
+/// Largest over average of a per-rank amount.
+double imbalance_of(granary::Engine& e, double mine) {
+  double most = 0.0, total = 0.0;
+  MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, e.world);
+  MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, e.world);
+  return total > 0 ? most * e.nprocs / total : 1.0;
+}
+
 /// Largest over average particle count per rank, from the owned particles.
 double rank_imbalance(granary::Engine& e) {
-  long long mine = e.particles->nlocal, most = 0, total = 0;
-  MPI_Allreduce(&mine, &most, 1, MPI_LONG_LONG, MPI_MAX, e.world);
-  MPI_Allreduce(&mine, &total, 1, MPI_LONG_LONG, MPI_SUM, e.world);
-  return total > 0 ? static_cast<double>(most) * e.nprocs / static_cast<double>(total) : 1.0;
+  return imbalance_of(e, e.particles->nlocal);
 }
 
 struct State {
@@ -216,10 +221,7 @@ double list_imbalance(granary::Engine& e) {
   for (int i = 0; i < n; ++i)
     for (int k = nb.offset[i]; k < nb.offset[i + 1]; ++k)
       mine += nb.neigh[k] < n ? 2.0 : 1.0;
-  double most = 0.0, total = 0.0;
-  MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, e.world);
-  MPI_Allreduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, e.world);
-  return total > 0 ? most * e.nprocs / total : 1.0;
+  return imbalance_of(e, mine);
 }
 
 // 1500 touching beads in a dense layer at the bottom (spacing 2.1 mm, a

@@ -24,14 +24,22 @@ using granary::Vec3;
 
 namespace {
 
-std::string box_file() {
-  // rank 0 writes the file, every rank learns its name
-  static std::string name;
-  if (!name.empty()) return name;
+// An STL file written by rank 0 into a temporary directory; every rank learns its name.
+std::string shared_mesh_file(const std::string& name, const std::vector<mesh_files::Triangle>& t) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   char buf[512] = {};
   if (rank == 0) {
+    const std::string f = mesh_files::temp_dir() + "/" + name;
+    mesh_files::write_binary(f, t);
+    std::snprintf(buf, sizeof buf, "%s", f.c_str());
+  }
+  MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return buf;
+}
+
+std::string box_file() {
+  static const std::string name = [] {
     std::vector<mesh_files::Triangle> t;
     const double a = 0.01, g = 0.00075, h = 0.03;
     // floor with a slit |x| < g, the slit's side faces, and the four walls
@@ -43,12 +51,8 @@ std::string box_file() {
     mesh_files::add_rectangle(t, Vec3(a, -a, 0), Vec3(0, 2 * a, 0), Vec3(0, 0, h), 4, 3);
     mesh_files::add_rectangle(t, Vec3(-a, -a, 0), Vec3(2 * a, 0, 0), Vec3(0, 0, h), 4, 3);
     mesh_files::add_rectangle(t, Vec3(-a, a, 0), Vec3(2 * a, 0, 0), Vec3(0, 0, h), 4, 3);
-    const std::string f = mesh_files::temp_dir() + "/slit_box.stl";
-    mesh_files::write_binary(f, t);
-    std::snprintf(buf, sizeof buf, "%s", f.c_str());
-  }
-  MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
-  name = buf;
+    return shared_mesh_file("slit_box.stl", t);
+  }();
   return name;
 }
 
@@ -150,23 +154,14 @@ namespace {
 // (the table's records travel with them); the same scene with three primitive
 // planes is the reference.
 std::string channel_file() {
-  static std::string name;
-  if (!name.empty()) return name;
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  char buf[512] = {};
-  if (rank == 0) {
+  static const std::string name = [] {
     std::vector<mesh_files::Triangle> t;
     const double w = 0.0009765625, l = 0.04, h = 0.004;
     mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 2 * w, 0), 8, 1);
     mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
     mesh_files::add_rectangle(t, Vec3(0, w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
-    const std::string f = mesh_files::temp_dir() + "/channel.stl";
-    mesh_files::write_binary(f, t);
-    std::snprintf(buf, sizeof buf, "%s", f.c_str());
-  }
-  MPI_Bcast(buf, sizeof buf, MPI_CHAR, 0, MPI_COMM_WORLD);
-  name = buf;
+    return shared_mesh_file("channel.stl", t);
+  }();
   return name;
 }
 

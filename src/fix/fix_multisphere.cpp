@@ -472,7 +472,7 @@ void FixMultisphere::fetch_state() {
   std::vector<int> displs;
   const std::vector<long long> wanted = allgather(e.world, need, &displs);
   if (wanted.empty()) return;
-  constexpr int kState = 1 + 22;  // id, then the dynamic state
+  constexpr int kState = 1 + Bodies::kStateSize;  // id, then the dynamic state
   std::vector<double> reply;
   std::vector<char> sent(B.size(), 0);
   for (int r = 0; r < np; ++r) {
@@ -482,27 +482,15 @@ void FixMultisphere::fetch_state() {
       if (b < 0 || !B.current[b] || sent[b]) continue;
       sent[b] = 1;
       reply.push_back(static_cast<double>(wanted[k]));
-      const double* groups[] = {B.xcm[b].data(),   B.vcm[b].data(), B.angmom[b].data(),
-                                B.omega[b].data(), B.fcm[b].data(), B.torque[b].data()};
-      for (const double* g : groups)
-        reply.insert(reply.end(), g, g + 3);
-      const Eigen::Quaterniond& q = B.quat[b];
-      reply.insert(reply.end(), {q.w(), q.x(), q.y(), q.z()});
+      reply.resize(reply.size() + Bodies::kStateSize);
+      B.pack_state(b, reply.data() + reply.size() - Bodies::kStateSize);
     }
   }
   const std::vector<double> all = allgather(e.world, reply);
   for (std::size_t m = 0; m + kState <= all.size(); m += kState) {
     const int b = B.find(static_cast<tagint>(all[m]));
     if (b < 0 || B.current[b] || !is_active_[b]) continue;
-    const double* s = &all[m + 1];
-    B.xcm[b] = Vec3(s[0], s[1], s[2]);
-    B.vcm[b] = Vec3(s[3], s[4], s[5]);
-    B.angmom[b] = Vec3(s[6], s[7], s[8]);
-    B.omega[b] = Vec3(s[9], s[10], s[11]);
-    B.fcm[b] = Vec3(s[12], s[13], s[14]);
-    B.torque[b] = Vec3(s[15], s[16], s[17]);
-    B.quat[b] = Eigen::Quaterniond(s[18], s[19], s[20], s[21]);
-    B.current[b] = 1;
+    B.unpack_state(b, &all[m + 1]);
     ++fetched_;
   }
   for (int b : active_) {
@@ -678,18 +666,10 @@ void FixMultisphere::sync_bodies() {
   for (int b = 0; b < nb; ++b)
     holder[b] = B.current[b] ? e.rank : e.nprocs;
   MPI_Allreduce(holder.data(), first.data(), nb, MPI_INT, MPI_MIN, e.world);
-  constexpr int kState = 22;
+  constexpr int kState = Bodies::kStateSize;
   std::vector<double> state(kState * static_cast<std::size_t>(nb), 0.0), all(state.size());
-  for (int b = 0; b < nb; ++b) {
-    if (first[b] != e.rank) continue;
-    double* s = &state[kState * static_cast<std::size_t>(b)];
-    const Vec3* groups[] = {&B.xcm[b], &B.vcm[b], &B.angmom[b], &B.omega[b], &B.fcm[b], &B.torque[b]};
-    for (const Vec3* g : groups)
-      for (int d = 0; d < 3; ++d)
-        *s++ = (*g)[d];
-    const Eigen::Quaterniond& q = B.quat[b];
-    s[0] = q.w(), s[1] = q.x(), s[2] = q.y(), s[3] = q.z();
-  }
+  for (int b = 0; b < nb; ++b)
+    if (first[b] == e.rank) B.pack_state(b, &state[kState * static_cast<std::size_t>(b)]);
   MPI_Allreduce(state.data(), all.data(), static_cast<int>(all.size()), MPI_DOUBLE, MPI_SUM, e.world);
   for (int b = 0; b < nb; ++b) {
     if (B.current[b]) continue;
@@ -697,15 +677,7 @@ void FixMultisphere::sync_bodies() {
       throw RunError("fix multisphere " + id + ": no rank holds the current state of clump " +
                      std::to_string(B.tag[b]));
     }
-    const double* s = &all[kState * static_cast<std::size_t>(b)];
-    B.xcm[b] = Vec3(s[0], s[1], s[2]);
-    B.vcm[b] = Vec3(s[3], s[4], s[5]);
-    B.angmom[b] = Vec3(s[6], s[7], s[8]);
-    B.omega[b] = Vec3(s[9], s[10], s[11]);
-    B.fcm[b] = Vec3(s[12], s[13], s[14]);
-    B.torque[b] = Vec3(s[15], s[16], s[17]);
-    B.quat[b] = Eigen::Quaterniond(s[18], s[19], s[20], s[21]);
-    B.current[b] = 1;
+    B.unpack_state(b, &all[kState * static_cast<std::size_t>(b)]);
   }
   invalidate_ = true;
 }

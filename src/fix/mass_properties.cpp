@@ -156,9 +156,9 @@ MassProperties sphere_union_properties(const std::vector<Vec3>& centres, const s
       b[d] = upper ? cell.hi[d] : mid[d];
     }
   };
-  bool sampled = false;
-  while (!level.empty() && out.levels < kMaxLevels &&
-         32.0 * static_cast<double>(level.size()) <= static_cast<double>(ntry)) {
+  // (The root is refined: ntry >= 1000 >= 32 cells. Every later level is
+  // refined only while the test below says it is not the last.)
+  while (!level.empty()) {
     // Count the next level's surface cells first: when it is the last level
     // (too many cells to refine further) its cells are sampled as they are
     // made instead of being stored, which would take most of the memory.
@@ -195,16 +195,9 @@ MassProperties sphere_union_properties(const std::vector<Vec3>& centres, const s
           if (classify(a, b, c, radii, &cell.candidates, cut) == Kind::Surface) sample(a, b, cut, k);
         }
       }
-      level.clear();
-      sampled = true;
       break;
     }
     level.swap(next);
-  }
-  if (!sampled && !level.empty()) {
-    const int k = samples_per_cell(level.size());
-    for (const Cell& cell : level)
-      sample(cell.lo, cell.hi, cell.candidates, k);
   }
   if (!(m.v > 0.0)) throw std::invalid_argument("the spheres enclose no volume");
 

@@ -201,6 +201,25 @@ std::vector<double> Bodies::mass_shares(const std::vector<Vec3>& d, const std::v
   return w;
 }
 
+void Bodies::pack_state(int b, double* s) const {
+  for (const Vec3* g : {&xcm[b], &vcm[b], &angmom[b], &omega[b], &fcm[b], &torque[b]})
+    for (int d = 0; d < 3; ++d)
+      *s++ = (*g)[d];
+  const Eigen::Quaterniond& q = quat[b];
+  s[0] = q.w(), s[1] = q.x(), s[2] = q.y(), s[3] = q.z();
+}
+
+void Bodies::unpack_state(int b, const double* s) {
+  xcm[b] = Vec3(s[0], s[1], s[2]);
+  vcm[b] = Vec3(s[3], s[4], s[5]);
+  angmom[b] = Vec3(s[6], s[7], s[8]);
+  omega[b] = Vec3(s[9], s[10], s[11]);
+  fcm[b] = Vec3(s[12], s[13], s[14]);
+  torque[b] = Vec3(s[15], s[16], s[17]);
+  quat[b] = Eigen::Quaterniond(s[18], s[19], s[20], s[21]);
+  current[b] = 1;
+}
+
 Vec3 Bodies::omega_from_angmom(int b) const {
   const Eigen::Matrix3d r = rotation(b);
   Vec3 lb = r.transpose() * angmom[b];

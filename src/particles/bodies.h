@@ -83,6 +83,14 @@ class Bodies {
   double kinetic_translational(int b) const { return 0.5 * mass[b] * vcm[b].squaredNorm(); }
   double kinetic_rotational(int b) const { return 0.5 * omega[b].dot(angmom[b]); }
 
+  /// Doubles of one body's dynamic state: xcm, vcm, angmom, omega, fcm, torque
+  /// (3 each), quat (w, x, y, z).
+  static constexpr int kStateSize = 22;
+  /// Write body b's dynamic state to s[0 .. kStateSize).
+  void pack_state(int b, double* s) const;
+  /// Set body b's dynamic state from s[0 .. kStateSize) and mark it current.
+  void unpack_state(int b, const double* s);
+
   /// Binary image of every body (restart files) and its inverse.
   void pack(std::string& out) const;
   /// Throws std::runtime_error on a malformed image.

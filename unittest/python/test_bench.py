@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+"""tools/bench.py: reading both programs' end-of-run reports, and one real run."""
+import io
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+TOOLS = os.path.join(ROOT, "tools")
+sys.path.insert(0, TOOLS)
+import bench  # noqa: E402
+
+# Granary (LAMMPS-style table with min/avg/max), two runs in one script
+GRANARY = """Granary 0.1.0
+Step Atoms KinEng c_rke
+         0        100  1.0  0
+Loop time of 2.5 on 2 procs for 1000 steps with 100 atoms
+
+Performance: 4e+04 particle-steps/s, 400 steps/s
+Section |  min time  |  avg time  |  max time  |%varavg| %total
+---------------------------------------------------------------
+Pair    |        0.9 |          1 |        1.1 |  20.0 |  40.0
+Neigh   |        0.4 |        0.5 |        0.6 |  40.0 |  20.0
+Comm    |        0.1 |        0.1 |        0.1 |   0.0 |   4.0
+Modify  |        0.7 |        0.8 |        0.9 |  25.0 |  32.0
+Output  |          0 |          0 |          0 |   0.0 |   0.0
+Other   |        0.1 |        0.1 |        0.1 |   0.0 |   4.0
+Neighbor list builds = 12
+
+Loop time of 1.5 on 2 procs for 500 steps with 90 atoms
+
+Section |  min time  |  avg time  |  max time  |%varavg| %total
+---------------------------------------------------------------
+Pair    |        0.5 |        0.5 |        0.5 |   0.0 |  33.3
+Neigh   |        0.2 |        0.2 |        0.2 |   0.0 |  13.3
+Comm    |        0.1 |        0.1 |        0.1 |   0.0 |   6.7
+Modify  |        0.6 |        0.6 |        0.6 |   0.0 |  40.0
+Output  |          0 |          0 |          0 |   0.0 |   0.0
+Other   |        0.1 |        0.1 |        0.1 |   0.0 |   6.7
+"""
+
+# LIGGGHTS 3.8 (old LAMMPS lines, means over the ranks; fixes under Other)
+LIGGGHTS = """LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, compiled 2022-01-26)
+Loop time of 4.89531 on 1 procs for 2000 steps with 22560 atoms, finish time Sat Nov 21 16:03:59 2026
+
+Pair  time (%) = 1.47608 (30.1528)
+Neigh time (%) = 0.469084 (9.58231)
+Comm  time (%) = 0.0112409 (0.229627)
+Outpt time (%) = 0.000104256 (0.00212971)
+Other time (%) = 2.93881 (60.0331)
+"""
+
+
+class ParseReports(unittest.TestCase):
+    def test_granary_sections_sum_over_runs(self):
+        info = bench.parse_output(GRANARY)
+        self.assertAlmostEqual(info["loop_s"], 4.0)
+        self.assertEqual(info["steps"], 1500)
+        self.assertEqual(info["particles"], 90)  # the last run's count
+        split, most = info["time_split_s"], info["time_split_max_s"]
+        self.assertAlmostEqual(split["pair"], 1.5)
+        self.assertAlmostEqual(split["neigh"], 0.7)
+        self.assertAlmostEqual(split["fixes"], 1.4)
+        self.assertAlmostEqual(split["other"], 0.2)
+        self.assertAlmostEqual(most["pair"], 1.6)
+        self.assertAlmostEqual(most["fixes"], 1.5)
+
+    def test_liggghts_sections(self):
+        info = bench.parse_output(LIGGGHTS)
+        self.assertAlmostEqual(info["loop_s"], 4.89531)
+        self.assertEqual(info["particles"], 22560)
+        split = info["time_split_s"]
+        self.assertAlmostEqual(split["pair"], 1.47608)
+        self.assertAlmostEqual(split["output"], 0.000104256)
+        self.assertAlmostEqual(split["other"], 2.93881)
+        self.assertNotIn("fixes", split)
+        self.assertNotIn("time_split_max_s", info)
+
+    def test_split_table_reports_imbalance_on_several_ranks(self):
+        rows = [dict(program="granary", ranks=2, **bench.parse_output(GRANARY))]
+        out = io.StringIO()
+        bench.print_split(rows, out)
+        lines = out.getvalue().splitlines()
+        self.assertEqual(len(lines), 3)  # heading, rule, one row
+        cells = [c.strip() for c in lines[2].strip("|").split("|")]
+        self.assertEqual(cells[:4], ["granary", "2", "1.50", "0.70"])
+        # (1.6 + 0.8 + 1.5) / (1.5 + 0.7 + 1.4)
+        self.assertEqual(cells[-1], "%.2f" % (3.9 / 3.6))
+
+
+@unittest.skipUnless(os.path.exists(os.environ.get("GRANARY_BINARY", "")), "GRANARY_BINARY not set")
+class RealRun(unittest.TestCase):
+    def test_granary_run_is_measured_and_split(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "bench.json")
+            r = subprocess.run([sys.executable, os.path.join(TOOLS, "bench.py"), "--only", "granary", "--ranks",
+                                "1", "--nsteps", "100", "--granary", os.environ["GRANARY_BINARY"], "--json", out],
+                               capture_output=True, text=True, cwd=ROOT)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with open(out) as f:
+                row = json.load(f)["results"][0]
+        self.assertEqual(row["particles"], 20184)
+        self.assertEqual(row["steps"], 100)
+        self.assertGreater(row["particle_steps_per_s"], 0)
+        self.assertGreater(row["peak_rss_mib"], 1)
+        split = row["time_split_s"]
+        for key in ("pair", "neigh", "comm", "fixes", "output", "other"):
+            self.assertIn(key, split)
+        # the sections and "other" make up the loop time
+        self.assertAlmostEqual(sum(split.values()), row["loop_s"], delta=0.02 * row["loop_s"] + 1e-3)
+        self.assertIn("time split", r.stdout)
+
+
+if __name__ == "__main__":
+    unittest.main()
