@@ -52,14 +52,34 @@ class FixNveSphere : public Fix {
       if constexpr (First) x[i] += dt * v[i];
       omega[i] += dtirotate * torque[i];
     };
+    // Two particles' 3-vectors are six consecutive doubles: three packed
+    // operations with the factors (a, a), (a, b), (b, b).
+    using D2 = double __attribute__((vector_size(16)));
+    auto kick = [](double* out, const double* in, double a, double b) {
+      const D2 c[3] = {D2{a, a}, D2{a, b}, D2{b, b}};
+      for (int q = 0; q < 3; ++q) {
+        D2 o, g;
+        __builtin_memcpy(&o, out + 2 * q, sizeof o);
+        __builtin_memcpy(&g, in + 2 * q, sizeof g);
+        o += c[q] * g;
+        __builtin_memcpy(out + 2 * q, &o, sizeof o);
+      }
+    };
     int i = 0;
     for (; i + 1 < n; i += 2) {
       const Eigen::Array2d m(rmass[i], rmass[i + 1]);
       const Eigen::Array2d r(radius[i], radius[i + 1]);
       const Eigen::Array2d dtfm = dtf / m;
       const Eigen::Array2d dtirotate = dtfrot / (r * r * m);
-      update(i, dtfm[0], dtirotate[0]);
-      update(i + 1, dtfm[1], dtirotate[1]);
+      const bool both = (mask[i] & bit) && (mask[i + 1] & bit) && body[i] < 0 && body[i + 1] < 0;
+      if (both) {
+        kick(v[i].data(), f[i].data(), dtfm[0], dtfm[1]);
+        if constexpr (First) kick(x[i].data(), v[i].data(), dt, dt);
+        kick(omega[i].data(), torque[i].data(), dtirotate[0], dtirotate[1]);
+      } else {
+        update(i, dtfm[0], dtirotate[0]);
+        update(i + 1, dtfm[1], dtirotate[1]);
+      }
     }
     for (; i < n; ++i)
       update(i, dtf / rmass[i], dtfrot / (radius[i] * radius[i] * rmass[i]));

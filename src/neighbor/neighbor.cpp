@@ -122,8 +122,15 @@ bool Neighbor::decide() {
   int moved = 0;
   const int n = std::min<int>(p.nlocal, static_cast<int>(xhold_.size()));
   if (n != p.nlocal) moved = 1;
-  for (int i = 0; i < n && !moved; ++i) {
-    if ((p.x[i] - xhold_[i]).squaredNorm() > limit) moved = 1;
+  // in blocks without an early exit, so that the compiler can vectorise them
+  const Vec3* const x = p.x.data();
+  const Vec3* const xhold = xhold_.data();
+  for (int b = 0; b < n && !moved; b += 1024) {
+    const int e = std::min(n, b + 1024);
+    int over = 0;
+    for (int i = b; i < e; ++i)
+      over |= (x[i] - xhold[i]).squaredNorm() > limit;
+    moved = over;
   }
   int any = 0;
   MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, engine_.world);
@@ -242,13 +249,18 @@ void Neighbor::build() {
   const bool other_exclusions = !exclude_types_.empty() || !exclude_groups_.empty();
   const double sk = skin;
 
-  neigh.reserve(static_cast<std::size_t>(nlocal) * 8);
+  // Candidates are appended without a branch (whether one is within the
+  // cutoff is unpredictable): each is written at the end and the end moves
+  // on when it is near. Exclusions, possible only with ghosts, bodies or
+  // neigh_modify exclude, are filtered afterwards.
+  const bool filter = nall > nlocal || exclude_body_ || other_exclusions;
+  if (neigh.size() < static_cast<std::size_t>(nlocal) * 8) neigh.resize(static_cast<std::size_t>(nlocal) * 8);
+  std::size_t end = 0;
   for (int i = 0; i < nlocal; ++i) {
-    offset[i] = static_cast<int>(neigh.size());
+    offset[i] = static_cast<int>(end);
     const int cx = coord(x[i], 0), cy = coord(x[i], 1), cz = coord(x[i], 2);
     const double ri = radius[i];
     const Vec3 xi = x[i];
-    const tagint bi = exclude_body_ ? body[i] : -1;
     for (int dz = -1; dz <= 1; ++dz) {
       const int z = cz + dz;
       if (z < 0 || z >= nbin[2]) continue;
@@ -257,32 +269,38 @@ void Neighbor::build() {
         if (y < 0 || y >= nbin[1]) continue;
         const int row = (z * nbin[1] + y) * nbin[0];
         const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nbin[0] - 1);
-        for (int xb = x0; xb <= x1; ++xb) {
-          // each pair once: only partners of higher index (every ghost's
-          // index is above every owned one), found by bisection in the bin
-          // (after spatial sorting a bin's indices are mostly all above or
-          // all below i, so the ends are tested first)
-          const int kbeg = bstart[row + xb], kend = bstart[row + xb + 1];
-          if (kbeg == kend || bpart[kend - 1] <= i) continue;
-          const int kfirst =
-              bpart[kbeg] > i ? kbeg : static_cast<int>(std::upper_bound(bpart + kbeg, bpart + kend, i) - bpart);
-          for (int k = kfirst; k < kend; ++k) {
-            const double rc = ri + br[k] + sk;
-            if ((xi - bx[k]).squaredNorm() >= rc * rc) continue;
-            const int j = bpart[k];
-            if (j >= nlocal && (id[j] == id[i] || (newton && id[j] < id[i]))) continue;
-            if (bi >= 0 && body[j] == bi) continue;
-            if (other_exclusions && excluded(i, j)) continue;
-            neigh.push_back(j);
-          }
+        // the bins x0..x1 of a row lie one after the other: one range.
+        // Each pair once: only partners of higher index (every ghost's index
+        // is above every owned one).
+        const int kbeg = bstart[row + x0], kend = bstart[row + x1 + 1];
+        if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
+          neigh.resize(std::max(2 * neigh.size(), end + static_cast<std::size_t>(kend - kbeg)));
+        int* const out = neigh.data();
+        for (int k = kbeg; k < kend; ++k) {
+          const double rc = ri + br[k] + sk;
+          const int j = bpart[k];
+          out[end] = j;
+          end += ((xi - bx[k]).squaredNorm() < rc * rc) & (j > i);
         }
       }
+    }
+    if (filter) {
+      const tagint bi = exclude_body_ ? body[i] : -1;
+      std::size_t kept = offset[i];
+      for (std::size_t a = offset[i]; a < end; ++a) {
+        const int j = neigh[a];
+        if (j >= nlocal && (id[j] == id[i] || (newton && id[j] < id[i]))) continue;
+        if (bi >= 0 && body[j] == bi) continue;
+        if (other_exclusions && excluded(i, j)) continue;
+        neigh[kept++] = j;
+      }
+      end = kept;
     }
     // Neighbours in id order: each particle's forces are then summed in an
     // order that does not depend on when the list was built (restarts
     // continue bit for bit).
     int* const lst = neigh.data() + offset[i];
-    const int m = static_cast<int>(neigh.size()) - offset[i];
+    const int m = static_cast<int>(end) - offset[i];
     for (int a = 1; a < m; ++a) {  // short lists: insertion sort by (id, index)
       const int v = lst[a];
       const tagint key = id[v];
@@ -294,7 +312,8 @@ void Neighbor::build() {
       lst[b + 1] = v;
     }
   }
-  offset[nlocal] = static_cast<int>(neigh.size());
+  neigh.resize(end);
+  offset[nlocal] = static_cast<int>(end);
 }
 
 void cmd_neighbor(Engine& e, const Args& a) {

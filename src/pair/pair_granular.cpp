@@ -4,9 +4,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <algorithm>
+#include <cstdlib>
+#include <memory>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
+#include "contact/contact_lanes.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
@@ -17,6 +20,196 @@
 #include "particles/particles.h"
 
 namespace granary {
+
+/// What the lane pair loop (contact::lanes::pair_loop below) reads and writes.
+struct PairLoopData {
+  int nlocal = 0;
+  bool newton = false;
+  const int* offset = nullptr;
+  const int* neigh = nullptr;
+  const Vec3* x = nullptr;
+  const Vec3* v = nullptr;
+  const Vec3* omega = nullptr;
+  Vec3* f = nullptr;
+  Vec3* torque = nullptr;
+  const double* radius = nullptr;
+  const double* rmass = nullptr;
+  const double* body_mass = nullptr;  ///< null without clumps
+  const int* type = nullptr;
+  std::uint8_t* touch = nullptr;
+  double* hist = nullptr;
+  int* in_contact = nullptr;  ///< scratch: a particle's list positions
+  void* prepared = nullptr;   ///< scratch: contact::lanes::Prepared, aligned to 64 bytes
+  const MaterialTable* materials = nullptr;
+  const contact::ModelSpec* spec = nullptr;
+  double dt = 0.0;
+};
+
+namespace contact::lanes {
+
+// The pair loop for the kernels of contact_lanes.h, two contacts at a time.
+// Per particle i, as the scalar loop (PairGranular::loop):
+//  1. its list entries, W at a time: which touch, without a branch per entry;
+//     the history of contacts that ended is cleared;
+//  2. prepare() for the touching ones, W at a time (square roots of different
+//     contacts overlap in the processor);
+//  3. hertz_history() W at a time; the sums on i run in the list's order.
+// A last group with fewer than W contacts repeats its last contact in the
+// spare lanes; their results are not used.
+template <class Kernel>
+void pair_loop(const PairLoopData& L) {
+  constexpr int nh = Kernel::history_size;
+  static_assert(nh == 3, "lane pair loop: tangential history only");
+  const int nlocal = L.nlocal;
+  const int* const offset = L.offset;
+  const int* const neigh = L.neigh;
+  const Vec3* const x = L.x;
+  const Vec3* const v = L.v;
+  const Vec3* const omega = L.omega;
+  Vec3* const f = L.f;
+  Vec3* const torque = L.torque;
+  const double* const radius = L.radius;
+  const double* const rmass = L.rmass;
+  const double* const body_mass = L.body_mass;
+  const int* const type = L.type;
+  std::uint8_t* const touch = L.touch;
+  double* const hist = L.hist;
+  int* const in_contact = L.in_contact;
+  Prepared* const lp = static_cast<Prepared*>(L.prepared);
+  const MaterialTable& materials = *L.materials;
+  const ModelSpec spec = *L.spec;
+  const double dt = L.dt;
+  const bool newton = L.newton;
+
+  for (int i = 0; i < nlocal; ++i) {
+    const Vec3 xi = x[i];
+    const double ri = radius[i];
+    const int ti = type[i];
+    const int kbegin = offset[i], kend = offset[i + 1];
+
+    // 1. which list entries touch
+    int ncontact = 0;
+    int k = kbegin;
+    const V3 xi_l = splat(xi);
+    for (; k + W <= kend; k += W) {
+      const V3 d = xi_l - gather(x, neigh + k);
+      const D rsum = ri + gather(radius, neigh + k);
+      const D r2 = dot(d, d);
+      const M t = (r2 < rsum * rsum) & (r2 != 0.0);
+      bool ended = false;
+      for (int l = 0; l < W; ++l) {
+        const int tl = static_cast<int>(t[l] & 1);
+        in_contact[ncontact] = k + l;
+        ncontact += tl;
+        ended |= !tl & (touch[k + l] != 0);
+      }
+      if (ended) {  // a contact that ended: forget its history (rare)
+        for (int l = 0; l < W; ++l) {
+          if ((t[l] & 1) || touch[k + l] == 0) continue;
+          touch[k + l] = 0;
+          double* h = hist + static_cast<std::size_t>(k + l) * nh;
+          h[0] = h[1] = h[2] = 0.0;
+        }
+      }
+    }
+    for (; k < kend; ++k) {  // the scalar loop's test, same arithmetic
+      const int j = neigh[k];
+      const Vec3 d = xi - x[j];
+      const double rsum = ri + radius[j];
+      const double r2 = d.squaredNorm();
+      const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
+      in_contact[ncontact] = k;
+      ncontact += touching;
+      if (!touching & (touch[k] != 0)) {
+        touch[k] = 0;
+        double* h = hist + static_cast<std::size_t>(k) * nh;
+        h[0] = h[1] = h[2] = 0.0;
+      }
+    }
+    if (ncontact == 0) continue;
+
+    // 2. the history-independent stage
+    double mi = rmass[i];
+    if (body_mass && body_mass[i] > 0.0) mi = body_mass[i];
+    PairInput in;
+    in.r_i = ri;
+    in.m_i = mi;
+    in.omega_i = splat(omega[i]);
+    D last_rj = splat(-1.0), last_mj = splat(-1.0);  // radii are positive: no match at first
+    for (int m = 0; m < ncontact; m += W) {
+      int j[W];
+      for (int l = 0; l < W; ++l)
+        j[l] = neigh[in_contact[std::min(m + l, ncontact - 1)]];
+      in.d = xi_l - gather(x, j);
+      in.r_j = gather(radius, j);
+      D mj = gather(rmass, j);
+      if (body_mass) {
+        for (int l = 0; l < W; ++l)
+          if (body_mass[j[l]] > 0.0) mj[l] = body_mass[j[l]];
+      }
+      in.m_j = mj;
+      // R* and m* again only for partners unlike the last group's (exact
+      // comparisons: the same operands give the same quotients)
+      if (!all((in.r_j == last_rj) & (in.m_j == last_mj))) {
+        effective_radius_mass(in);
+        last_rj = in.r_j;
+        last_mj = in.m_j;
+      }
+      for (int l = 0; l < W; ++l) {
+        const PairMaterial& mat = materials(ti, type[j[l]]);
+        in.Y_eff[l] = mat.Y_eff;
+        in.G_eff[l] = mat.G_eff;
+        in.beta[l] = mat.beta;
+        in.dissipative_time[l] = mat.dissipative_time;
+        in.friction[l] = mat.friction;
+        in.rolling_friction[l] = mat.rolling_friction;
+      }
+      in.omega_j = gather(omega, j);
+      prepare<Kernel::rolling>(spec, in, lp[m / W]);
+    }
+
+    // 3. the rest of the kernel, and the sums
+    const Vec3 vi = v[i];
+    const V3 vi_l = splat(vi);
+    Vec3 fi = f[i], ti_sum = torque[i];
+    PairOutput out;
+    for (int m = 0; m < ncontact; m += W) {
+      const int nvalid = std::min(W, ncontact - m);
+      int kk[W], j[W];
+      for (int l = 0; l < W; ++l) {
+        kk[l] = in_contact[std::min(m + l, ncontact - 1)];
+        j[l] = neigh[kk[l]];
+      }
+      const V3 v_rel = vi_l - gather(v, j);
+      V3 shear;
+      for (int l = 0; l < W; ++l) {
+        const double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
+        shear.x[l] = h[0];
+        shear.y[l] = h[1];
+        shear.z[l] = h[2];
+      }
+      hertz_history<Kernel::rolling, Kernel::limit_force>(lp[m / W], v_rel, in.omega_i, dt, shear, out);
+      for (int l = 0; l < nvalid; ++l) {
+        double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
+        h[0] = shear.x[l];
+        h[1] = shear.y[l];
+        h[2] = shear.z[l];
+        touch[kk[l]] = 1;
+        const Vec3 force = lane(out.force, l);
+        fi += force;
+        ti_sum += lane(out.torque_i, l);
+        if (newton || j[l] < nlocal) {
+          f[j[l]] -= force;
+          torque[j[l]] += lane(out.torque_j, l);
+        }
+      }
+    }
+    f[i] = fi;
+    torque[i] = ti_sum;
+  }
+}
+
+}  // namespace contact::lanes
 
 namespace {
 contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
@@ -147,6 +340,10 @@ void PairGranular::loop() {
     history_.touch_.assign(list.neigh.size(), 0);
     history_.values_.assign(list.neigh.size() * nh, 0.0);
   }
+  if constexpr (contact::lanes::supported<Kernel>()) {
+    lane_loop<Kernel>();
+    return;
+  }
   double dummy[6] = {0, 0, 0, 0, 0, 0};
   // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
   const int body_mass_field = p.find_field("body_mass");
@@ -272,6 +469,55 @@ void PairGranular::loop() {
     f[i] = fi;
     torque[i] = ti_sum;
   }
+}
+
+// The kernels of contact_lanes.h, two contacts at a time: same results as
+// the scalar loop below.
+template <class Kernel>
+void PairGranular::lane_loop() {
+  Particles& p = *engine_.particles;
+  const Neighbor& list = *engine_.neighbor;
+  constexpr int nh = Kernel::history_size;
+  if (history_.touch_.size() != list.neigh.size()) {
+    history_.touch_.assign(list.neigh.size(), 0);
+    history_.values_.assign(list.neigh.size() * nh, 0.0);
+  }
+  PairLoopData L;
+  L.nlocal = p.nlocal;
+  L.newton = engine_.force->newton_pair;
+  L.offset = list.offset.data();
+  L.neigh = list.neigh.data();
+  L.x = p.x.data();
+  L.v = p.v.data();
+  L.omega = p.omega.data();
+  L.f = p.f.data();
+  L.torque = p.torque.data();
+  L.radius = p.radius.data();
+  L.rmass = p.rmass.data();
+  const int body_mass_field = p.find_field("body_mass");
+  L.body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  L.type = p.type.data();
+  L.touch = history_.touch_.data();
+  L.hist = history_.values_.data();
+  L.materials = &materials_;
+  L.spec = &spec_;
+  L.dt = engine_.update->history_dt();
+  int maxrow = 0;
+  for (int i = 0; i < p.nlocal; ++i)
+    maxrow = std::max(maxrow, L.offset[i + 1] - L.offset[i]);
+  if (static_cast<int>(contacts_.size()) < maxrow) contacts_.resize(maxrow);
+  L.in_contact = contacts_.data();
+  L.prepared = lane_scratch(((maxrow + contact::lanes::W - 1) / contact::lanes::W) * sizeof(contact::lanes::Prepared));
+  contact::lanes::pair_loop<Kernel>(L);
+}
+
+void* PairGranular::lane_scratch(std::size_t bytes) {
+  // doubles, 64 bytes more than needed, handed out from a 64-byte boundary
+  const std::size_t n = bytes / sizeof(double) + 16;
+  if (lane_scratch_.size() < n) lane_scratch_.resize(n);
+  void* ptr = lane_scratch_.data();
+  std::size_t space = lane_scratch_.size() * sizeof(double);
+  return std::align(64, bytes, ptr, space);
 }
 
 void PairGranular::compute() {

@@ -43,6 +43,10 @@ class PairGranular : public Pair {
     contact::detail::Roots roots;
   };
   std::vector<Prepared> prepared_;
+  template <class Kernel>
+  void lane_loop();
+  void* lane_scratch(std::size_t bytes);
+  std::vector<double> lane_scratch_;  // first stage of the lane loop (contact_lanes.h)
 };
 
 /// `pair_style gran ...` (LIGGGHTS spelling).
