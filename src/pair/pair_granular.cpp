@@ -329,8 +329,16 @@ void PairGranular::take_restart_history() {
 // independent and the processor overlaps them. The third runs the rest of
 // the kernel. The operations are those of a single kernel call, in the same
 // order, so the results are the same to the last bit.
+//
+// Kernels that contact_lanes.h provides (Hertz, tangential history, cdt or no
+// rolling) take lane_loop() instead: the same three passes with whole
+// kernels two contacts at a time.
 template <class Kernel>
 void PairGranular::loop() {
+  if constexpr (contact::lanes::supported<Kernel>()) {
+    lane_loop<Kernel>();
+    return;
+  }
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
   const int nlocal = p.nlocal;
@@ -339,10 +347,6 @@ void PairGranular::loop() {
   if (nh > 0 && history_.touch_.size() != list.neigh.size()) {
     history_.touch_.assign(list.neigh.size(), 0);
     history_.values_.assign(list.neigh.size() * nh, 0.0);
-  }
-  if constexpr (contact::lanes::supported<Kernel>()) {
-    lane_loop<Kernel>();
-    return;
   }
   double dummy[6] = {0, 0, 0, 0, 0, 0};
   // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
