@@ -278,7 +278,8 @@ def loadavg():
         return "unknown"
 
 
-def run_one(prog, exe, ranks, script, nsteps, args, outdir):
+def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
+    """One run of one program; returns its row (with "error" on failure)."""
     # the script's folder, for scripts that read files next to them (meshes, clumps)
     cmd = [exe, "-in", script, "-log", "none", "-var", "dir", os.path.dirname(script)]
     if nsteps is not None:
@@ -287,65 +288,61 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir):
         cmd += ["-var", name, value]
     if ranks > 1:
         cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
-    best = None
-    for rep in range(args.repeat):
-        load_before = loadavg()
-        with tempfile.TemporaryDirectory(prefix="bench_") as tmp:
-            res_path = os.path.join(tmp, "result.json")
-            out_path = os.path.join(tmp, "stdout.txt")
-            workdir = os.path.join(tmp, "run")
-            os.mkdir(workdir)
-            runner = [sys.executable, os.path.abspath(__file__), "--_measure",
-                      res_path, exe, out_path, workdir, "--"] + cmd
-            try:
-                subprocess.run(runner, timeout=args.timeout)
-                with open(res_path) as f:
-                    res = json.load(f)
-            except subprocess.TimeoutExpired:
-                res = {"error": "timed out after %s s" % args.timeout}
-            except (OSError, ValueError) as e:
-                res = {"error": "measurement failed: %s" % e}
-            text = ""
-            if os.path.exists(out_path):
-                with open(out_path, errors="replace") as f:
-                    text = f.read()
-            if outdir:
-                name = "%s_np%d%s.out" % (prog, ranks, "" if args.repeat == 1 else "_rep%d" % rep)
-                with open(os.path.join(outdir, name), "w") as f:
-                    f.write(text)
-        row = {"program": prog, "ranks": ranks, "command": " ".join(shlex.quote(c) for c in cmd),
-               "load_average_before": load_before}
-        if "error" in res:
-            row["error"] = res["error"]
-        elif res["returncode"] != 0:
-            row["error"] = "exit status %d" % res["returncode"]
-        if "error" in row:
-            row["output_tail"] = text[-2000:]
-            return row
-        info = parse_output(text)
-        row.update(info)
-        row["wall_s"] = res["wall_s"]
-        row["cpu_user_s"] = res["user_s"]
-        row["cpu_sys_s"] = res["sys_s"]
-        row["cpu_s"] = res["user_s"] + res["sys_s"]
-        row["max_rank_rss_mib"] = res["max_rank_rss_kib"] / 1024.0
-        if res["sum_rank_hwm_kib"]:
-            row["peak_rss_mib"] = res["sum_rank_hwm_kib"] / 1024.0
-            row["rss_ranks_seen"] = res["nprocs_seen"]
-        else:  # no /proc sampling: fall back to the largest process times ranks
-            row["peak_rss_mib"] = row["max_rank_rss_mib"] * ranks
-            row["rss_ranks_seen"] = 0
-        if "steps" not in row:
-            row["error"] = "no 'Loop time' line in the output"
-            row["output_tail"] = text[-2000:]
-            return row
-        t = row.get("loop_s") or row["wall_s"]
-        row["particle_steps_per_s"] = row["particles"] * row["steps"] / t if t > 0 else None
-        if row["particles"]:
-            row["bytes_per_particle"] = row["peak_rss_mib"] * 1048576.0 / row["particles"]
-        if best is None or row["particle_steps_per_s"] > best["particle_steps_per_s"]:
-            best = row
-    return best
+    load_before = loadavg()
+    with tempfile.TemporaryDirectory(prefix="bench_") as tmp:
+        res_path = os.path.join(tmp, "result.json")
+        out_path = os.path.join(tmp, "stdout.txt")
+        workdir = os.path.join(tmp, "run")
+        os.mkdir(workdir)
+        runner = [sys.executable, os.path.abspath(__file__), "--_measure",
+                  res_path, exe, out_path, workdir, "--"] + cmd
+        try:
+            subprocess.run(runner, timeout=args.timeout)
+            with open(res_path) as f:
+                res = json.load(f)
+        except subprocess.TimeoutExpired:
+            res = {"error": "timed out after %s s" % args.timeout}
+        except (OSError, ValueError) as e:
+            res = {"error": "measurement failed: %s" % e}
+        text = ""
+        if os.path.exists(out_path):
+            with open(out_path, errors="replace") as f:
+                text = f.read()
+        if outdir:
+            name = "%s_np%d%s.out" % (prog, ranks, "" if args.repeat == 1 else "_rep%d" % rep)
+            with open(os.path.join(outdir, name), "w") as f:
+                f.write(text)
+    row = {"program": prog, "ranks": ranks, "command": " ".join(shlex.quote(c) for c in cmd),
+           "load_average_before": load_before}
+    if "error" in res:
+        row["error"] = res["error"]
+    elif res["returncode"] != 0:
+        row["error"] = "exit status %d" % res["returncode"]
+    if "error" in row:
+        row["output_tail"] = text[-2000:]
+        return row
+    info = parse_output(text)
+    row.update(info)
+    row["wall_s"] = res["wall_s"]
+    row["cpu_user_s"] = res["user_s"]
+    row["cpu_sys_s"] = res["sys_s"]
+    row["cpu_s"] = res["user_s"] + res["sys_s"]
+    row["max_rank_rss_mib"] = res["max_rank_rss_kib"] / 1024.0
+    if res["sum_rank_hwm_kib"]:
+        row["peak_rss_mib"] = res["sum_rank_hwm_kib"] / 1024.0
+        row["rss_ranks_seen"] = res["nprocs_seen"]
+    else:  # no /proc sampling: fall back to the largest process times ranks
+        row["peak_rss_mib"] = row["max_rank_rss_mib"] * ranks
+        row["rss_ranks_seen"] = 0
+    if "steps" not in row:
+        row["error"] = "no 'Loop time' line in the output"
+        row["output_tail"] = text[-2000:]
+        return row
+    t = row.get("loop_s") or row["wall_s"]
+    row["particle_steps_per_s"] = row["particles"] * row["steps"] / t if t > 0 else None
+    if row["particles"]:
+        row["bytes_per_particle"] = row["peak_rss_mib"] * 1048576.0 / row["particles"]
+    return row
 
 
 def fmt(v, spec):
@@ -434,7 +431,8 @@ def main(argv):
                     help="run only this program")
     ap.add_argument("--json", metavar="FILE", help="also write all results to FILE as JSON")
     ap.add_argument("--repeat", type=int, default=1,
-                    help="run each case this many times and keep the fastest (default: 1)")
+                    help="run each case this many times, the programs taking turns, and keep "
+                         "the fastest (default: 1)")
     ap.add_argument("--timeout", type=float, default=None, help="time limit per run in seconds")
     ap.add_argument("--mpirun", default="mpirun", help="MPI launcher (default: mpirun on PATH)")
     ap.add_argument("--mpirun-args", default="", help="extra launcher arguments, e.g. '--bind-to none'")
@@ -488,19 +486,31 @@ def main(argv):
              loadavg()))
     sys.stdout.flush()
 
-    rows = []
-    for prog, exe in programs:
-        for ranks in ranks_list:
-            sys.stdout.write("running %s on %d rank%s ... " % (prog, ranks, "" if ranks == 1 else "s"))
-            sys.stdout.flush()
-            r = run_one(prog, exe, ranks, script, args.nsteps, args, args.keep_output)
-            print("FAILED (%s)" % r["error"] if "error" in r else "%.2f s" % r["wall_s"])
-            if "error" in r and r.get("output_tail"):
+    # With --repeat the programs take turns (LIGGGHTS, Granary, LIGGGHTS, ...),
+    # so that a change of the machine's load during the runs affects both
+    # alike; each case keeps its fastest run, a failed case its first failure.
+    best = {}
+    for rep in range(args.repeat):
+        for prog, exe in programs:
+            for ranks in ranks_list:
+                key = (prog, ranks)
+                if key in best and "error" in best[key]:
+                    continue
+                sys.stdout.write("running %s on %d rank%s%s ... " % (
+                    prog, ranks, "" if ranks == 1 else "s",
+                    "" if args.repeat == 1 else " (run %d of %d)" % (rep + 1, args.repeat)))
                 sys.stdout.flush()
-                sys.stderr.write("---- last output of %s on %d rank(s):\n%s\n----\n"
-                                 % (prog, ranks, r["output_tail"].rstrip()))
-                sys.stderr.flush()
-            rows.append(r)
+                r = run_one(prog, exe, ranks, script, args.nsteps, args, args.keep_output, rep)
+                print("FAILED (%s)" % r["error"] if "error" in r else "%.2f s" % r["wall_s"])
+                if "error" in r and r.get("output_tail"):
+                    sys.stdout.flush()
+                    sys.stderr.write("---- last output of %s on %d rank(s):\n%s\n----\n"
+                                     % (prog, ranks, r["output_tail"].rstrip()))
+                    sys.stderr.flush()
+                if ("error" in r or key not in best
+                        or r["particle_steps_per_s"] > best[key]["particle_steps_per_s"]):
+                    best[key] = r
+    rows = [best[(prog, ranks)] for prog, _ in programs for ranks in ranks_list]
 
     ok = [r for r in rows if "error" not in r]
     for r in ok:

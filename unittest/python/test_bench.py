@@ -3,6 +3,7 @@
 import io
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -113,6 +114,29 @@ class RealRun(unittest.TestCase):
         self.assertAlmostEqual(sum(split.values()), row["loop_s"], delta=0.02 * row["loop_s"] + 1e-3)
         self.assertIn("time split", r.stdout)
 
+    @unittest.skipUnless(shutil.which("liggghts"), "liggghts not on PATH")
+    def test_repeated_runs_take_turns_and_keep_the_fastest(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "bench.json")
+            keep = os.path.join(tmp, "outputs")
+            r = subprocess.run([sys.executable, os.path.join(TOOLS, "bench.py"), "--ranks", "1", "--nsteps", "20",
+                                "--repeat", "2", "--granary", os.environ["GRANARY_BINARY"], "--json", out,
+                                "--keep-output", keep],
+                               capture_output=True, text=True, cwd=ROOT)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with open(out) as f:
+                rows = json.load(f)["results"]
+            loops = {}
+            for prog in ("liggghts", "granary"):
+                for rep in (0, 1):
+                    with open(os.path.join(keep, "%s_np1_rep%d.out" % (prog, rep))) as f:
+                        loops.setdefault(prog, []).append(bench.parse_output(f.read())["loop_s"])
+        order = [line.split()[1] for line in r.stdout.splitlines() if line.startswith("running ")]
+        self.assertEqual(order, ["liggghts", "granary", "liggghts", "granary"])
+        self.assertEqual([row["program"] for row in rows], ["liggghts", "granary"])
+        for row in rows:
+            self.assertEqual(row["steps"], 20)
+            self.assertEqual(row["loop_s"], min(loops[row["program"]]))  # the faster of the two runs
 
 if __name__ == "__main__":
     unittest.main()
