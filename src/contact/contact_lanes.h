@@ -12,8 +12,9 @@
 //
 // Written with GCC/Clang vector extensions for W = 2 lanes: on x86-64 one
 // SSE2 register (part of every x86-64 processor); elsewhere the compiler
-// splits the operations. The code is written for any W; four lanes (AVX2)
-// were measured no faster on the benchmarks (doc/performance.md).
+// splits the operations. Apart from sqrt, any and all, the code is written
+// for any W; four lanes (AVX2) were measured no faster on the benchmarks
+// (doc/performance.md).
 #pragma once
 
 #include <cmath>
