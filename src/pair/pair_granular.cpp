@@ -314,6 +314,17 @@ void PairGranular::take_restart_history() {
   force.restart_history.clear();
 }
 
+// Kernels that contact_lanes.h provides (Hertz, tangential history, cdt or no
+// rolling) run in lane_loop(): the three passes of scalar_loop() with whole
+// kernels two contacts at a time. The others run in scalar_loop().
+template <class Kernel>
+void PairGranular::loop() {
+  if constexpr (contact::lanes::supported<Kernel>())
+    lane_loop<Kernel>();
+  else
+    scalar_loop<Kernel>();
+}
+
 // The hot loop reads particle data through local pointers: stores to the
 // one-byte touch flags may alias anything, and members read through
 // references would be reloaded after each of them.
@@ -329,16 +340,8 @@ void PairGranular::take_restart_history() {
 // independent and the processor overlaps them. The third runs the rest of
 // the kernel. The operations are those of a single kernel call, in the same
 // order, so the results are the same to the last bit.
-//
-// Kernels that contact_lanes.h provides (Hertz, tangential history, cdt or no
-// rolling) take lane_loop() instead: the same three passes with whole
-// kernels two contacts at a time.
 template <class Kernel>
-void PairGranular::loop() {
-  if constexpr (contact::lanes::supported<Kernel>()) {
-    lane_loop<Kernel>();
-    return;
-  }
+void PairGranular::scalar_loop() {
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
   const int nlocal = p.nlocal;

@@ -30,6 +30,8 @@ class PairGranular : public Pair {
  private:
   template <class Kernel>
   void loop();
+  template <class Kernel>
+  void scalar_loop();
   void take_restart_history();
   contact::ModelSpec spec_;
   MaterialTable materials_;
