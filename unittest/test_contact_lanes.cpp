@@ -1,7 +1,8 @@
 // The two-lane Hertz / tangential history / (cdt or no) rolling kernel of
 // contact_lanes.h against the scalar kernel it replaces in the pair loop:
 // on random contacts (sticking and slipping, touching and not, relative spins
-// at round-off level, several partners' radii and masses) every lane must give
+// at round-off level, several partners' radii and masses, both lanes for one
+// particle or one for each of two) every lane must give
 // the scalar kernel's force, torques and updated shear history to the last
 // bit. The inputs are built with the pair loop's own arithmetic (n = d * (1/r),
 // R* = r_i r_j / (r_i + r_j), m* = m_i m_j / (m_i + m_j)).
@@ -39,8 +40,8 @@ bool same(const Vec3& a, const Vec3& b) {
 }
 
 struct Sample {
-  Vec3 d, v_rel, omega_j, shear;
-  double r_j, m_j;
+  Vec3 d, v_rel, omega_i, omega_j, shear;
+  double r_i, r_j, m_i, m_j;
   PairMaterial mat;
 };
 
@@ -60,11 +61,23 @@ void compare(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
   };
   const double dt = 1e-6;
   for (int trial = 0; trial < 4000; ++trial) {
-    // particle i and two partners
-    const double r_i = 0.4e-3 + 1.1e-3 * u(rng), m_i = 1e-6 + 1e-4 * u(rng);
-    const Vec3 omega_i = 100.0 * u(rng) * unit();
+    // two contacts: of one particle i (as within a particle's row) or of two
+    // (as where one particle's contacts end and the next one's begin)
+    const bool one_particle = u(rng) < 0.5;
     Sample s[2];
-    for (auto& q : s) {
+    for (int l = 0; l < 2; ++l) {
+      Sample& q = s[l];
+      if (l == 0 || !one_particle) {
+        q.r_i = 0.4e-3 + 1.1e-3 * u(rng);
+        q.m_i = 1e-6 + 1e-4 * u(rng);
+        q.omega_i = 100.0 * u(rng) * unit();
+      } else {
+        q.r_i = s[0].r_i;
+        q.m_i = s[0].m_i;
+        q.omega_i = s[0].omega_i;
+      }
+      const double r_i = q.r_i, m_i = q.m_i;
+      const Vec3 omega_i = q.omega_i;
       // a few partners equal to i's radius and mass (the bed of equal spheres)
       const bool equal = u(rng) < 0.3;
       q.r_j = equal ? r_i : 0.4e-3 + 1.1e-3 * u(rng);
@@ -87,6 +100,8 @@ void compare(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
     Vec3 ref_shear[2];
     for (int l = 0; l < 2; ++l) {
       const Sample& q = s[l];
+      const double r_i = q.r_i, m_i = q.m_i;
+      const Vec3 omega_i = q.omega_i;
       ContactState c;
       const double rsum = r_i + q.r_j;
       const double r = std::sqrt(q.d.squaredNorm());
@@ -121,11 +136,11 @@ void compare(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
     // both lanes at once
     lanes::PairInput in;
     in.d = pack2(s[0].d, s[1].d);
-    in.r_i = r_i;
+    in.r_i = lanes::D{s[0].r_i, s[1].r_i};
     in.r_j = lanes::D{s[0].r_j, s[1].r_j};
-    in.m_i = m_i;
+    in.m_i = lanes::D{s[0].m_i, s[1].m_i};
     in.m_j = lanes::D{s[0].m_j, s[1].m_j};
-    in.omega_i = lanes::splat(omega_i);
+    in.omega_i = pack2(s[0].omega_i, s[1].omega_i);
     in.omega_j = pack2(s[0].omega_j, s[1].omega_j);
     in.Y_eff = lanes::D{s[0].mat.Y_eff, s[1].mat.Y_eff};
     in.G_eff = lanes::D{s[0].mat.G_eff, s[1].mat.G_eff};
@@ -141,7 +156,7 @@ void compare(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
     lanes::hertz_history<R, Limit>(q, pack2(s[0].v_rel, s[1].v_rel), in.omega_i, dt, shear, out);
 
     for (int l = 0; l < 2; ++l) {
-      INFO("trial " << trial << " lane " << l << " overlap " << (r_i + s[l].r_j - s[l].d.norm()));
+      INFO("trial " << trial << " lane " << l << " overlap " << (s[l].r_i + s[l].r_j - s[l].d.norm()));
       REQUIRE(same(lanes::lane(out.force, l), ref[l].force));
       REQUIRE(same(lanes::lane(out.torque_i, l), ref[l].torque_i));
       REQUIRE(same(lanes::lane(out.torque_j, l), ref[l].torque_j));

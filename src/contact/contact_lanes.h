@@ -130,14 +130,14 @@ struct V3 {
   return {splat(a[0]), splat(a[1]), splat(a[2])};
 }
 
-/// What prepare() reads for W contacts of particle i with W partners.
+/// What prepare() reads for W contacts (of one particle i or of several).
 struct PairInput {
   V3 d;            ///< x_i - x_j
-  double r_i = 0;  ///< radius of i
+  D r_i{};         ///< radii of the particles i
   D r_j{};        ///< radii of the partners (> 0)
-  double m_i = 0;  ///< mass of i
+  D m_i{};         ///< masses of the particles i
   D m_j{};        ///< masses of the partners
-  V3 omega_i;      ///< spin of i in every lane
+  V3 omega_i;      ///< spins of the particles i
   V3 omega_j;      ///< spins of the partners
   D r_eff{};      ///< r_i r_j / (r_i + r_j): effective_radius_mass()
   D m_eff{};      ///< m_i m_j / (m_i + m_j)
@@ -217,7 +217,7 @@ template <RollingModel R>
 
 /// The pair contact of evaluate_prepared_t<Hertz, History, R, Limit, None>
 /// for W contacts, from the first stage's `q`, the relative velocity
-/// `v_rel`, the spin of i and the timestep. `shear` is the tangential
+/// `v_rel`, the spins of the particles i and the timestep. `shear` is the tangential
 /// displacement history, updated in place; a lane whose overlap is not
 /// positive gets a zero result and a zero history, as in the scalar kernel.
 template <RollingModel R, bool Limit>

@@ -38,7 +38,9 @@ struct PairLoopData {
   const int* type = nullptr;
   std::uint8_t* touch = nullptr;
   double* hist = nullptr;
-  int* in_contact = nullptr;  ///< scratch: a particle's list positions
+  int* in_contact = nullptr;  ///< scratch: list positions of a block's contacts
+  int* in_owner = nullptr;    ///< scratch: their particles
+  const int* owner = nullptr;  ///< particle of each list entry
   void* prepared = nullptr;   ///< scratch: contact::lanes::Prepared, aligned to 64 bytes
   const MaterialTable* materials = nullptr;
   const contact::ModelSpec* spec = nullptr;
@@ -48,14 +50,20 @@ struct PairLoopData {
 namespace contact::lanes {
 
 // The pair loop for the kernels of contact_lanes.h, two contacts at a time.
-// Per particle i, as the scalar loop (PairGranular::loop):
-//  1. its list entries, W at a time: which touch, without a branch per entry;
-//     the history of contacts that ended is cleared;
-//  2. prepare() for the touching ones, W at a time (square roots of different
-//     contacts overlap in the processor);
-//  3. hertz_history() W at a time; the sums on i run in the list's order.
-// A last group with fewer than W contacts repeats its last contact in the
-// spare lanes; their results are not used.
+// In blocks of about kBlock contacts:
+//  1. all list entries as one stream, W at a time: which touch, without a
+//     branch per entry (the history of contacts that ended is cleared); the
+//     contacts are appended to the block with their particle;
+//  2. for all contacts of the block, W at a time (lanes may hold contacts of
+//     different particles): geometry, square roots, coefficients (prepare());
+//  3. the rest of the kernel (hertz_history()) and the sums, contact after
+//     contact in the list's order, as the scalar loop makes them.
+// Long stretches of entries and contacts instead of a particle's few keep
+// the loops from ending (a mispredicted branch) at every particle. A
+// last group with fewer than W contacts repeats its last contact in the spare
+// lanes; their results are not used.
+constexpr int kBlock = 64;
+
 template <class Kernel>
 void pair_loop(const PairLoopData& L) {
   constexpr int nh = Kernel::history_size;
@@ -74,89 +82,46 @@ void pair_loop(const PairLoopData& L) {
   const int* const type = L.type;
   std::uint8_t* const touch = L.touch;
   double* const hist = L.hist;
-  int* const in_contact = L.in_contact;
+  int* const blk_k = L.in_contact;  // list position of each contact of the block
+  int* const blk_i = L.in_owner;    // its particle
   Prepared* const lp = static_cast<Prepared*>(L.prepared);
   const MaterialTable& materials = *L.materials;
   const ModelSpec spec = *L.spec;
   const double dt = L.dt;
   const bool newton = L.newton;
 
-  for (int i = 0; i < nlocal; ++i) {
-    const Vec3 xi = x[i];
-    const double ri = radius[i];
-    const int ti = type[i];
-    const int kbegin = offset[i], kend = offset[i + 1];
+  auto mass = [&](int a) { return body_mass && body_mass[a] > 0.0 ? body_mass[a] : rmass[a]; };
 
-    // 1. which list entries touch
-    int ncontact = 0;
-    int k = kbegin;
-    const V3 xi_l = splat(xi);
-    for (; k + W <= kend; k += W) {
-      const V3 d = xi_l - gather(x, neigh + k);
-      const D rsum = ri + gather(radius, neigh + k);
-      const D r2 = dot(d, d);
-      const M t = (r2 < rsum * rsum) & (r2 != 0.0);
-      bool ended = false;
-      for (int l = 0; l < W; ++l) {
-        const int tl = static_cast<int>(t[l] & 1);
-        in_contact[ncontact] = k + l;
-        ncontact += tl;
-        ended |= !tl & (touch[k + l] != 0);
-      }
-      if (ended) {  // a contact that ended: forget its history (rare)
-        for (int l = 0; l < W; ++l) {
-          if ((t[l] & 1) || touch[k + l] == 0) continue;
-          touch[k + l] = 0;
-          double* h = hist + static_cast<std::size_t>(k + l) * nh;
-          h[0] = h[1] = h[2] = 0.0;
-        }
-      }
-    }
-    for (; k < kend; ++k) {  // the scalar loop's test, same arithmetic
-      const int j = neigh[k];
-      const Vec3 d = xi - x[j];
-      const double rsum = ri + radius[j];
-      const double r2 = d.squaredNorm();
-      const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
-      in_contact[ncontact] = k;
-      ncontact += touching;
-      if (!touching & (touch[k] != 0)) {
-        touch[k] = 0;
-        double* h = hist + static_cast<std::size_t>(k) * nh;
-        h[0] = h[1] = h[2] = 0.0;
-      }
-    }
-    if (ncontact == 0) continue;
-
-    // 2. the history-independent stage
-    double mi = rmass[i];
-    if (body_mass && body_mass[i] > 0.0) mi = body_mass[i];
+  // stages 2 and 3 for the n contacts of the block
+  auto flush = [&](int n) {
     PairInput in;
-    in.r_i = ri;
-    in.m_i = mi;
-    in.omega_i = splat(omega[i]);
-    D last_rj = splat(-1.0), last_mj = splat(-1.0);  // radii are positive: no match at first
-    for (int m = 0; m < ncontact; m += W) {
-      int j[W];
-      for (int l = 0; l < W; ++l)
-        j[l] = neigh[in_contact[std::min(m + l, ncontact - 1)]];
-      in.d = xi_l - gather(x, j);
-      in.r_j = gather(radius, j);
-      D mj = gather(rmass, j);
-      if (body_mass) {
-        for (int l = 0; l < W; ++l)
-          if (body_mass[j[l]] > 0.0) mj[l] = body_mass[j[l]];
+    // R* and m* again only for pairs unlike the last group's (exact
+    // comparisons: the same operands give the same quotients); radii are
+    // positive, so nothing matches at first
+    D last_ri = splat(-1.0), last_rj = splat(-1.0), last_mi = splat(-1.0), last_mj = splat(-1.0);
+    for (int m = 0; m < n; m += W) {
+      int ii[W], j[W];
+      for (int l = 0; l < W; ++l) {
+        const int c = std::min(m + l, n - 1);
+        ii[l] = blk_i[c];
+        j[l] = neigh[blk_k[c]];
       }
-      in.m_j = mj;
-      // R* and m* again only for partners unlike the last group's (exact
-      // comparisons: the same operands give the same quotients)
-      if (!all((in.r_j == last_rj) & (in.m_j == last_mj))) {
+      in.d = gather(x, ii) - gather(x, j);
+      in.r_i = gather(radius, ii);
+      in.r_j = gather(radius, j);
+      for (int l = 0; l < W; ++l) {
+        in.m_i[l] = mass(ii[l]);
+        in.m_j[l] = mass(j[l]);
+      }
+      if (!all((in.r_i == last_ri) & (in.r_j == last_rj) & (in.m_i == last_mi) & (in.m_j == last_mj))) {
         effective_radius_mass(in);
+        last_ri = in.r_i;
         last_rj = in.r_j;
+        last_mi = in.m_i;
         last_mj = in.m_j;
       }
       for (int l = 0; l < W; ++l) {
-        const PairMaterial& mat = materials(ti, type[j[l]]);
+        const PairMaterial& mat = materials(type[ii[l]], type[j[l]]);
         in.Y_eff[l] = mat.Y_eff;
         in.G_eff[l] = mat.G_eff;
         in.beta[l] = mat.beta;
@@ -164,23 +129,21 @@ void pair_loop(const PairLoopData& L) {
         in.friction[l] = mat.friction;
         in.rolling_friction[l] = mat.rolling_friction;
       }
+      in.omega_i = gather(omega, ii);
       in.omega_j = gather(omega, j);
       prepare<Kernel::rolling>(spec, in, lp[m / W]);
     }
-
-    // 3. the rest of the kernel, and the sums
-    const Vec3 vi = v[i];
-    const V3 vi_l = splat(vi);
-    Vec3 fi = f[i], ti_sum = torque[i];
     PairOutput out;
-    for (int m = 0; m < ncontact; m += W) {
-      const int nvalid = std::min(W, ncontact - m);
-      int kk[W], j[W];
+    for (int m = 0; m < n; m += W) {
+      const int nvalid = std::min(W, n - m);
+      int kk[W], ii[W], j[W];
       for (int l = 0; l < W; ++l) {
-        kk[l] = in_contact[std::min(m + l, ncontact - 1)];
+        const int c = std::min(m + l, n - 1);
+        kk[l] = blk_k[c];
+        ii[l] = blk_i[c];
         j[l] = neigh[kk[l]];
       }
-      const V3 v_rel = vi_l - gather(v, j);
+      const V3 v_rel = gather(v, ii) - gather(v, j);
       V3 shear;
       for (int l = 0; l < W; ++l) {
         const double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
@@ -188,25 +151,79 @@ void pair_loop(const PairLoopData& L) {
         shear.y[l] = h[1];
         shear.z[l] = h[2];
       }
-      hertz_history<Kernel::rolling, Kernel::limit_force>(lp[m / W], v_rel, in.omega_i, dt, shear, out);
+      hertz_history<Kernel::rolling, Kernel::limit_force>(lp[m / W], v_rel, gather(omega, ii), dt, shear, out);
       for (int l = 0; l < nvalid; ++l) {
         double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
         h[0] = shear.x[l];
         h[1] = shear.y[l];
         h[2] = shear.z[l];
         touch[kk[l]] = 1;
+        // i's sums in memory, contact after contact: the same additions in
+        // the same order as a running sum (no partner of i's row is i)
         const Vec3 force = lane(out.force, l);
-        fi += force;
-        ti_sum += lane(out.torque_i, l);
+        f[ii[l]] += force;
+        torque[ii[l]] += lane(out.torque_i, l);
         if (newton || j[l] < nlocal) {
           f[j[l]] -= force;
           torque[j[l]] += lane(out.torque_j, l);
         }
       }
     }
-    f[i] = fi;
-    torque[i] = ti_sum;
+  };
+
+  // Stage 1 over all list entries as one stream, W at a time (entries of
+  // consecutive particles lie one after the other; `owner` names each one's
+  // particle), appending the contacts to the block.
+  const int* const owner = L.owner;
+  const int nentries = offset[nlocal];
+  int nblock = 0;
+  int k = 0;
+  for (; k + W <= nentries; k += W) {
+    int ii[W];
+    for (int l = 0; l < W; ++l)
+      ii[l] = owner[k + l];
+    const V3 d = gather(x, ii) - gather(x, neigh + k);
+    const D rsum = gather(radius, ii) + gather(radius, neigh + k);
+    const D r2 = dot(d, d);
+    const M t = (r2 < rsum * rsum) & (r2 != 0.0);
+    bool ended = false;
+    for (int l = 0; l < W; ++l) {
+      const int tl = static_cast<int>(t[l] & 1);
+      blk_k[nblock] = k + l;
+      blk_i[nblock] = ii[l];
+      nblock += tl;
+      ended |= !tl & (touch[k + l] != 0);
+    }
+    if (ended) {  // a contact that ended: forget its history (rare)
+      for (int l = 0; l < W; ++l) {
+        if ((t[l] & 1) || touch[k + l] == 0) continue;
+        touch[k + l] = 0;
+        double* h = hist + static_cast<std::size_t>(k + l) * nh;
+        h[0] = h[1] = h[2] = 0.0;
+      }
+    }
+    if (nblock >= kBlock) {
+      flush(nblock);
+      nblock = 0;
+    }
   }
+  for (; k < nentries; ++k) {  // the scalar loop's test, same arithmetic
+    const int i = owner[k];
+    const int j = neigh[k];
+    const Vec3 d = x[i] - x[j];
+    const double rsum = radius[i] + radius[j];
+    const double r2 = d.squaredNorm();
+    const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
+    blk_k[nblock] = k;
+    blk_i[nblock] = i;
+    nblock += touching;
+    if (!touching & (touch[k] != 0)) {
+      touch[k] = 0;
+      double* h = hist + static_cast<std::size_t>(k) * nh;
+      h[0] = h[1] = h[2] = 0.0;
+    }
+  }
+  if (nblock > 0) flush(nblock);
 }
 
 }  // namespace contact::lanes
@@ -509,12 +526,20 @@ void PairGranular::lane_loop() {
   L.materials = &materials_;
   L.spec = &spec_;
   L.dt = engine_.update->history_dt();
-  int maxrow = 0;
-  for (int i = 0; i < p.nlocal; ++i)
-    maxrow = std::max(maxrow, L.offset[i + 1] - L.offset[i]);
-  if (static_cast<int>(contacts_.size()) < maxrow) contacts_.resize(maxrow);
+  // the particle of each list entry, for stage 1's single stream
+  if (owner_build_ != list.nbuilds || owner_.size() != list.neigh.size()) {
+    owner_.resize(list.neigh.size());
+    for (int i = 0; i < p.nlocal; ++i)
+      std::fill(owner_.begin() + L.offset[i], owner_.begin() + L.offset[i + 1], i);
+    owner_build_ = list.nbuilds;
+  }
+  L.owner = owner_.data();
+  // a block holds fewer than kBlock contacts before its last group of entries
+  const int cap = contact::lanes::kBlock + contact::lanes::W;
+  if (static_cast<int>(contacts_.size()) < 2 * cap) contacts_.resize(2 * cap);
   L.in_contact = contacts_.data();
-  L.prepared = lane_scratch(((maxrow + contact::lanes::W - 1) / contact::lanes::W) * sizeof(contact::lanes::Prepared));
+  L.in_owner = contacts_.data() + cap;
+  L.prepared = lane_scratch(((cap + contact::lanes::W - 1) / contact::lanes::W) * sizeof(contact::lanes::Prepared));
   contact::lanes::pair_loop<Kernel>(L);
 }
 

@@ -1,0 +1,188 @@
+// The lane pair loop of pair_style gran (contact_lanes.h kernels, contacts in
+// blocks across particles) against a plain loop over the same neighbour list
+// that calls the scalar contact kernel (contact::evaluate) pair by pair in
+// the list's order: on a settled, partly sliding bed of two kinds of spheres
+// both must give the same forces, torques, shear histories and contact flags
+// to the last bit.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "contact/contact_model.h"
+#include "core/engine.h"
+#include "core/update.h"
+#include "neighbor/neighbor.h"
+#include "pair/force.h"
+#include "pair/pair_granular.h"
+#include "script_engine.h"
+
+using granary::Vec3;
+using granary::test::ScriptEngine;
+
+namespace {
+
+bool same(double a, double b) {
+#if defined(__FMA__)
+  return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)) + 1e-300;
+#else
+  return a == b && std::signbit(a) == std::signbit(b);
+#endif
+}
+
+// A bed of 2 mm spheres (type 1) and 1.6 mm lighter ones (type 2, other
+// material) poured into a box of plane walls.
+void pour(ScriptEngine& s, const std::string& pair_words, const std::string& newton) {
+  s.cmds({"atom_style granular", "atom_modify map array", "boundary m m m", "newton " + newton,
+          "communicate single vel yes", "units si",
+          "region domain block -0.01 0.01 -0.01 0.01 0.0 0.04 units box", "create_box 2 domain",
+          "neighbor 0.0005 bin", "neigh_modify delay 0",
+          "fix m1 all property/global youngsModulus peratomtype 5.e6 2.e6",
+          "fix m2 all property/global poissonsRatio peratomtype 0.45 0.3",
+          "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 0.7 0.7 0.5",
+          "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.3 0.3 0.2",
+          "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.05 0.05 0.02",
+          "pair_style " + pair_words, "pair_coeff * *", "timestep 0.00001",
+          "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+          "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
+          "fix xw1 all wall/gran model hertz tangential history primitive type 1 xplane -0.01",
+          "fix xw2 all wall/gran model hertz tangential history primitive type 1 xplane 0.01",
+          "fix yw1 all wall/gran model hertz tangential history primitive type 1 yplane -0.01",
+          "fix yw2 all wall/gran model hertz tangential history primitive type 1 yplane 0.01",
+          "lattice bcc 0.0025", "region fill block -0.0085 0.0085 -0.0085 0.0085 0.0051 0.0301 units box",
+          "create_atoms 1 region fill", "set group all diameter 0.002 density 2500",
+          "region small block -0.0085 0.0085 -0.0085 0.0 0.0051 0.0301 units box",
+          "set region small type 2", "set region small diameter 0.0016 density 1800",
+          "velocity all set 0.1 0.0 -0.5 units box", "fix integr all nve/sphere", "run 15000"});
+}
+
+// Forces, torques and history of one pair computation by the loop of the pair style.
+struct Snapshot {
+  std::vector<Vec3> f, torque;
+  std::vector<double> hist;
+  std::vector<std::uint8_t> touch;
+  int sliding = 0;  // contacts at the Coulomb limit (pair by pair only)
+};
+
+Snapshot compute_with_style(ScriptEngine& s) {
+  granary::Particles& p = *s.e.particles;
+  for (int i = 0; i < p.size(); ++i) {
+    p.f[i].setZero();
+    p.torque[i].setZero();
+  }
+  s.e.force->pair->compute();
+  auto* pair = dynamic_cast<granary::PairGranular*>(s.e.force->pair.get());
+  return {p.f, p.torque, pair->history()->values_, pair->history()->touch_, 0};
+}
+
+// The same with contact::evaluate, pair by pair in the list's order.
+Snapshot compute_pair_by_pair(ScriptEngine& s) {
+  granary::Engine& e = s.e;
+  granary::Particles& p = *e.particles;
+  auto* pair = dynamic_cast<granary::PairGranular*>(e.force->pair.get());
+  const granary::Neighbor& list = *e.neighbor;
+  std::vector<double>& hist = pair->history()->values_;
+  std::vector<std::uint8_t>& touch = pair->history()->touch_;
+  const int nh = pair->history_size();
+  const bool newton = e.force->newton_pair;
+  for (int i = 0; i < p.size(); ++i) {
+    p.f[i].setZero();
+    p.torque[i].setZero();
+  }
+  granary::contact::ContactState c;
+  granary::contact::ContactResult res;
+  c.dt = e.update->history_dt();
+  int sliding = 0;
+  for (int i = 0; i < p.nlocal; ++i) {
+    Vec3 fi = p.f[i], ti = p.torque[i];
+    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
+      const int j = list.neigh[k];
+      double* h = hist.data() + static_cast<std::size_t>(k) * nh;
+      const Vec3 d = p.x[i] - p.x[j];
+      const double rsum = p.radius[i] + p.radius[j];
+      const double r2 = d.squaredNorm();
+      if (!(r2 < rsum * rsum && r2 != 0.0)) {
+        if (touch[k]) {
+          touch[k] = 0;
+          for (int q = 0; q < nh; ++q)
+            h[q] = 0.0;
+        }
+        continue;
+      }
+      const double r = std::sqrt(r2);
+      const double inv_r = 1.0 / r;
+      c.n = d * inv_r;
+      c.overlap = rsum - r;
+      c.r_i = p.radius[i];
+      c.r_j = p.radius[j];
+      c.r_eff = p.radius[i] * p.radius[j] / rsum;
+      c.m_eff = p.rmass[i] * p.rmass[j] / (p.rmass[i] + p.rmass[j]);
+      c.v_rel = p.v[i] - p.v[j];
+      c.omega_i = p.omega[i];
+      c.omega_j = p.omega[j];
+      const granary::contact::PairMaterial& mat = pair->materials()(p.type[i], p.type[j]);
+      granary::contact::evaluate(pair->spec(), c, mat, h, res);
+      sliding += res.ft.norm() >= (1.0 - 1e-9) * mat.friction * std::abs(res.fn);
+      touch[k] = 1;
+      fi += res.force;
+      ti += res.torque_i;
+      if (newton || j < p.nlocal) {
+        p.f[j] -= res.force;
+        p.torque[j] += res.torque_j;
+      }
+    }
+    p.f[i] = fi;
+    p.torque[i] = ti;
+  }
+  return {p.f, p.torque, hist, touch, sliding};
+}
+
+void compare_loops(const std::string& pair_words, const std::string& newton) {
+  ScriptEngine s;
+  pour(s, pair_words, newton);
+  auto* pair = dynamic_cast<granary::PairGranular*>(s.e.force->pair.get());
+  REQUIRE(pair != nullptr);
+  // both start from the history of the last step
+  const std::vector<double> hist0 = pair->history()->values_;
+  const std::vector<std::uint8_t> touch0 = pair->history()->touch_;
+  const Snapshot lanes = compute_with_style(s);
+  pair->history()->values_ = hist0;
+  pair->history()->touch_ = touch0;
+  const Snapshot plain = compute_pair_by_pair(s);
+
+  const granary::Particles& p = s.p();
+  int contacts = 0;
+  for (std::size_t k = 0; k < plain.touch.size(); ++k)
+    contacts += plain.touch[k];
+  INFO(pair_words << ", newton " << newton << ": " << p.nlocal << " particles, " << contacts << " contacts, "
+                  << plain.sliding << " sliding");
+  REQUIRE(contacts > p.nlocal);  // a settled bed
+  // some contacts slide, most stick: both branches of the kernel ran
+  REQUIRE(plain.sliding > 0);
+  REQUIRE(plain.sliding < contacts / 2);
+  for (int i = 0; i < p.nlocal; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      INFO("particle " << i << " component " << d);
+      REQUIRE(same(lanes.f[i][d], plain.f[i][d]));
+      REQUIRE(same(lanes.torque[i][d], plain.torque[i][d]));
+    }
+  }
+  REQUIRE(lanes.touch == plain.touch);
+  REQUIRE(lanes.hist.size() == plain.hist.size());
+  for (std::size_t q = 0; q < plain.hist.size(); ++q) {
+    INFO("history value " << q);
+    REQUIRE(same(lanes.hist[q], plain.hist[q]));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("Lane pair loop equals the scalar kernel pair by pair (cdt rolling)", "[pair][lanes]") {
+  compare_loops("gran model hertz tangential history rolling_friction cdt", "off");
+}
+
+TEST_CASE("Lane pair loop equals the scalar kernel pair by pair (no rolling, limitForce, newton on)",
+          "[pair][lanes]") {
+  compare_loops("gran model hertz tangential history limitForce on", "on");
+}
