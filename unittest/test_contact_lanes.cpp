@@ -31,8 +31,7 @@ bool same(double a, double b) {
 }
 
 lanes::V3 pack2(const Vec3& a, const Vec3& b) {
-  const Vec3 v[2] = {a, b};
-  return lanes::pack(v);
+  return {lanes::D{a[0], b[0]}, lanes::D{a[1], b[1]}, lanes::D{a[2], b[2]}};
 }
 
 bool same(const Vec3& a, const Vec3& b) {

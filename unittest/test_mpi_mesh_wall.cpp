@@ -24,6 +24,29 @@ using granary::Vec3;
 
 namespace {
 
+// The common start of the scenes: two types of one material (friction mu,
+// rolling friction mu_r), the Hertz pair style, a box of fixed boundaries.
+std::vector<std::string> scene(const std::string& processors, const std::string& box, const std::string& mu,
+                               const std::string& mu_r, const std::string& timestep) {
+  return {"units si",
+          "atom_style granular",
+          "boundary f f f",
+          "processors " + processors,
+          "region box block " + box + " units box",
+          "create_box 2 box",
+          "neighbor 0.0005 bin",
+          "neigh_modify delay 0",
+          "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
+          "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
+          "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
+          "fix m4 all property/global coefficientFriction peratomtypepair 2 " + mu + " " + mu + " " + mu + " " + mu,
+          "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 " + mu_r + " " + mu_r + " " +
+              mu_r + " " + mu_r,
+          "pair_style gran model hertz tangential history rolling_friction cdt",
+          "pair_coeff * *",
+          "timestep " + timestep};
+}
+
 // An STL file written by rank 0 into a temporary directory; every rank learns its name.
 std::string shared_mesh_file(const std::string& name, const std::vector<mesh_files::Triangle>& t) {
   int rank = 0;
@@ -65,23 +88,8 @@ struct Snapshot {
 Snapshot run_box(MPI_Comm comm, const std::string& file) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  const std::vector<std::string> script = {
-      "units si",
-      "atom_style granular",
-      "boundary f f f",
-      "processors * * 1",
-      "region box block -0.011 0.011 -0.011 0.011 -0.005 0.03 units box",
-      "create_box 2 box",
-      "neighbor 0.0005 bin",
-      "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
-      "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
-      "pair_style gran model hertz tangential history rolling_friction cdt",
-      "pair_coeff * *",
-      "timestep 2e-5",
+  std::vector<std::string> script = scene("* * 1", "-0.011 0.011 -0.011 0.011 -0.005 0.03", "0.5", "0.1", "2e-5");
+  for (const auto& l : std::vector<std::string>{
       "region fill block -0.0088 0.0088 -0.0088 0.0088 0.0012 0.025 units box",
       "create_atoms 1 random 300 4711 fill overlap 0.0021 maxtry 200",
       "set type 1 diameter 0.002 density 2500",
@@ -93,7 +101,8 @@ Snapshot run_box(MPI_Comm comm, const std::string& file) {
       "fix integr all nve/sphere",
       "thermo 500",
       "run 1200",
-  };
+  })
+    script.push_back(l);
   for (const auto& l : script)
     e.input->one(l);
   Snapshot s;
@@ -174,24 +183,7 @@ Channel run_channel(MPI_Comm comm, bool mesh) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
   const std::string model = "wall/gran model hertz tangential history rolling_friction cdt ";
-  std::vector<std::string> script = {
-      "units si",
-      "atom_style granular",
-      "boundary f f f",
-      "processors * 1 1",
-      "region box block -0.001 0.041 -0.002 0.002 -0.001 0.004 units box",
-      "create_box 2 box",
-      "neighbor 0.0005 bin",
-      "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
-      "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.0 0.0 0.0 0.0",
-      "pair_style gran model hertz tangential history rolling_friction cdt",
-      "pair_coeff * *",
-      "timestep 1e-5",
-  };
+  std::vector<std::string> script = scene("* 1 1", "-0.001 0.041 -0.002 0.002 -0.001 0.004", "0.1", "0.0", "1e-5");
   for (int k = 0; k < 6; ++k)
     script.push_back("create_atoms 1 single " + std::to_string(0.002 + 0.0035 * k) + " 0.0 0.0009774625 units box");
   for (const auto& l : std::vector<std::string>{

@@ -100,16 +100,6 @@ struct V3 {
 [[gnu::always_inline]] inline Vec3 lane(const V3& a, int l) {
   return Vec3(a.x[l], a.y[l], a.z[l]);
 }
-/// W Eigen vectors as the lanes of a V3.
-[[gnu::always_inline]] inline V3 pack(const Vec3* a) {
-  V3 r;
-  for (int l = 0; l < W; ++l) {
-    r.x[l] = a[l][0];
-    r.y[l] = a[l][1];
-    r.z[l] = a[l][2];
-  }
-  return r;
-}
 /// Lanes of a[idx[0]], ..., a[idx[W-1]].
 [[gnu::always_inline]] inline V3 gather(const Vec3* a, const int* idx) {
   V3 r;
@@ -126,21 +116,18 @@ struct V3 {
     r[l] = a[idx[l]];
   return r;
 }
-[[gnu::always_inline]] inline V3 splat(const Vec3& a) {
-  return {splat(a[0]), splat(a[1]), splat(a[2])};
-}
 
 /// What prepare() reads for W contacts (of one particle i or of several).
 struct PairInput {
-  V3 d;            ///< x_i - x_j
-  D r_i{};         ///< radii of the particles i
-  D r_j{};        ///< radii of the partners (> 0)
-  D m_i{};         ///< masses of the particles i
-  D m_j{};        ///< masses of the partners
-  V3 omega_i;      ///< spins of the particles i
-  V3 omega_j;      ///< spins of the partners
-  D r_eff{};      ///< r_i r_j / (r_i + r_j): effective_radius_mass()
-  D m_eff{};      ///< m_i m_j / (m_i + m_j)
+  V3 d;          ///< x_i - x_j
+  D r_i{};       ///< radii of the particles i
+  D r_j{};       ///< radii of the partners (> 0)
+  D m_i{};       ///< masses of the particles i
+  D m_j{};       ///< masses of the partners
+  V3 omega_i;    ///< spins of the particles i
+  V3 omega_j;    ///< spins of the partners
+  D r_eff{};     ///< r_i r_j / (r_i + r_j): effective_radius_mass()
+  D m_eff{};     ///< m_i m_j / (m_i + m_j)
   D Y_eff{}, G_eff{}, beta{}, friction{}, rolling_friction{}, dissipative_time{};  ///< PairMaterial fields
 };
 

@@ -4,8 +4,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <algorithm>
-#include <cstdlib>
-#include <memory>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
@@ -38,10 +36,7 @@ struct PairLoopData {
   const int* type = nullptr;
   std::uint8_t* touch = nullptr;
   double* hist = nullptr;
-  int* in_contact = nullptr;  ///< scratch: list positions of a block's contacts
-  int* in_owner = nullptr;    ///< scratch: their particles
   const int* owner = nullptr;  ///< particle of each list entry
-  void* prepared = nullptr;   ///< scratch: contact::lanes::Prepared, aligned to 64 bytes
   const MaterialTable* materials = nullptr;
   const contact::ModelSpec* spec = nullptr;
   double dt = 0.0;
@@ -82,9 +77,11 @@ void pair_loop(const PairLoopData& L) {
   const int* const type = L.type;
   std::uint8_t* const touch = L.touch;
   double* const hist = L.hist;
-  int* const blk_k = L.in_contact;  // list position of each contact of the block
-  int* const blk_i = L.in_owner;    // its particle
-  Prepared* const lp = static_cast<Prepared*>(L.prepared);
+  // the block: list position and particle of each contact, first stage's
+  // results; fewer than kBlock contacts before the last group of W entries
+  constexpr int kCap = kBlock + W;
+  int blk_k[kCap], blk_i[kCap];
+  Prepared lp[(kCap + W - 1) / W];
   const MaterialTable& materials = *L.materials;
   const ModelSpec spec = *L.spec;
   const double dt = L.dt;
@@ -336,6 +333,13 @@ void PairGranular::take_restart_history() {
 // kernels two contacts at a time. The others run in scalar_loop().
 template <class Kernel>
 void PairGranular::loop() {
+  // contact history: one slot per neighbour-list entry
+  constexpr int nh = Kernel::history_size;
+  const std::size_t nlist = engine_.neighbor->neigh.size();
+  if (nh > 0 && history_.touch_.size() != nlist) {
+    history_.touch_.assign(nlist, 0);
+    history_.values_.assign(nlist * nh, 0.0);
+  }
   if constexpr (contact::lanes::supported<Kernel>())
     lane_loop<Kernel>();
   else
@@ -364,10 +368,6 @@ void PairGranular::scalar_loop() {
   const int nlocal = p.nlocal;
   const bool newton = engine_.force->newton_pair;
   constexpr int nh = Kernel::history_size;
-  if (nh > 0 && history_.touch_.size() != list.neigh.size()) {
-    history_.touch_.assign(list.neigh.size(), 0);
-    history_.values_.assign(list.neigh.size() * nh, 0.0);
-  }
   double dummy[6] = {0, 0, 0, 0, 0, 0};
   // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
   const int body_mass_field = p.find_field("body_mass");
@@ -501,11 +501,6 @@ template <class Kernel>
 void PairGranular::lane_loop() {
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
-  constexpr int nh = Kernel::history_size;
-  if (history_.touch_.size() != list.neigh.size()) {
-    history_.touch_.assign(list.neigh.size(), 0);
-    history_.values_.assign(list.neigh.size() * nh, 0.0);
-  }
   PairLoopData L;
   L.nlocal = p.nlocal;
   L.newton = engine_.force->newton_pair;
@@ -534,22 +529,7 @@ void PairGranular::lane_loop() {
     owner_build_ = list.nbuilds;
   }
   L.owner = owner_.data();
-  // a block holds fewer than kBlock contacts before its last group of entries
-  const int cap = contact::lanes::kBlock + contact::lanes::W;
-  if (static_cast<int>(contacts_.size()) < 2 * cap) contacts_.resize(2 * cap);
-  L.in_contact = contacts_.data();
-  L.in_owner = contacts_.data() + cap;
-  L.prepared = lane_scratch(((cap + contact::lanes::W - 1) / contact::lanes::W) * sizeof(contact::lanes::Prepared));
   contact::lanes::pair_loop<Kernel>(L);
-}
-
-void* PairGranular::lane_scratch(std::size_t bytes) {
-  // doubles, 64 bytes more than needed, handed out from a 64-byte boundary
-  const std::size_t n = bytes / sizeof(double) + 16;
-  if (lane_scratch_.size() < n) lane_scratch_.resize(n);
-  void* ptr = lane_scratch_.data();
-  std::size_t space = lane_scratch_.size() * sizeof(double);
-  return std::align(64, bytes, ptr, space);
 }
 
 void PairGranular::compute() {

@@ -47,8 +47,6 @@ class PairGranular : public Pair {
   std::vector<Prepared> prepared_;
   template <class Kernel>
   void lane_loop();
-  void* lane_scratch(std::size_t bytes);
-  std::vector<double> lane_scratch_;  // first stage of the lane loop (contact_lanes.h)
   std::vector<int> owner_;            // particle of each neighbour-list entry (lane loop)
   std::int64_t owner_build_ = -1;     // the list build owner_ belongs to
 };
