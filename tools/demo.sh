@@ -6,6 +6,8 @@
 # out/silo/ (extra arguments are passed to examples/silo_clogging/run.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh
+source tools/caller.sh
+[ -n "${GRANARY_AS_CALLER:-}" ] || tools/setup.sh
+rerun_as_caller "$@"
 examples/silo_clogging/run.sh --out out/silo "$@"
 echo "Demo output in out/silo: avalanches.csv and VTK series (particles_.pvd, bodies_.pvd, mesh_.pvd; open them in ParaView) in phi_0/, statistics and PNG plots in out/silo/"

@@ -3,7 +3,9 @@
 # test command, and what CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tools/setup.sh
+source tools/caller.sh
+[ -n "${GRANARY_AS_CALLER:-}" ] || tools/setup.sh
+rerun_as_caller "$@"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 # The input-language fuzzer (clang, libFuzzer) for a minute; then the suite,
 # whose ctest summary is the last thing printed.

@@ -1,6 +1,6 @@
 // Oblique impact of an alumina sphere on a flat wall (Chung & Ooi 2011, Test 4)
 // against the measured data of Kharaz, Gorham & Salman (2001) in
-// shared/data/oblique_impact_kharaz2001.
+// data/oblique_impact_kharaz2001 of the repository.
 //
 // Set-up: R = 2.5 mm, rho = 4000 kg/m3, Y = 380 GPa, nu = 0.23; the wall is a
 // 1000x stiffer material of the same Poisson ratio; e = 0.98, mu = 0.092;
@@ -77,7 +77,7 @@ struct Point {
 };
 
 std::vector<Point> read_csv(const std::string& name) {
-  std::ifstream in(std::string(GRANARY_SHARED_DIR) + "/data/oblique_impact_kharaz2001/" + name);
+  std::ifstream in(std::string(GRANARY_SOURCE_DIR) + "/data/oblique_impact_kharaz2001/" + name);
   REQUIRE(in.good());
   std::vector<Point> out;
   std::string line;

@@ -82,10 +82,10 @@ def _sigma(spec, value, where):
     raise InputFileError(f"{where}: 'uncertainty' must be a number or {{relative, absolute, floor}}")
 
 
-def read_data_spec(path, shared_dir=None):
+def read_data_spec(path):
     """JSON that assembles data from wide CSV files (one condition column and
-    one value column each) and states their uncertainty. A path starting with
-    '${shared}/' is taken relative to the shared data directory."""
+    one value column each, paths relative to the JSON file) and states their
+    uncertainty."""
     with open(path) as f:
         spec = json.load(f)
     base = os.path.dirname(os.path.abspath(path))
@@ -93,13 +93,7 @@ def read_data_spec(path, shared_dir=None):
     rows = []
     for k, item in enumerate(spec.get("files", [])):
         where = f"{path}: files[{k}]"
-        fpath = item["path"]
-        if fpath.startswith("${shared}/"):
-            if not shared_dir:
-                raise InputFileError(f"{where}: '{fpath}' needs the shared data directory (--shared)")
-            fpath = os.path.join(shared_dir, fpath[len("${shared}/"):])
-        else:
-            fpath = os.path.join(base, fpath)
+        fpath = os.path.join(base, item["path"])
         if not os.path.exists(fpath):
             raise InputFileError(f"{where}: data file '{fpath}' not found")
         table = _read_csv_lines(fpath)
@@ -118,11 +112,11 @@ def read_data_spec(path, shared_dir=None):
     return Data([cond_name or "condition"], rows, path)
 
 
-def read_data(path, shared_dir=None):
+def read_data(path):
     if not os.path.exists(path):
         raise InputFileError(f"data file '{path}' not found")
     if path.endswith(".json"):
-        return read_data_spec(path, shared_dir)
+        return read_data_spec(path)
     return read_long_csv(path)
 
 
