@@ -220,6 +220,32 @@ TEST_CASE("dump bodies/vtk: group selection, ASCII files, pvd name", "[dump][vtk
   CHECK(entries[1].second == "d_0010.vtp");
 }
 
+TEST_CASE("write_dump bodies/vtk: one file of the current state, no collection", "[dump][vtk][multisphere]") {
+  const std::string dir = fresh_dir("write_dump");
+  Engine e(MPI_COMM_WORLD);
+  setup(e);
+  e.input->one("fix ms all multisphere");
+  e.input->one("create_clump tri -0.01 0 0 vel 0.1 0 0");
+  e.input->one("create_clump dumb 0.01 0 0");
+  e.input->one("dump b all bodies/vtk 10 " + dir + "/bodies_*.vtp");
+  e.input->one("run 15");
+  const auto before = pvd_entries(dir + "/bodies_.pvd");
+  REQUIRE(before.size() == 2);
+  e.input->one("write_dump all bodies/vtk " + dir + "/now.vtp");
+  auto pd = read_vtp(dir + "/now.vtp");
+  REQUIRE(pd->GetNumberOfPoints() == 2);
+  const Bodies& B = FixMultisphere::find(*e.modify)->bodies();
+  double x[3];
+  pd->GetPoint(0, x);
+  CHECK(x[0] == B.xcm[0][0]);  // the state at step 15
+  CHECK(pd->GetFieldData()->GetArray("Step")->GetComponent(0, 0) == 15);
+  CHECK_FALSE(fs::exists(dir + "/now.pvd"));
+  CHECK(pvd_entries(dir + "/bodies_.pvd") == before);
+  // a collection only when asked for
+  e.input->one("write_dump all bodies/vtk " + dir + "/asked.vtp modify pvd " + dir + "/asked.pvd");
+  REQUIRE(pvd_entries(dir + "/asked.pvd").size() == 1);
+}
+
 TEST_CASE("dump bodies/vtk: errors", "[dump][vtk][multisphere]") {
   using Catch::Matchers::Contains;
   const std::string dir = fresh_dir("errors");

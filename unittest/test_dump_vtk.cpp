@@ -1,8 +1,7 @@
 // dump custom/vtk on one rank: the other formats (.vtu, explicit .pvtp), the
-// .pvd collection (names, relative paths, several runs), array naming, errors,
-// and, where ParaView's Python is installed, opening the .pvd in ParaView and
-// rendering the particles to a PNG.
-// The round trip of every field on 1, 2 and 4 ranks is in test_mpi_dump_vtk.cpp.
+// .pvd collection (names, relative paths, several runs), array naming, errors.
+// The round trip of every field on 1, 2 and 4 ranks is in test_mpi_dump_vtk.cpp;
+// ParaView reading the .pvd and rendering the dumps is in python/test_render.py.
 #include <vtkCellType.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -17,9 +16,7 @@
 #include <vtkXMLUtilities.h>
 
 #include <catch2/catch.hpp>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -224,75 +221,4 @@ TEST_CASE("dump custom/vtk: errors name the file", "[dump][vtk][errors]") {
   e.input->one("dump d all custom/vtk 5 " + dir + "/taken_*.vtp id");
   e.input->one("run 4");
   CHECK_THROWS_WITH(e.input->one("run 1"), Contains(dir + "/taken_5.vtp"));
-}
-
-namespace {
-
-// First of pvpython / pvbatch that can import paraview.simple, or "".
-std::string find_paraview_python(const std::string& dir) {
-  const std::string probe = dir + "/probe.py";
-  std::ofstream(probe) << "from paraview.simple import *\n";
-  for (const char* exe : {"pvpython", "pvbatch"}) {
-    const std::string cmd = std::string("command -v ") + exe + " > /dev/null 2>&1 && " + exe +
-                            " --force-offscreen-rendering " + probe + " > " + dir + "/probe.log 2>&1";
-    if (std::system(cmd.c_str()) == 0) return exe;
-  }
-  return "";
-}
-
-}  // namespace
-
-TEST_CASE("ParaView opens the .pvd and renders the particles", "[dump][vtk][paraview]") {
-  const std::string dir = fresh_dir("paraview");
-  const std::string exe = find_paraview_python(dir);
-  if (exe.empty()) {
-    WARN(
-        "skipped: no pvpython or pvbatch with the paraview Python module (Debian: python3-paraview, "
-        "which conflicts with libvtk9-dev)");
-    return;
-  }
-  {
-    granary::Engine e(MPI_COMM_WORLD);
-    setup_bed(e);
-    e.input->one("dump d all custom/vtk 10 " + dir + "/particles_*.vtp id type vx vy vz radius");
-    e.input->one("run 20");
-  }
-  const std::string abs = fs::absolute(dir).string();
-  std::ofstream(dir + "/render.py") << "from paraview.simple import *\n"
-                                    << "reader = PVDReader(FileName=r'" << abs << "/particles_.pvd')\n"
-                                    << "reader.UpdatePipeline()\n"
-                                    << "times = list(reader.TimestepValues)\n"
-                                    << "n = reader.GetDataInformation().GetNumberOfPoints()\n"
-                                    << "open(r'" << abs
-                                    << "/info.txt', 'w').write('%d %d\\n' % (len(times), n))\n"
-                                    << "view = CreateView('RenderView')\n"
-                                    << "view.ViewSize = [480, 360]\n"
-                                    << "glyph = Glyph(Input=reader, GlyphType='Sphere')\n"
-                                    << "glyph.ScaleArray = ['POINTS', 'radius']\n"
-                                    << "glyph.ScaleFactor = 2.0\n"
-                                    << "glyph.GlyphMode = 'All Points'\n"
-                                    << "display = Show(glyph, view)\n"
-                                    << "ColorBy(display, ('POINTS', 'v', 'Magnitude'))\n"
-                                    << "view.ViewTime = times[-1]\n"
-                                    << "ResetCamera(view)\n"
-                                    << "Render(view)\n"
-                                    << "SaveScreenshot(r'" << abs
-                                    << "/particles.png', view, ImageResolution=[480, 360])\n";
-  const std::string run =
-      exe + " --force-offscreen-rendering " + dir + "/render.py > " + dir + "/render.log 2>&1";
-  int rc = std::system(run.c_str());
-  if (rc != 0 && std::system("command -v xvfb-run > /dev/null 2>&1") == 0) {
-    rc = std::system(("xvfb-run -a " + run).c_str());
-  }
-  std::ifstream info(dir + "/info.txt");
-  int ntimes = 0, npoints = 0;
-  info >> ntimes >> npoints;
-  CHECK(ntimes == 3);
-  CHECK(npoints == 100);
-  if (rc != 0 && !fs::exists(dir + "/particles.png")) {
-    WARN("ParaView read the .pvd but could not render without a display; see " + dir + "/render.log");
-    return;
-  }
-  REQUIRE(fs::exists(dir + "/particles.png"));
-  CHECK(fs::file_size(dir + "/particles.png") > 2000);
 }

@@ -2,8 +2,8 @@
 // silo with a 2 dc slit, cylinders only). Checks that the avalanche CSV has
 // avalanches in the agreed format, that every body is accounted for (in the
 // silo, passed through the outlet, or deleted from an arch) in number and
-// mass, that the CSV rows add up to what passed, and that the dumps and the
-// box averages were written.
+// mass, that the CSV rows add up to what passed, and that the dumps, the
+// final state (clog_*.vtp) and the box averages were written.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -119,11 +119,11 @@ TEST_CASE("example silo_clogging: a short discharge with clogs, on 2 ranks", "[e
       rows.push_back(split(l, ','));
   }
   const std::vector<std::string> expect = {"avalanche", "t_start",   "t_end",     "t_clog",      "duration",
-                                           "bodies",    "mass",      "flow_rate", "fill_height", "bodies_t1",
-                                           "mass_t1",   "bodies_t2", "mass_t2"};
+                                           "bodies",    "mass",      "flow_rate", "fill_height", "arch_removed",
+                                           "bodies_t1", "mass_t1",   "bodies_t2", "mass_t2"};
   CHECK(header == expect);
   REQUIRE(static_cast<double>(rows.size()) == avalanches);
-  double bodies = 0, mass = 0, t_prev = 0;
+  double bodies = 0, mass = 0, t_prev = 0, arch_removed = 0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
     REQUIRE(rows[k].size() == expect.size());
     CHECK(std::stoi(rows[k][0]) == static_cast<int>(k) + 1);
@@ -134,16 +134,29 @@ TEST_CASE("example silo_clogging: a short discharge with clogs, on 2 ranks", "[e
     t_prev = tc;
     bodies += std::stod(rows[k][5]);
     mass += std::stod(rows[k][6]);
-    CHECK(std::stod(rows[k][5]) == std::stod(rows[k][9]));  // all bodies are cylinders (type 1)
+    CHECK(std::stod(rows[k][5]) == std::stod(rows[k][10]));  // all bodies are cylinders (type 1)
+    arch_removed += std::stod(rows[k][9]);
   }
-  // what passed = the recorded avalanches + the one in progress
+  // what passed = the recorded avalanches + the one in progress; the bodies
+  // deleted at the clogs, row by row, add up to the total deleted
   CHECK(bodies + s["current"] == s["passed"]);
+  CHECK(arch_removed == s["deleted"]);
   CHECK(mass == Approx(bodies * m_c).epsilon(1e-6));
 
   // ---- dumps (particles, clumps, meshes) and the box averages
   CHECK(count_files(dir, "particles_", ".vtp") >= 3);
   CHECK(count_files(dir, "bodies_", ".vtp") >= 3);
   CHECK(count_files(dir, "mesh_", ".vtp") >= 3);
+  // the final state for tools/render.py: one file each (the particles on 2 ranks as a .pvtp
+  // index with its pieces), not listed in the collections
+  CHECK(fs::file_size(dir / "clog_particles.pvtp") > 0);
+  CHECK(fs::file_size(dir / "clog_particles_0.vtp") > 0);
+  CHECK(fs::file_size(dir / "clog_bodies.vtp") > 0);
+  CHECK(fs::file_size(dir / "clog_mesh.vtp") > 0);
+  for (const char* pvd : {"particles_.pvd", "bodies_.pvd", "mesh_.pvd"})
+    CHECK(read_text(dir / pvd).find("clog_") == std::string::npos);
+  for (const char* pvd : {"clog_particles.pvd", "clog_bodies.pvd", "clog_mesh.pvd"})
+    CHECK_FALSE(fs::exists(dir / pvd));
   const auto box = split(read_text(dir / "box.dat"), '\n');
   REQUIRE(box.size() >= 4);
   CHECK(box[1] == "# step time phi phi_c phi_s ke_c erot_c n_c ke_s erot_s n_s theta state");

@@ -321,6 +321,18 @@ TEST_CASE("dump mesh/vtk writes the triangles, normals and velocity as VTK PolyD
     CHECK(Vec3(vv[0], vv[1], vv[2]) == Vec3(0.0, 0.1, 0.2));
   }
   CHECK(std::filesystem::exists(path("mesh_.pvd")));
+
+  // write_dump: the current state once, one file, no collection; the dump's collection is untouched
+  const auto pvd_time = std::filesystem::last_write_time(path("mesh_.pvd"));
+  const auto pvd_size = std::filesystem::file_size(path("mesh_.pvd"));
+  s.cmds({"write_dump all mesh/vtk " + path("mesh_now.vtp") + " cad"});
+  auto now = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  now->SetFileName(path("mesh_now.vtp").c_str());
+  now->Update();
+  CHECK(now->GetOutput()->GetNumberOfPolys() == mesh.ntri());
+  CHECK_FALSE(std::filesystem::exists(path("mesh_now.pvd")));
+  CHECK(std::filesystem::last_write_time(path("mesh_.pvd")) == pvd_time);
+  CHECK(std::filesystem::file_size(path("mesh_.pvd")) == pvd_size);
 }
 
 TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_restart", "[mesh][restart]") {

@@ -1,5 +1,6 @@
 // `write_dump group-ID style file fields... [modify keyword value ...]`:
-// write the current state once with any dump style (custom, custom/vtk).
+// write the current state once with any dump style (custom, custom/vtk,
+// bodies/vtk, mesh/vtk, mesh/stl).
 #include <memory>
 
 #include "core/engine.h"
@@ -31,8 +32,10 @@ void cmd_write_dump(Engine& e, const Args& a) {
     dump_args.push_back(a[k]);
   std::unique_ptr<Dump> dump = (*factory)(e, dump_args);
 
+  // one file, no .pvd collection (the styles that keep one; `modify pvd NAME` asks for one)
   Args modify_args{"write_dump"};
-  if (a[1] == "custom/vtk") modify_args.insert(modify_args.end(), {"pvd", "no"});  // one file, no collection
+  if (a[1] == "custom/vtk" || a[1] == "bodies/vtk" || a[1] == "mesh/vtk")
+    modify_args.insert(modify_args.end(), {"pvd", "no"});
   for (++k; k < a.size(); ++k)
     modify_args.push_back(a[k]);
   if (modify_args.size() > 1) dump->modify(modify_args);
