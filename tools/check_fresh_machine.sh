@@ -95,10 +95,13 @@ make_root() {
   mount --bind /sys "$root/sys" && MOUNTED+=("$root/sys")
 }
 
+# home ROOT USER: the user's home folder inside the root
+home_of() { chroot "$1" getent passwd "$2" | cut -d: -f6; }
+
 # in_root ROOT USER COMMAND: a login-like shell in the clone
 in_root() {
-  local root="$1" user="$2" cmd="$3" home=/root
-  [ "$user" = root ] || home=/home/$user
+  local root="$1" user="$2" cmd="$3" home
+  home=$(home_of "$root" "$user")
   chroot "$root" /usr/bin/env -i HOME="$home" USER="$user" LANG=C.UTF-8 \
     PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
     /bin/su -s /bin/bash "$user" -c "cd $home/granary && $cmd"
@@ -119,8 +122,8 @@ check_root() {
     echo "granary ALL=(ALL) NOPASSWD: ALL" > "$root/etc/sudoers.d/granary"
     user=granary prefix="sudo "
   fi
-  local home=/root
-  [ "$user" = root ] || home=/home/$user
+  local home
+  home=$(home_of "$root" "$user")
   installed_packages "$root" > "$DIR/$name.before"
   git clone -q "$REPO" "$root$home/granary"
   chroot "$root" chown -R "$user:" "$home/granary"

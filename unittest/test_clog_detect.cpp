@@ -6,7 +6,11 @@
 // - action delete: every avalanche row obeys its definitions (t_clog = t_end + T
 //   within a step, the next avalanche starts at the clog), grains are
 //   conserved (in the silo + passed + deleted from the arch = poured), the
-//   counted mass is the number times the grain mass, the file matches f_ID;
+//   counted mass is the number times the grain mass, the file matches f_ID,
+//   the bodies deleted per clog add up to the total;
+// - arch_layer 0 deletes exactly the lowest body of the arch region at each
+//   clog; a layer thicker than the region deletes what the whole region does;
+// - still: a clog waits until the bodies in the region are at rest;
 // - a restart written during an avalanche continues with the same log;
 // - action halt ends the run at the clog step; with the arch left in place the
 //   next run passes nothing and clogs exactly T later; stop_height ends the
@@ -72,6 +76,7 @@ struct Row {
   double t_start = 0, t_end = 0, t_clog = 0, duration = 0;
   long long bodies = 0;
   double mass = 0, rate = 0, fill = 0;
+  long long arch = 0;
   std::vector<double> per_type;
   std::string text;
 };
@@ -104,7 +109,7 @@ Csv read_csv(const std::string& file) {
     std::string cell;
     while (std::getline(ss, cell, ','))
       v.push_back(std::stod(cell));
-    REQUIRE(v.size() >= 9);
+    REQUIRE(v.size() >= 10);
     r.avalanche = static_cast<int>(v[0]);
     r.t_start = v[1];
     r.t_end = v[2];
@@ -114,7 +119,8 @@ Csv read_csv(const std::string& file) {
     r.mass = v[6];
     r.rate = v[7];
     r.fill = v[8];
-    r.per_type.assign(v.begin() + 9, v.end());
+    r.arch = static_cast<long long>(v[9]);
+    r.per_type.assign(v.begin() + 10, v.end());
     c.rows.push_back(r);
   }
   return c;
@@ -201,8 +207,13 @@ TEST_CASE("clog-detect: action delete records avalanches, and grains are conserv
   CHECK(f(a, 4) == Approx(last.duration).epsilon(1e-9));
   CHECK(f(a, 8) == Approx(last.fill).epsilon(1e-9));
   CHECK(ca.header ==
-        "avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height,bodies_t1,mass_t1,bodies_"
-        "t2,mass_t2");
+        "avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height,arch_removed,bodies_t1,"
+        "mass_t1,bodies_t2,mass_t2");
+  // the bodies deleted at each clog, row by row, add up to the total
+  long long removed = 0;
+  for (const auto& r : ca.rows)
+    removed += r.arch;
+  CHECK(removed == f(a, 11));
   REQUIRE(ca.comments.size() >= 3);
   CHECK_THAT(ca.comments[1], Contains("SI"));
   // a real avalanche flowed after the arch was deleted
@@ -302,6 +313,82 @@ TEST_CASE("clog-detect: stop_empty ends the discharge after empty avalanches") {
     CHECK(r.bodies == 0);
   check_rows(c, true);
   std::remove(fe.c_str());
+}
+
+TEST_CASE("clog-detect: arch_layer deletes only the lowest layer of the arch region") {
+  // arch_layer 0: at each clog only the lowest body of region arch goes
+  const std::string f0 = temp_name("clog_l0_") + ".csv";
+  ScriptEngine a;
+  a.cmds(clog_scene::restarted(filled_restart()));
+  const double poured = grains(a);
+  a.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch arch_layer 0 action delete file " + f0);
+  a.cmd("run 12000");
+  const Csv c0 = read_csv(f0);
+  REQUIRE(c0.rows.size() >= 2);
+  check_rows(c0, true);
+  for (const auto& r : c0.rows) {
+    INFO("row " << r.text);
+    CHECK(r.arch == 1);
+  }
+  CHECK(f(a, 11) == static_cast<double>(c0.rows.size()));
+  CHECK(grains(a) + f(a, 5) + f(a, 11) == poured);
+
+  // a layer thicker than the region: the same avalanches as without arch_layer
+  const std::string fw = temp_name("clog_lw_") + ".csv", fa = temp_name("clog_la_") + ".csv";
+  ScriptEngine w, all;
+  w.cmds(clog_scene::restarted(filled_restart()));
+  all.cmds(clog_scene::restarted(filled_restart()));
+  w.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch arch_layer 1.0 action delete file " + fw);
+  all.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete file " + fa);
+  w.cmd("run 6000");
+  all.cmd("run 6000");
+  const Csv cw = read_csv(fw), ca = read_csv(fa);
+  REQUIRE(ca.rows.size() >= 1);
+  REQUIRE(cw.rows.size() == ca.rows.size());
+  for (std::size_t k = 0; k < ca.rows.size(); ++k)
+    CHECK(cw.rows[k].text == ca.rows[k].text);
+  // ... and more than one body there: the lowest layer is a real choice
+  CHECK(ca.rows[0].arch > 1);
+  for (const auto& name : {f0, fw, fa})
+    std::remove(name.c_str());
+}
+
+TEST_CASE("clog-detect: still waits until the bodies in the region are at rest") {
+  constexpr double kStill = 2e-3;  // [m/s]
+  const std::string fs = temp_name("clog_s_") + ".csv", fn = temp_name("clog_n_") + ".csv";
+  ScriptEngine s, n;
+  s.cmds(clog_scene::restarted(filled_restart()));
+  n.cmds(clog_scene::restarted(filled_restart()));
+  s.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt still arch 0.002 file " + fs);
+  n.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt file " + fn);
+  s.cmd("run 100000");
+  n.cmd("run 100000");
+  const Csv cs = read_csv(fs), cn = read_csv(fn);
+  REQUIRE(cs.rows.size() == 1);
+  REQUIRE(cn.rows.size() == 1);
+  // the same trajectory up to the clog without the rest condition
+  CHECK(cs.rows[0].t_end == cn.rows[0].t_end);
+  CHECK(cs.rows[0].bodies == cn.rows[0].bodies);
+  CHECK(cs.rows[0].t_clog >= cn.rows[0].t_clog);
+  // at the clog every grain in the region moves slower than the given speed
+  s.cmd("variable sp atom sqrt(vx*vx+vy*vy+vz*vz)");
+  s.cmd("compute vmax grains reduce/region arch max v_sp");
+  s.cmd("thermo_style custom step c_vmax");
+  s.cmd("run 0");
+  const double vmax = s.e.compute_value("vmax", 0);
+  CHECK(vmax < kStill);
+  CHECK(vmax > 0.0);
+  // a speed no grain reaches: the clog comes after exactly the timeout, as without the condition
+  const std::string fr = temp_name("clog_r_") + ".csv";
+  ScriptEngine r;
+  r.cmds(clog_scene::restarted(filled_restart()));
+  r.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt still arch 100 file " + fr);
+  r.cmd("run 100000");
+  const Csv cr = read_csv(fr);
+  REQUIRE(cr.rows.size() == 1);
+  CHECK(cr.rows[0].text == cn.rows[0].text);
+  for (const auto& name : {fs, fn, fr})
+    std::remove(name.c_str());
 }
 
 namespace {
@@ -497,6 +584,11 @@ TEST_CASE("clog-detect: bad input is refused") {
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 stop_empty 0"), Contains("stop_empty"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 quantile 1.5"), Contains("quantile"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 height_region nowhere"), Contains("nowhere"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch_layer 0.001"), Contains("give arch REGION"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch out arch_layer -1"), Contains("arch_layer"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still out"), Contains("still"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still out 0"), Contains("positive speed"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still nowhere 0.1"), Contains("nowhere"));
   s.cmd("fix c all clog-detect outlet out timeout 1");  // a valid definition
   CHECK(s.e.modify->find_fix("c") != nullptr);
 }

@@ -1,9 +1,10 @@
 // fix clog-detect: counts the bodies that pass an outlet, detects clogs
 // (nothing passed for a time T), records each avalanche and acts on the clog.
 //
-//   fix ID group clog-detect outlet REGION timeout T [arch REGION]
-//       [action halt|delete|kick|none] [kick VX VY VZ] [stop_height H] [stop_empty N]
-//       [height_region REGION|NULL] [quantile Q] [remove yes|no] [file F.csv|NULL] [every N]
+//   fix ID group clog-detect outlet REGION timeout T [arch REGION] [arch_layer DZ]
+//       [action halt|delete|kick|none] [kick VX VY VZ] [still REGION V] [stop_height H]
+//       [stop_empty N] [final_action yes|no] [height_region REGION|NULL] [quantile Q]
+//       [remove yes|no] [file F.csv|NULL] [every N]
 //
 // Design (see doc/fixes/clog_detect.md):
 // - A body is a free sphere or a clump. Each body is represented by exactly
@@ -29,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "comm/collectives.h"
@@ -52,12 +54,13 @@ namespace granary {
 
 namespace {
 
-constexpr int kRestartFormat = 1;
+// 2: per avalanche also the bodies acted on at its clog (format 1 is still read)
+constexpr int kRestartFormat = 2;
 
 const char* kUsage =
-    "fix ID group clog-detect outlet REGION timeout T [arch REGION] [action halt|delete|kick|none] "
-    "[kick VX VY VZ] [stop_height H] [stop_empty N] [height_region REGION|NULL] [quantile Q] [remove yes|no] "
-    "[file F.csv|NULL] [every N]";
+    "fix ID group clog-detect outlet REGION timeout T [arch REGION] [arch_layer DZ] "
+    "[action halt|delete|kick|none] [kick VX VY VZ] [still REGION V] [stop_height H] [stop_empty N] "
+    "[final_action yes|no] [height_region REGION|NULL] [quantile Q] [remove yes|no] [file F.csv|NULL] [every N]";
 
 std::string num(double v) {
   char buf[40];
@@ -90,6 +93,7 @@ class FixClogDetect : public Fix {
     double t_start = 0, t_end = 0, t_clog = 0;
     long long bodies = 0;
     double mass = 0, fill = 0;
+    long long arch = 0;  // bodies deleted or kicked at the clog that ended it
     std::vector<long long> bodies_type;  // per atom type 1..ntypes
     std::vector<double> mass_type;
   };
@@ -112,20 +116,27 @@ class FixClogDetect : public Fix {
   /// Bodies of the group whose centre is in the arch region: free spheres
   /// owned here (local indices) and clumps (ids, gathered on every rank).
   void arch_bodies(std::vector<int>& free_local, std::vector<tagint>& clumps);
-  void act_on_arch(double now);
+  /// Deletes or kicks the arch; returns the number of bodies acted on.
+  long long act_on_arch();
+  /// Whether every body of the group in the `still` region moves slower than
+  /// the `still` speed (collective).
+  bool arch_at_rest();
   void rewrite_file();
   void write_row(const Avalanche& a, std::size_t index);
   void size_types(int ntypes);
 
   // settings
-  std::string outlet_id_, arch_id_, height_id_, file_;
+  std::string outlet_id_, arch_id_, height_id_, file_, still_id_;
   double timeout_ = -1.0;
+  double arch_layer_ = -1.0;  // < 0: every body in the arch region
+  double still_speed_ = -1.0; // < 0: no rest condition
   Action action_ = Action::Halt;
   Vec3 kick_{0, 0, 0};
   bool kick_given_ = false, action_given_ = false;
   double stop_height_ = 0.0;
   bool stop_given_ = false;
   int stop_empty_ = 0;  // end after this many empty avalanches in a row (0: never)
+  bool final_action_ = false;  // act on the arch also at the clog that ends the discharge
   double quantile_ = 0.99;
   bool remove_ = true;
   int every_ = 1;
@@ -134,6 +145,7 @@ class FixClogDetect : public Fix {
   const Region* outlet_ = nullptr;
   const Region* arch_ = nullptr;
   const Region* height_ = nullptr;
+  const Region* still_ = nullptr;
   FixMultisphere* ms_ = nullptr;
   int index_field_ = -1;    // fix multisphere's sub-sphere index + 1
   int counted_field_ = -1;  // remove no: 1 on the representative of a counted body
@@ -185,6 +197,18 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
                          args[k + 1] + "'");
     } else if (w == "arch") {
       arch_id_ = value(1);
+    } else if (w == "arch_layer") {
+      arch_layer_ = parse_double(value(1), what + " arch_layer");
+      if (!(arch_layer_ >= 0.0))
+        throw InputError(what + ": arch_layer must be a height >= 0 (m) above the lowest body of the arch "
+                         "region, got '" + args[k + 1] + "'");
+    } else if (w == "still") {
+      value(2);  // checks that the region and the speed are there
+      still_id_ = args[k + 1];
+      still_speed_ = parse_double(args[k + 2], what + " still");
+      if (!(still_speed_ > 0.0))
+        throw InputError(what + ": still needs a region and a positive speed (m/s), got '" + args[k + 2] + "'");
+      used = 2;
     } else if (w == "action") {
       const std::string& a = value(1);
       if (a == "halt")
@@ -214,6 +238,8 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
       const long long n = parse_int(value(1), what + " stop_empty");
       if (n < 1) throw InputError(what + ": stop_empty needs a positive number of avalanches");
       stop_empty_ = static_cast<int>(n);
+    } else if (w == "final_action") {
+      final_action_ = parse_bool(value(1), what + " final_action");
     } else if (w == "height_region") {
       height_id_ = value(1) == "NULL" ? "" : value(1);
     } else if (w == "quantile") {
@@ -230,8 +256,8 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
       every_ = static_cast<int>(n);
     } else {
       const std::string hint =
-          did_you_mean(w, {"outlet", "timeout", "arch", "action", "kick", "stop_height", "stop_empty",
-                           "height_region", "quantile", "remove", "file", "every"});
+          did_you_mean(w, {"outlet", "timeout", "arch", "arch_layer", "action", "kick", "still", "stop_height",
+                           "stop_empty", "final_action", "height_region", "quantile", "remove", "file", "every"});
       throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
                        "; usage: " + kUsage);
     }
@@ -248,8 +274,13 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
   if ((action_ == Action::Delete || action_ == Action::Kick) && arch_id_.empty())
     throw InputError(what + ": action " + (action_ == Action::Delete ? "delete" : "kick") +
                      " acts on the bodies in the arch region: give arch REGION");
+  if (final_action_ && action_ != Action::Delete && action_ != Action::Kick)
+    throw InputError(what + ": final_action yes acts on the arch at the last clog: use it with action delete or kick");
+  if (arch_layer_ >= 0.0 && arch_id_.empty())
+    throw InputError(what + ": arch_layer selects bodies of the arch region: give arch REGION");
   engine.domain->region_or_error(outlet_id_, what + " outlet");
   if (!arch_id_.empty()) engine.domain->region_or_error(arch_id_, what + " arch");
+  if (!still_id_.empty()) engine.domain->region_or_error(still_id_, what + " still");
   if (!height_id_.empty()) engine.domain->region_or_error(height_id_, what + " height_region");
   scalar_flag = true;
   size_vector = 12;
@@ -275,6 +306,7 @@ void FixClogDetect::init() {
   outlet_ = e.domain->region_or_error(outlet_id_, what + " outlet");
   arch_ = arch_id_.empty() ? nullptr : e.domain->region_or_error(arch_id_, what + " arch");
   height_ = height_id_.empty() ? nullptr : e.domain->region_or_error(height_id_, what + " height_region");
+  still_ = still_id_.empty() ? nullptr : e.domain->region_or_error(still_id_, what + " still");
   ms_ = FixMultisphere::find(*e.modify);
   index_field_ = ms_ ? e.particles->find_field("multisphere/index") : -1;
   if (!remove_) counted_field_ = e.particles->add_field("clog-detect/" + id + "/counted", 1, false, true);
@@ -355,7 +387,7 @@ void FixClogDetect::post_integrate() {
   if (state_ != kFlowing) return;
   // the clog: nothing passed for timeout seconds (round-off of the step times allowed for)
   const double since = now - (has_pass_ ? last_pass_ : t_start_);
-  if (since > timeout_ - 1e-6 * e.update->dt) declare_clog(now);
+  if (since > timeout_ - 1e-6 * e.update->dt && (!still_ || arch_at_rest())) declare_clog(now);
 }
 
 void FixClogDetect::record_passage(double now) {
@@ -421,6 +453,22 @@ double FixClogDetect::fill_height() {
   return all[k - 1];
 }
 
+bool FixClogDetect::arch_at_rest() {
+  Engine& e = engine_;
+  const Particles& p = *e.particles;
+  double vmax2 = 0.0;
+  for (int i = 0; i < p.nlocal; ++i) {
+    Vec3 c;
+    int b;
+    if (!representative(i, c, b) || counted(i) || !still_->match(c)) continue;
+    const Vec3& v = b >= 0 ? ms_->bodies().vcm[b] : p.v[i];
+    vmax2 = std::max(vmax2, v.dot(v));
+  }
+  double all = 0.0;
+  MPI_Allreduce(&vmax2, &all, 1, MPI_DOUBLE, MPI_MAX, e.world);
+  return all < still_speed_ * still_speed_;
+}
+
 void FixClogDetect::declare_clog(double now) {
   Engine& e = engine_;
   Avalanche a = cur_;
@@ -429,12 +477,10 @@ void FixClogDetect::declare_clog(double now) {
   a.t_clog = now;
   a.fill = fill_height();
   last_fill_ = a.fill;
-  log_.push_back(a);
-  write_row(a, log_.size());
-  // stop_empty: the last N avalanches passed nothing (the flow does not restart,
-  // e.g. only stagnant zones are left beside the outlet)
-  bool empty_run = stop_empty_ > 0 && log_.size() >= static_cast<std::size_t>(stop_empty_);
-  for (std::size_t k = log_.size() - (empty_run ? stop_empty_ : 0); empty_run && k < log_.size(); ++k)
+  // stop_empty: the last N avalanches (this one included) passed nothing (the
+  // flow does not restart, e.g. only stagnant zones are left beside the outlet)
+  bool empty_run = stop_empty_ > 0 && log_.size() + 1 >= static_cast<std::size_t>(stop_empty_) && a.bodies == 0;
+  for (std::size_t k = log_.size() + 1 - (empty_run ? stop_empty_ : 1); empty_run && k < log_.size(); ++k)
     empty_run = log_[k].bodies == 0;
   const bool below = stop_given_ && a.fill < stop_height_;
   const bool finished = below || empty_run;
@@ -445,40 +491,54 @@ void FixClogDetect::declare_clog(double now) {
                     : action_ == Action::Kick   ? "kicking the arch"
                                                 : "recorded";
   e.logger->print(label() + ": clog at t = " + num(now) + " s (step " + std::to_string(e.update->ntimestep) +
-                  "): avalanche " + std::to_string(log_.size()) + " passed " + std::to_string(a.bodies) +
+                  "): avalanche " + std::to_string(log_.size() + 1) + " passed " + std::to_string(a.bodies) +
                   " bodies, " + num(a.mass) + " kg in " + num(a.t_end - a.t_start) + " s; fill height " +
                   num(a.fill) + " m; " + act + "\n");
   if (finished) {
+    // final_action: the outlet is left open for the next discharge (e.g. after a refill)
+    if (final_action_) a.arch = act_on_arch();
     state_ = kFinished;
     e.update->halt_requested = true;
-    return;
+  } else if (action_ == Action::Halt) {
+    state_ = kClogged;
+    e.update->halt_requested = true;
+  } else if (action_ == Action::None) {
+    state_ = kClogged;
+  } else {
+    a.arch = act_on_arch();
+    start_avalanche(now);
   }
-  switch (action_) {
-    case Action::Halt:
-      state_ = kClogged;
-      e.update->halt_requested = true;
-      break;
-    case Action::None:
-      state_ = kClogged;
-      break;
-    case Action::Delete:
-    case Action::Kick:
-      act_on_arch(now);
-      start_avalanche(now);
-      break;
-  }
+  log_.push_back(a);
+  write_row(a, log_.size());
 }
 
 void FixClogDetect::arch_bodies(std::vector<int>& free_local, std::vector<tagint>& clumps) {
   Engine& e = engine_;
   const Particles& p = *e.particles;
-  std::vector<long long> mine;
-  free_local.clear();
+  // the bodies of the group in the arch region, with their centre heights
+  std::vector<int> local;
+  std::vector<double> z;
   for (int i = 0; i < p.nlocal; ++i) {
     Vec3 c;
     int b;
     if (!representative(i, c, b) || counted(i) || !arch_->match(c)) continue;
-    if (b < 0)
+    local.push_back(i);
+    z.push_back(c[2]);
+  }
+  // arch_layer: only the lowest layer, centres within DZ of the lowest centre
+  double zcut = std::numeric_limits<double>::infinity();
+  if (arch_layer_ >= 0.0) {
+    double zmin = z.empty() ? std::numeric_limits<double>::infinity() : *std::min_element(z.begin(), z.end());
+    double all = zmin;
+    MPI_Allreduce(&zmin, &all, 1, MPI_DOUBLE, MPI_MIN, e.world);
+    zcut = all + arch_layer_;
+  }
+  std::vector<long long> mine;
+  free_local.clear();
+  for (std::size_t k = 0; k < local.size(); ++k) {
+    if (z[k] > zcut) continue;
+    const int i = local[k];
+    if (p.body[i] < 0)
       free_local.push_back(i);
     else
       mine.push_back(static_cast<long long>(p.body[i]));
@@ -487,7 +547,7 @@ void FixClogDetect::arch_bodies(std::vector<int>& free_local, std::vector<tagint
   clumps.assign(all.begin(), all.end());
 }
 
-void FixClogDetect::act_on_arch(double /*now*/) {
+long long FixClogDetect::act_on_arch() {
   Engine& e = engine_;
   Particles& p = *e.particles;
   std::vector<int> free_local;
@@ -509,7 +569,7 @@ void FixClogDetect::act_on_arch(double /*now*/) {
         if (b >= 0) bodies.vcm[b] = kick_;  // sub-sphere velocities follow in final_integrate
       }
     }
-    return;
+    return n;
   }
   for (int i : free_local)
     pending_ids_.push_back(p.id[i]);
@@ -518,6 +578,7 @@ void FixClogDetect::act_on_arch(double /*now*/) {
     delete_pending_ = true;
     e.neighbor->force_rebuild = true;
   }
+  return n;
 }
 
 void FixClogDetect::pre_exchange() {
@@ -598,7 +659,7 @@ void FixClogDetect::rewrite_file() {
       for (int t = 1; t <= ntypes_; ++t)
         std::fprintf(f, " %d", t);
       std::fprintf(f, " (bodies_tK, mass_tK: bodies of atom type K)\n");
-      std::fprintf(f, "avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height");
+      std::fprintf(f, "avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height,arch_removed");
       for (int t = 1; t <= ntypes_; ++t)
         std::fprintf(f, ",bodies_t%d,mass_t%d", t, t);
       std::fprintf(f, "\n");
@@ -624,9 +685,9 @@ void FixClogDetect::write_row(const Avalanche& a, std::size_t index) {
   if (!csv_) return;
   const double duration = a.t_end - a.t_start;
   const double rate = duration > 0.0 ? a.mass / duration : 0.0;
-  std::fprintf(csv_, "%zu,%s,%s,%s,%s,%lld,%s,%s,%s", index, num(a.t_start).c_str(), num(a.t_end).c_str(),
+  std::fprintf(csv_, "%zu,%s,%s,%s,%s,%lld,%s,%s,%s,%lld", index, num(a.t_start).c_str(), num(a.t_end).c_str(),
                num(a.t_clog).c_str(), num(duration).c_str(), a.bodies, num(a.mass).c_str(), num(rate).c_str(),
-               num(a.fill).c_str());
+               num(a.fill).c_str(), a.arch);
   for (int t = 0; t < ntypes_; ++t)
     std::fprintf(csv_, ",%lld,%s", a.bodies_type[t], num(a.mass_type[t]).c_str());
   std::fprintf(csv_, "\n");
@@ -640,7 +701,7 @@ void FixClogDetect::pack_restart(std::string& out) const {
   os.precision(17);  // doubles round-trip exactly
   auto put_avalanche = [&](std::ostream& o, const Avalanche& a, int ntypes) {
     o << ' ' << a.t_start << ' ' << a.t_end << ' ' << a.t_clog << ' ' << a.bodies << ' ' << a.mass << ' '
-      << a.fill;
+      << a.fill << ' ' << a.arch;
     for (int t = 0; t < ntypes; ++t)
       o << ' ' << a.bodies_type[t] << ' ' << a.mass_type[t];
   };
@@ -659,7 +720,7 @@ void FixClogDetect::unpack_restart(const std::string& in) {
   int format = 0, nt = 0, state = 0;
   bool started = false, has_pass = false;
   auto bad = [&]() { return InputError(label() + ": the restart file's clog-detect state is unreadable"); };
-  if (!(is >> format) || format != kRestartFormat) throw bad();
+  if (!(is >> format) || format < 1 || format > kRestartFormat) throw bad();
   if (!(is >> nt >> state >> started >> has_pass >> t_start_ >> last_pass_ >> total_bodies_ >> total_mass_ >>
         acted_ >> last_fill_) ||
       nt < 0 || nt > 100000)
@@ -668,6 +729,8 @@ void FixClogDetect::unpack_restart(const std::string& in) {
     a.bodies_type.assign(nt, 0);
     a.mass_type.assign(nt, 0.0);
     if (!(is >> a.t_start >> a.t_end >> a.t_clog >> a.bodies >> a.mass >> a.fill)) throw bad();
+    a.arch = 0;
+    if (format >= 2 && !(is >> a.arch)) throw bad();
     for (int t = 0; t < nt; ++t)
       if (!(is >> a.bodies_type[t] >> a.mass_type[t])) throw bad();
   };
