@@ -353,6 +353,25 @@ TEST_CASE("clog-detect: arch_layer deletes only the lowest layer of the arch reg
     std::remove(name.c_str());
 }
 
+TEST_CASE("clog-detect: final_action deletes the arch of the clog that ends the discharge") {
+  const std::string ff = temp_name("clog_f_") + ".csv";
+  ScriptEngine s;
+  s.cmds(clog_scene::restarted(filled_restart()));
+  const double poured = grains(s);
+  s.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete stop_height 1.0 "
+        "final_action yes file " + ff);
+  s.cmd("run 100000");
+  // the first clog ends the discharge (every fill height is below 1 m), and its arch is gone
+  const Csv c = read_csv(ff);
+  REQUIRE(c.rows.size() == 1);
+  CHECK(f(s, 10) == 1);
+  CHECK(c.rows[0].arch > 0);
+  CHECK(f(s, 11) == c.rows[0].arch);
+  CHECK(s.e.group_function("count", {"grains", "arch"}) == 0);
+  CHECK(grains(s) + f(s, 5) + f(s, 11) == poured);
+  std::remove(ff.c_str());
+}
+
 TEST_CASE("clog-detect: still waits until the bodies in the region are at rest") {
   constexpr double kStill = 2e-3;  // [m/s]
   const std::string fs = temp_name("clog_s_") + ".csv", fn = temp_name("clog_n_") + ".csv";
@@ -589,6 +608,9 @@ TEST_CASE("clog-detect: bad input is refused") {
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still out"), Contains("still"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still out 0"), Contains("positive speed"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still nowhere 0.1"), Contains("nowhere"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch out final_action yes"),
+             Contains("action delete or kick"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 final_action maybe"), Contains("final_action"));
   s.cmd("fix c all clog-detect outlet out timeout 1");  // a valid definition
   CHECK(s.e.modify->find_fix("c") != nullptr);
 }
