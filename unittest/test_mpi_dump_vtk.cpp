@@ -303,14 +303,14 @@ TEST_CASE("dump custom/vtk: binary, zlib-compressed round trip", "[dump][vtk][mp
 
 TEST_CASE("dump custom/vtk: binary without compression", "[dump][vtk][mpi]") {
   const std::string dir = fresh_dir("uncompressed");
-  run_and_check(dir, {"compression none"}, true, "format=\"appended\"",
+  run_and_check(dir, {"compression none"}, true, "format=\"binary\"",
                 "compressor=", false);  // empty pieces
 }
 
 TEST_CASE("dump custom/vtk: ascii round trip", "[dump][vtk][mpi]") {
   const std::string dir = fresh_dir("ascii");
   run_and_check(dir, {"binary no"}, true, "format=\"ascii\"",
-                "format=\"appended\"");  // VTK writes round-trip digits
+                "format=\"binary\"");  // VTK writes round-trip digits
 }
 
 TEST_CASE("dump custom/vtk: legacy .vtk is gathered into one file", "[dump][vtk][mpi]") {

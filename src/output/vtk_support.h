@@ -90,8 +90,13 @@ inline std::string pvd_name(const std::string& pattern, const std::string& fallb
   return stem + ".pvd";
 }
 
-/// Settings of a VTK XML writer (vtkXML*Writer): 64-bit headers; binary raw
-/// appended data compressed with `compressor` (zlib, lz4, lzma, none), or ASCII.
+/// Settings of a VTK XML writer (vtkXML*Writer): 64-bit headers; binary data
+/// compressed with `compressor` (zlib, lz4, lzma, none), base64-encoded inside
+/// each DataArray element ("binary" format), or ASCII. Not the appended
+/// format: the XML readers of VTK 9.1 and 9.2 (Debian 12's VTK and ParaView
+/// 5.11) cannot read appended data, raw or encoded, with the expat of Debian
+/// 12's security updates (2.5.0-1+deb12u2 and later: reparse deferral), which
+/// makes them stop at the appended-data section with a parse error.
 template <class Writer>
 void configure_writer(Writer* w, bool binary, const std::string& compressor) {
   w->SetHeaderTypeToUInt64();
@@ -100,8 +105,7 @@ void configure_writer(Writer* w, bool binary, const std::string& compressor) {
     w->SetCompressorTypeToNone();
     return;
   }
-  w->SetDataModeToAppended();
-  w->SetEncodeAppendedData(false);
+  w->SetDataModeToBinary();
   if (compressor == "none")
     w->SetCompressorTypeToNone();
   else if (compressor == "lz4")
