@@ -5,8 +5,12 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "script_engine.h"
@@ -187,6 +191,52 @@ TEST_CASE("multisphere: colliding clumps conserve momentum and angular momentum"
     const double ltol = mu == 0.0 ? 1e-12 : 1e-3;
     CHECK((total_angular_momentum(b) - l0).norm() <= ltol * l0.norm());
   }
+}
+
+TEST_CASE("multisphere: fix nve/sphere leaves the spheres of clumps to fix multisphere", "[multisphere]") {
+  // Two clumps collide and a free sphere falls beside them, once with
+  // `fix nve/sphere` on all particles and once on the free sphere only: the
+  // same trajectories to the last bit (LIGGGHTS 3.8 would integrate the clump
+  // spheres a second time in the first case), and a note says so once.
+  auto run = [](bool all, std::string& logtext) {
+    Sim s;
+    const std::string log = granary::test::temp_template("nve_note_").data();
+    s.cmd("log " + log);
+    s.cmds(setup(0.5, 0.5));
+    s.cmds({kTriple, kDumbbell, "fix ms all multisphere", "fix g all gravity 9.81 vector 0 0 -1",
+            "create_clump tri -0.006 0.001 0 vel 0.5 0 0 omega 0 0 10",
+            "create_clump dumb 0.006 -0.001 0.0005 quat 0.9238795 0 0 0.3826834 vel -0.5 0 0",
+            "create_atoms 1 single 0 0.01 0 units box", "set atom 6 diameter 0.002 density 2500",
+            "group free id 6", all ? "fix integr all nve/sphere" : "fix integr free nve/sphere", "run 1000",
+            "run 1000"});
+    s.cmd("log none");
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    logtext = ss.str();
+    std::remove(log.c_str());
+    std::vector<Vec3> x;
+    const auto& p = s.p();
+    std::vector<std::pair<long, Vec3>> byid;
+    for (int i = 0; i < p.nlocal; ++i)
+      byid.emplace_back(static_cast<long>(p.id[i]), p.x[i]);
+    std::sort(byid.begin(), byid.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [id, xi] : byid)
+      x.push_back(xi);
+    return x;
+  };
+  std::string log_all, log_free;
+  const std::vector<Vec3> a = run(true, log_all), f = run(false, log_free);
+  REQUIRE(a.size() == 6);
+  REQUIRE(f.size() == a.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    CHECK(a[i] == f[i]);
+  // the free sphere was integrated: free fall from rest, z = -g t^2 / 2 after 0.02 s
+  CHECK(f[5][2] == Approx(-0.5 * 9.81 * 0.02 * 0.02).epsilon(1e-6));
+  const std::string note = "5 particles of its group are spheres of clumps";
+  CHECK(log_all.find(note) != std::string::npos);
+  CHECK(log_all.find(note, log_all.find(note) + 1) == std::string::npos);  // once, not at every run
+  CHECK(log_free.find("spheres of clumps") == std::string::npos);
 }
 
 TEST_CASE("multisphere: deleting one sub-sphere deletes its whole clump", "[multisphere]") {

@@ -1,10 +1,14 @@
 // fix nve/sphere: velocity-Verlet integration of position, velocity and spin
 // of free spheres (sub-spheres of clumps are integrated by their body).
+#include <mpi.h>
+
 #include <Eigen/Core>
 #include <cmath>
+#include <string>
 
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/logger.h"
 #include "core/registry.h"
 #include "core/update.h"
 #include "fix/fix.h"
@@ -21,6 +25,23 @@ class FixNveSphere : public Fix {
   }
   unsigned hooks() const override { return INITIAL_INTEGRATE | FINAL_INTEGRATE; }
 
+  // Says once when the group holds spheres of clumps: they are left to fix
+  // multisphere here, while LIGGGHTS 3.8 integrates them a second time.
+  void setup() override {
+    if (noted_) return;
+    const Particles& p = *engine_.particles;
+    long long mine = 0, all = 0;
+    for (int i = 0; i < p.nlocal; ++i)
+      if ((p.mask[i] & groupbit) && p.body[i] >= 0) ++mine;
+    MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, engine_.world);
+    if (all == 0) return;
+    noted_ = true;
+    engine_.logger->print("INFO: fix " + id + " (nve/sphere): " + std::to_string(all) +
+                          " particles of its group are spheres of clumps; fix multisphere integrates them and "
+                          "nve/sphere leaves them alone (LIGGGHTS 3.8 integrates them a second time; see "
+                          "doc/liggghts_compatibility.md)\n");
+  }
+
   // Operations in LIGGGHTS' order (dtf / m, then (dtf / 0.4) / (r^2 m)), so
   // that both programs round alike.
   void initial_integrate() override { integrate<true>(); }
@@ -29,6 +50,7 @@ class FixNveSphere : public Fix {
 
  private:
   static constexpr double kInertia = 0.4;  // solid sphere: I = 2/5 m r^2
+  bool noted_ = false;
 
   // Half-step kick of v and omega (and, in the first half, the drift of x).
   // The two divisions per particle are made for two particles at once in the
