@@ -88,7 +88,10 @@ make_root() {
   step "debootstrap --variant=minbase bookworm" "$log" \
     debootstrap --variant=minbase bookworm "$root" "$MIRROR" || return 1
   printf 'deb %s %s main\n' $(printf '%s\n' "${SOURCES[@]}") > "$root/etc/apt/sources.list"
+  # what the Debian installer leaves on every machine: name service and the host's own name
   cp /etc/resolv.conf "$root/etc/resolv.conf"
+  printf '127.0.0.1\tlocalhost\n127.0.1.1\t%s\n::1\tlocalhost ip6-localhost ip6-loopback\n' "$(hostname)" \
+    > "$root/etc/hosts"
   mount -t proc proc "$root/proc" && MOUNTED+=("$root/proc")
   mount --bind /dev "$root/dev" && MOUNTED+=("$root/dev")
   mount -t tmpfs -o mode=1777 tmpfs "$root/dev/shm" && MOUNTED+=("$root/dev/shm")

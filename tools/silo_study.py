@@ -1,0 +1,379 @@
+#!/usr/bin/python3
+"""Drive the silo clogging study: fill-discharge-refill cycles per case, resumable.
+
+Each case (sphere fraction phi, size ratio r, spheres per clump nres) is a chain
+of cycles of examples/silo_study/in.cycle, one granary run per cycle: cycle 0
+fills the silo, every later cycle reads the restart file of the one before,
+tops the bed up and discharges it down to the stop height, avalanche after
+avalanche. A case is done when its completed cycles hold --min-avalanches
+non-empty avalanches (or --max-cycles cycles).
+
+    /usr/bin/python3 tools/silo_study.py run [--case NAME ...] [--jobs J] [--np N]
+                     [--data DIR] [--work DIR] [--min-avalanches 100] [--max-cycles 60]
+                     [-var NAME VALUE ...]
+    /usr/bin/python3 tools/silo_study.py status [--data DIR]
+    /usr/bin/python3 tools/silo_study.py list
+
+Cases are named r<r>_phi<phi>[_n<nres>] (e.g. r3.2_phi0.05, r1.6_phi0, r3.2_phi0_n50);
+without --case, every case of the study (`list`) is run, in order, J at a time.
+
+Results (compact, meant to be committed) go to DATA/<case>/:
+  avalanches.csv  every avalanche of the completed cycles (the rows of fix
+                  clog-detect with the cycle number in front)
+  box.csv         the box averages of the completed cycles (fix ave/time rows,
+                  cycle number in front, 5 significant digits)
+  cycles.csv      one row per completed cycle: wall time, ranks, steps,
+                  particles, bodies passed and deleted, particle-steps
+  case.json       the parameters, the granary command, its version
+The work files (logs, restart files) go to WORK/<case>/ and are not needed
+afterwards except the last restart file, from which the chain continues.
+
+Resuming: a cycle counts only once its granary run has finished and written its
+restart file; its rows are then added to the results, and its line in
+cycles.csv is written last. Rows of a cycle that has no line in cycles.csv
+(an interrupted hand-over) are dropped before the cycle is run again, so no
+avalanche is lost or counted twice. A killed run is simply run again. When the
+restart file of the last completed cycle is not there (the results were
+copied to another machine), the next cycle fills a new silo and the case goes
+on from there (cycles.csv says which cycles started a new fill).
+"""
+import argparse
+import concurrent.futures
+import csv
+import io
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+SCRIPT = os.path.join(ROOT, "examples", "silo_study", "in.cycle")
+DATA = os.path.join(ROOT, "examples", "silo_study", "results")
+WORK = os.path.join(ROOT, "out", "silo_study")
+
+# The study: phi x r, phi = 0 shared by the three size ratios, and one case at
+# 50-sphere clumps.
+PHIS = [0.01, 0.02, 0.03, 0.05, 0.075, 0.1]
+RS = [1.6, 3.2, 4.6]
+
+
+def case_name(phi, r, nres=10):
+    name = f"r{r:g}_phi{phi:g}" if phi > 0 else "r0_phi0"
+    return name + (f"_n{nres}" if nres != 10 else "")
+
+
+def study_cases():
+    cases = [case_name(0, 0)]
+    for r in RS:
+        cases += [case_name(phi, r) for phi in PHIS]
+    cases.append(case_name(0, 0, 50))
+    return cases
+
+
+def parse_case(name):
+    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?", name)
+    if not m:
+        raise ValueError(f"case name '{name}' is not r<r>_phi<phi>[_n<nres>]")
+    r, phi, nres = float(m.group(1)), float(m.group(2)), int(m.group(3) or 10)
+    if phi > 0 and r <= 0:
+        raise ValueError(f"case '{name}': spheres (phi > 0) need a size ratio r > 0")
+    return {"phi": phi, "r": r if r > 0 else 3.2, "nres": nres}
+
+
+# ------------------------------------------------------------------ files
+
+def read_rows(path):
+    """(comment lines, header, rows) of a CSV with '#' comments; ([], None, []) if missing."""
+    if not os.path.exists(path):
+        return [], None, []
+    comments, header, rows = [], None, []
+    with open(path, newline="") as f:
+        for line in f:
+            if not line.strip():
+                continue
+            if line.startswith("#"):
+                comments.append(line.rstrip("\n"))
+            elif header is None:
+                header = line.strip().split(",")
+            else:
+                rows.append(line.strip().split(","))
+    return comments, header, rows
+
+
+def write_atomic(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def write_rows(path, comments, header, rows):
+    out = io.StringIO()
+    for c in comments:
+        out.write(c + "\n")
+    out.write(",".join(header) + "\n")
+    for r in rows:
+        out.write(",".join(r) + "\n")
+    write_atomic(path, out.getvalue())
+
+
+def completed_cycles(data_dir):
+    _, _, rows = read_rows(os.path.join(data_dir, "cycles.csv"))
+    return len(rows)
+
+
+def nonempty_avalanches(data_dir):
+    _, header, rows = read_rows(os.path.join(data_dir, "avalanches.csv"))
+    if not header:
+        return 0
+    k = header.index("bodies")
+    return sum(1 for r in rows if int(float(r[k])) > 0)
+
+
+def drop_uncommitted(data_dir):
+    """Remove rows of cycles that have no line in cycles.csv (an interrupted hand-over)."""
+    n = completed_cycles(data_dir)
+    for name in ("avalanches.csv", "box.csv"):
+        path = os.path.join(data_dir, name)
+        comments, header, rows = read_rows(path)
+        if header and any(int(r[0]) >= n for r in rows):
+            write_rows(path, comments, header, [r for r in rows if int(r[0]) < n])
+
+
+def granary_version(granary):
+    try:
+        out = subprocess.run([granary, "-h"], capture_output=True, text=True, timeout=30).stdout
+    except OSError:
+        out = ""
+    try:
+        rev = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True,
+                             text=True, timeout=30).stdout.strip()
+    except OSError:
+        rev = ""
+    m = re.search(r"Granary (\S+)", out)
+    return (m.group(1) if m else "unknown") + (f" (git {rev})" if rev else "")
+
+
+# ------------------------------------------------------------------ one cycle
+
+def cycle_command(a, case, k, fresh, variables):
+    p = parse_case(case)
+    args = []
+    if a.np > 1:
+        args += ["mpirun", "-np", str(a.np)]
+        if os.geteuid() == 0:
+            args += ["--allow-run-as-root"]
+        if a.np > (os.cpu_count() or 1):
+            args += ["--oversubscribe"]
+    args += [a.granary, "-in", SCRIPT, "-log", "log", "-screen", "none",
+             "-var", "cycle", str(k), "-var", "restart_out", f"restart_{k}.restart",
+             "-var", "restart_in", "none" if fresh else f"../restart_{k - 1}.restart",
+             "-var", "phi", f"{p['phi']:g}", "-var", "r", f"{p['r']:g}", "-var", "nres", str(p["nres"]),
+             "-var", "potdir", os.path.join(ROOT, "potentials"), "-var", "meshdir", "..",
+             "-var", "seed", str(variables.get("seed", 15485863))]
+    for name, value in variables.items():
+        if name != "seed":
+            args += ["-var", name, str(value)]
+    return args
+
+
+def geometry(variables):
+    g = {"W": 12, "D": 6, "H": 22, "s": 2.0}
+    for k in g:
+        if k in variables:
+            g[k] = float(variables[k])
+    return g
+
+
+def run_cycle(a, case, k, fresh, variables):
+    """Run cycle k of the case (fresh: fill a new silo instead of continuing from the restart file
+    of cycle k - 1); on success hand its rows over to the results. Returns a message."""
+    data = os.path.join(a.data, case)
+    work = os.path.join(a.work, case)
+    cdir = os.path.join(work, f"cycle_{k}")
+    if os.path.isdir(cdir):
+        shutil.rmtree(cdir)
+    os.makedirs(cdir)
+    g = geometry(variables)
+    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "make_silo_stl.py"), "--W", f"{g['W']:g}",
+                    "--D", f"{g['D']:g}", "--H", f"{g['H']:g}", "--slit", f"{g['s']:g}", "--out", work],
+                   check=True, capture_output=True)
+    cmd = cycle_command(a, case, k, fresh, variables)
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    t0 = time.time()
+    rc = subprocess.run(cmd, cwd=cdir, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                        text=True).returncode
+    wall = time.time() - t0
+    log = os.path.join(cdir, "log")
+    text = open(log, errors="replace").read() if os.path.exists(log) else ""
+    m = re.search(r"^CYCLE (\d+) avalanches (\S+) passed (\S+) deleted (\S+) remaining (\S+) initial (\S+) "
+                  r"finished (\S+) time (\S+) steps (\S+) atoms (\S+)", text, re.M)
+    restart = os.path.join(cdir, f"restart_{k}.restart")
+    if rc != 0 or not m or not os.path.exists(restart):
+        err = [line for line in text.splitlines() if line.startswith("ERROR")]
+        return f"{case} cycle {k}: FAILED (exit {rc}){': ' + err[-1] if err else ''}; see {log}"
+    finished = float(m.group(7)) == 1
+    # particle-steps of the cycle's runs (their "Loop time" lines)
+    psteps = sum(int(n) * int(m) for n, m in
+                 re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps with (\d+) atoms", text))
+    # ---- hand over: results rows first, the cycles.csv line last
+    os.makedirs(data, exist_ok=True)
+    drop_uncommitted(data)
+    av_c, av_h, av_rows = read_rows(os.path.join(cdir, "avalanches.csv"))
+    if av_h is None:
+        return f"{case} cycle {k}: FAILED (no avalanche file); see {log}"
+    path = os.path.join(data, "avalanches.csv")
+    comments, header, rows = read_rows(path)
+    if header is None:
+        comments = [f"# silo study case {case}: avalanches of fix clog-detect per cycle (tools/silo_study.py)",
+                    "# units: SI (times s, masses kg, heights m, flow_rate kg/s); avalanche: index within its cycle"]
+        comments += [c for c in av_c if c.startswith("# settings") or c.startswith("# types")]
+        header = ["cycle"] + av_h
+    rows += [[str(k)] + r for r in av_rows]
+    write_rows(path, comments, header, rows)
+    box_lines = [line.split() for line in open(os.path.join(cdir, "box.dat")) if line.strip() and line[0] != "#"]
+    path = os.path.join(data, "box.csv")
+    comments, header, rows = read_rows(path)
+    if header is None:
+        comments = [f"# silo study case {case}: box averages (fix ave/time of in.cycle) per cycle",
+                    "# box: see examples/silo_study/README.md; SI units, theta in rad; state 0 flowing"]
+        header = ["cycle", "step", "time", "phi", "phi_c", "phi_s", "ke_c", "erot_c", "n_c", "ke_s", "erot_s",
+                  "n_s", "theta", "state"]
+    rows += [[str(k)] + [f"{float(x):.5g}" for x in line] for line in box_lines]
+    write_rows(path, comments, header, rows)
+    path = os.path.join(data, "cycles.csv")
+    comments, header, rows = read_rows(path)
+    if header is None:
+        comments = [f"# silo study case {case}: completed cycles (wall time of the granary run, ranks, "
+                    "particle-steps of its runs)"]
+        header = ["cycle", "new_fill", "wall_s", "ranks", "steps", "sim_time_s", "atoms", "bodies_initial", "passed",
+                  "deleted", "avalanches", "finished", "particle_steps"]
+    rows.append([str(k), "1" if fresh else "0", f"{wall:.1f}", str(a.np), m.group(9), m.group(8), m.group(10),
+                 m.group(6), m.group(3), m.group(4), m.group(2), "1" if finished else "0", str(psteps)])
+    write_rows(path, comments, header, rows)
+    # keep only this cycle's restart file (the chain continues from it)
+    os.replace(restart, os.path.join(work, f"restart_{k}.restart"))
+    old = os.path.join(work, f"restart_{k - 1}.restart")
+    if k > 0 and os.path.exists(old) and not a.keep_restarts:
+        os.remove(old)
+    if not a.keep_work:
+        shutil.rmtree(cdir)
+    return (f"{case} cycle {k}: {m.group(2)} avalanches, {m.group(3)} bodies passed, {m.group(4)} deleted, "
+            f"{wall:.0f} s")
+
+
+def run_case(a, case, variables):
+    data = os.path.join(a.data, case)
+    work = os.path.join(a.work, case)
+    os.makedirs(data, exist_ok=True)
+    os.makedirs(work, exist_ok=True)
+    drop_uncommitted(data)
+    info = {"case": case, **parse_case(case), "variables": variables, "script": os.path.relpath(SCRIPT, ROOT),
+            "granary": granary_version(a.granary), "ranks": a.np,
+            "command": " ".join(["tools/silo_study.py", "run", "--case", case, "--np", str(a.np)] +
+                                [f"-var {k} {v}" for k, v in variables.items()])}
+    case_json = os.path.join(data, "case.json")
+    if os.path.exists(case_json):
+        old = json.load(open(case_json))
+        if old.get("variables") != variables or old.get("phi") != info["phi"]:
+            return f"{case}: REFUSED: its results were made with other variables {old.get('variables')}; " \
+                   f"use another --data folder"
+        info["granary_versions"] = sorted(set(old.get("granary_versions", [old.get("granary")]) + [info["granary"]]))
+    else:
+        info["granary_versions"] = [info["granary"]]
+    write_atomic(case_json, json.dumps(info, indent=1) + "\n")
+    messages = []
+    while True:
+        k = completed_cycles(data)
+        n = nonempty_avalanches(data)
+        if n >= a.min_avalanches:
+            messages.append(f"{case}: done, {n} non-empty avalanches in {k} cycles")
+            break
+        if k >= a.max_cycles:
+            messages.append(f"{case}: stopped at --max-cycles {a.max_cycles} with {n} non-empty avalanches")
+            break
+        fresh = k == 0 or not os.path.exists(os.path.join(work, f"restart_{k - 1}.restart"))
+        if fresh and k > 0:
+            # the chain's restart file stayed on another machine (it is not part of the results):
+            # cycle k fills a new silo, with the seeds of cycle k
+            print(f"  {case} cycle {k}: restart_{k - 1}.restart is not in {work}; this cycle fills a new silo",
+                  flush=True)
+        msg = run_cycle(a, case, k, fresh, variables)
+        print("  " + msg, flush=True)
+        if "FAILED" in msg:
+            messages.append(msg)
+            break
+    return "; ".join(messages)
+
+
+def cmd_run(a):
+    variables = {}
+    for name, value in a.var or []:
+        variables[name] = value
+    cases = a.case or study_cases()
+    for c in cases:
+        parse_case(c)
+    print(f"silo_study: {len(cases)} case(s), {a.jobs} at a time, {a.np} rank(s) each; data {a.data}", flush=True)
+    bad = 0
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        for msg in pool.map(lambda c: run_case(a, c, variables), cases):
+            print(msg, flush=True)
+            bad += ("FAILED" in msg) or ("REFUSED" in msg) or ("cannot continue" in msg)
+    return 1 if bad else 0
+
+
+def cmd_status(a):
+    total_core_s = 0.0
+    print(f"{'case':18s} {'cycles':>6s} {'aval.':>6s} {'non-empty':>9s} {'core-h':>7s} {'particle-steps':>15s}")
+    for case in sorted(os.listdir(a.data)) if os.path.isdir(a.data) else []:
+        d = os.path.join(a.data, case)
+        if not os.path.isdir(d):
+            continue
+        _, h, rows = read_rows(os.path.join(d, "cycles.csv"))
+        core_s = sum(float(r[h.index("wall_s")]) * int(r[h.index("ranks")]) for r in rows) if h else 0.0
+        ps = sum(int(r[h.index("particle_steps")]) for r in rows) if h else 0
+        _, ah, arows = read_rows(os.path.join(d, "avalanches.csv"))
+        total_core_s += core_s
+        print(f"{case:18s} {len(rows):6d} {len(arows):6d} {nonempty_avalanches(d):9d} {core_s / 3600:7.2f} {ps:15.3e}")
+    print(f"total core-hours {total_core_s / 3600:.2f}")
+    return 0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    r = sub.add_parser("run", help="run (or continue) cases")
+    r.add_argument("--case", action="append", help="case name (repeatable); default: the whole study")
+    r.add_argument("--jobs", type=int, default=1, help="cases at a time")
+    r.add_argument("--np", type=int, default=1, help="MPI ranks per case")
+    r.add_argument("--data", default=DATA)
+    r.add_argument("--work", default=WORK)
+    r.add_argument("--granary", default=os.path.join(ROOT, "build", "granary"))
+    r.add_argument("--min-avalanches", type=int, default=100)
+    r.add_argument("--max-cycles", type=int, default=60)
+    r.add_argument("--keep-work", action="store_true", help="keep each cycle's folder (logs)")
+    r.add_argument("--keep-restarts", action="store_true")
+    r.add_argument("-var", nargs=2, action="append", metavar=("NAME", "VALUE"))
+    s = sub.add_parser("status", help="cycles, avalanches and cost per case")
+    s.add_argument("--data", default=DATA)
+    sub.add_parser("list", help="the cases of the study")
+    a = ap.parse_args(argv)
+    if a.cmd == "run":
+        a.granary = os.path.abspath(a.granary)
+        a.data = os.path.abspath(a.data)
+        a.work = os.path.abspath(a.work)
+        return cmd_run(a)
+    if a.cmd == "status":
+        return cmd_status(a)
+    print("\n".join(study_cases()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,342 @@
+#!/usr/bin/python3
+"""Statistics and figures of the silo clogging study from its committed results.
+
+Reads DATA/<case>/avalanches.csv and box.csv (written by tools/silo_study.py)
+for every case r<r>_phi<phi>[_n<nres>] and writes to OUT:
+  summary.json              every number below, per case
+  summary.md                the tables of doc/silo_study.md
+  mean_avalanche.png        <S>/<S0> against phi for each size ratio, 95 % CIs (the paper's Fig. 6b)
+  distributions.png         P(S/<S>) per case with the exponential exp(-x) (Fig. 7b)
+  box.png                   <phi_t>, <k_te>/<k_te0>, <k_re>/<k_re0>, <theta> against phi (Fig. 8a, b)
+
+    /usr/bin/python3 tools/silo_study_analysis.py [--data DIR] [--out DIR] [--skip-first]
+                     [--bootstrap 4000] [--seed 1]
+
+Definitions:
+  S         mass of an avalanche (kg), over the non-empty avalanches of all
+            completed cycles; empty avalanches (an arch removal after which
+            nothing passed) are counted apart. --skip-first leaves out the
+            first avalanche of every cycle (it starts from the opened shutter,
+            not from an arch removal).
+  <S>       mean, 95 % CI from the t-distribution and from a percentile
+            bootstrap (B resamples, fixed seed).
+  <S>/<S0>  ratio to the case phi = 0 with the same clump resolution; 95 % CI
+            from the bootstrap of both means (percentile).
+  exponential   the maximum-likelihood exponential has mean <S>; fit quality:
+            the Kolmogorov-Smirnov distance D to it with a p-value from a
+            parametric bootstrap (Lilliefors: the mean is estimated), and the
+            coefficient of variation sd/mean (1 for an exponential).
+  box       rows of box.csv whose averaging window lies inside an avalanche
+            (t_start + window <= time <= t_end of the same cycle), averaged:
+            phi_t = total solid fraction in the box, k_te = translational and
+            k_re = rotational kinetic energy of the bodies in the box (J),
+            theta = mean angle of the cylinders' long axes to the vertical (deg);
+            CIs from the spread of the avalanche means (t-distribution).
+  minimum   for each r the phi with the smallest <S>/<S0>; its depth 1 - min,
+            and one-sided Mann-Whitney p-values that S there is smaller than at
+            phi = 0 and than at the largest phi.
+Needs numpy, scipy and matplotlib.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import sys
+
+import numpy as np
+from scipy import stats
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+
+def read_table(path):
+    """Dict column -> numpy array of a CSV with '#' comment lines."""
+    with open(path, newline="") as f:
+        lines = [line for line in f if line.strip() and not line.startswith("#")]
+    if not lines:
+        raise ValueError(f"{path}: no header")
+    header = [h.strip() for h in lines[0].split(",")]
+    rows = [[float(x) for x in line.split(",")] for line in lines[1:]]
+    data = np.array(rows, float).reshape(-1, len(header))
+    return {h: data[:, k] for k, h in enumerate(header)}
+
+
+def parse_case(name):
+    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?", name)
+    if not m:
+        return None
+    return float(m.group(1)), float(m.group(2)), int(m.group(3) or 10)
+
+
+def mean_ci(x):
+    x = np.asarray(x, float)
+    n = len(x)
+    if n < 2:
+        return float(np.mean(x)) if n else float("nan"), float("nan")
+    return float(x.mean()), float(stats.t.ppf(0.975, n - 1) * x.std(ddof=1) / math.sqrt(n))
+
+
+def boot_means(x, B, rng):
+    x = np.asarray(x, float)
+    idx = rng.integers(0, len(x), size=(B, len(x)))
+    return x[idx].mean(axis=1)
+
+
+def ks_exponential(x, B, rng):
+    """KS distance to the exponential of the same mean and its Lilliefors p-value."""
+    x = np.sort(np.asarray(x, float))
+    n = len(x)
+    if n < 5:
+        return float("nan"), float("nan")
+
+    def dist(s):
+        s = np.sort(s)
+        cdf = 1 - np.exp(-s / s.mean())
+        i = np.arange(1, len(s) + 1)
+        return max(np.max(i / len(s) - cdf), np.max(cdf - (i - 1) / len(s)))
+
+    d = dist(x)
+    sims = np.array([dist(rng.exponential(1.0, n)) for _ in range(B)])
+    return float(d), float((np.sum(sims >= d) + 1) / (B + 1))
+
+
+def load_case(d, skip_first):
+    av = read_table(os.path.join(d, "avalanches.csv"))
+    keep = np.ones(len(av["mass"]), bool)
+    if skip_first:
+        keep &= av["avalanche"] > 1
+    nonempty = keep & (av["bodies"] > 0)
+    empty = keep & (av["bodies"] == 0)
+    out = {"S": av["mass"][nonempty], "bodies": av["bodies"][nonempty], "n_empty": int(empty.sum()),
+           "arch_removed": av["arch_removed"][keep], "cycles": int(av["cycle"].max() + 1) if len(av["cycle"]) else 0,
+           "types": {k: av[k][nonempty] for k in av if k.startswith("bodies_t") or k.startswith("mass_t")}}
+    box_path = os.path.join(d, "box.csv")
+    if os.path.exists(box_path):
+        box = read_table(box_path)
+        # the averaging window of a row: the time since the previous row of its cycle
+        t = box["time"]
+        window = np.full(len(t), np.nan)
+        for c in np.unique(box["cycle"]):
+            m = np.where(box["cycle"] == c)[0]
+            if len(m) > 1:
+                window[m[1:]] = np.diff(t[m])
+                window[m[0]] = window[m[1]]
+        per_av = {k: [] for k in ("phi", "k_te", "k_re", "theta")}
+        for i in np.where(keep & (av["bodies"] > 0))[0]:
+            c, t0, t1 = av["cycle"][i], av["t_start"][i], av["t_end"][i]
+            rows = (box["cycle"] == c) & (t - window >= t0 - 1e-9) & (t <= t1 + 1e-9) & (box["n_c"] > 0)
+            if not rows.any():
+                continue
+            per_av["phi"].append(box["phi"][rows].mean())
+            per_av["k_te"].append((box["ke_c"][rows] + box["ke_s"][rows]).mean())
+            per_av["k_re"].append((box["erot_c"][rows] + box["erot_s"][rows]).mean())
+            per_av["theta"].append(np.degrees(box["theta"][rows]).mean())
+        out["box"] = {k: np.array(v) for k, v in per_av.items()}
+    return out
+
+
+def analyse(a):
+    rng = np.random.default_rng(a.seed)
+    cases = {}
+    for name in sorted(os.listdir(a.data)):
+        p = parse_case(name)
+        if p and os.path.exists(os.path.join(a.data, name, "avalanches.csv")):
+            cases[name] = (p, load_case(os.path.join(a.data, name), a.skip_first))
+    if not cases:
+        raise SystemExit(f"silo_study_analysis: no case with results in {a.data}")
+    summary = {"skip_first": a.skip_first, "bootstrap": a.bootstrap, "cases": {}}
+    boots = {}
+    for name, ((r, phi, nres), c) in cases.items():
+        S = c["S"]
+        m, h = mean_ci(S)
+        bm = boot_means(S, a.bootstrap, rng) if len(S) > 1 else np.full(a.bootstrap, np.nan)
+        boots[name] = bm
+        d, p = ks_exponential(S, a.bootstrap // 4, rng)
+        row = {"r": r, "phi": phi, "nres": nres, "n": int(len(S)), "n_empty": c["n_empty"], "cycles": c["cycles"],
+               "S_mean": m, "S_ci95_t": h, "S_ci95_boot": [float(np.nanpercentile(bm, 2.5)),
+                                                       float(np.nanpercentile(bm, 97.5))],
+               "bodies_mean": float(np.mean(c["bodies"])) if len(S) else float("nan"),
+               "cv": float(np.std(S, ddof=1) / np.mean(S)) if len(S) > 1 else float("nan"),
+               "ks_D": d, "ks_p": p,
+               "arch_removed_mean": float(np.mean(c["arch_removed"])) if len(c["arch_removed"]) else float("nan")}
+        if "box" in c and len(c["box"]["phi"]):
+            for k, v in c["box"].items():
+                mm, hh = mean_ci(v)
+                row[f"box_{k}"] = mm
+                row[f"box_{k}_ci95"] = hh
+        summary["cases"][name] = row
+    # ratios to phi = 0 of the same clump resolution
+    for name, row in summary["cases"].items():
+        base = next((n for n, rr in summary["cases"].items() if rr["phi"] == 0 and rr["nres"] == row["nres"]), None)
+        if base is None:
+            continue
+        ratio = boots[name] / boots[base]
+        b = summary["cases"][base]
+        row["ratio"] = row["S_mean"] / b["S_mean"]
+        row["ratio_ci95"] = [float(np.nanpercentile(ratio, 2.5)), float(np.nanpercentile(ratio, 97.5))]
+        for k in ("k_te", "k_re"):
+            if f"box_{k}" in row and f"box_{k}" in b:
+                row[f"box_{k}_ratio"] = row[f"box_{k}"] / b[f"box_{k}"]
+                rel = math.hypot(row[f"box_{k}_ci95"] / row[f"box_{k}"], b[f"box_{k}_ci95"] / b[f"box_{k}"])
+                row[f"box_{k}_ratio_ci95"] = row[f"box_{k}_ratio"] * rel
+    # the minimum of <S>/<S0> per size ratio
+    summary["minimum"] = {}
+    for r in sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and row["nres"] == 10}):
+        names = [n for n, row in summary["cases"].items() if row["nres"] == 10 and (row["r"] == r or row["phi"] == 0)]
+        names.sort(key=lambda n: summary["cases"][n]["phi"])
+        rows = [summary["cases"][n] for n in names]
+        if not rows or rows[0]["phi"] != 0 or len(rows) < 3:
+            continue
+        k = int(np.argmin([x["S_mean"] for x in rows]))
+        best, base, last = names[k], names[0], names[-1]
+        S = {n: cases[n][1]["S"] for n in (best, base, last)}
+        res = {"phi_min": rows[k]["phi"], "ratio_min": rows[k].get("ratio", 1.0),
+               "ratio_min_ci95": rows[k].get("ratio_ci95"), "depth": 1 - rows[k].get("ratio", 1.0)}
+        if best != base:
+            res["p_below_phi0"] = float(stats.mannwhitneyu(S[best], S[base], alternative="less").pvalue)
+        if best != last:
+            res["p_below_last"] = float(stats.mannwhitneyu(S[best], S[last], alternative="less").pvalue)
+            res["phi_last"] = rows[-1]["phi"]
+        summary["minimum"][f"{r:g}"] = res
+    return cases, summary
+
+
+def write_outputs(a, cases, summary):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    os.makedirs(a.out, exist_ok=True)
+    with open(os.path.join(a.out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+    rs = sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and row["nres"] == 10})
+    colors = {1.6: "tab:green", 3.2: "tab:blue", 4.6: "tab:red"}
+
+    def series(r, key, nres=10):
+        rows = sorted([row for row in summary["cases"].values() if row["nres"] == nres and
+                       (row["r"] == r or row["phi"] == 0) and key in row], key=lambda x: x["phi"])
+        return rows
+
+    # <S>/<S0> (Fig. 6b)
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    for j, r in enumerate(rs):
+        rows = series(r, "ratio")
+        x = np.array([row["phi"] for row in rows]) + (j - 1) * 0.0012
+        y = np.array([row["ratio"] for row in rows])
+        lo = y - np.array([row["ratio_ci95"][0] for row in rows])
+        hi = np.array([row["ratio_ci95"][1] for row in rows]) - y
+        ax.errorbar(x, y, yerr=[lo, hi], marker="o", capsize=3, color=colors.get(r), label=f"r = {r:g}")
+    for row in summary["cases"].values():
+        if row["nres"] != 10 and "ratio" in row:
+            ax.errorbar([row["phi"]], [row["ratio"]], marker="s", color="k", ls="none",
+                        label=f"{row['nres']}-sphere clumps, phi = {row['phi']:g}")
+    ax.axhline(1.0, color="0.6", lw=0.8)
+    ax.set_xlabel("sphere volume fraction phi")
+    ax.set_ylabel("<S>/<S0>")
+    ax.set_title("Mean avalanche size (95 % CI)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "mean_avalanche.png"), dpi=130)
+    plt.close(fig)
+
+    # P(S/<S>) (Fig. 7b)
+    ncol = max(1, len(rs))
+    fig, axes = plt.subplots(1, ncol, figsize=(4.2 * ncol, 3.8), squeeze=False)
+    for ax, r in zip(axes[0], rs or [0]):
+        names = sorted([n for n, ((rr, phi, nres), _) in cases.items() if nres == 10 and (rr == r or phi == 0)],
+                       key=lambda n: cases[n][0][1])
+        cmap = plt.get_cmap("viridis", max(2, len(names)))
+        for k, n in enumerate(names):
+            S = cases[n][1]["S"]
+            if len(S) < 5:
+                continue
+            x = S / S.mean()
+            bins = np.linspace(0, max(4.0, x.max()), 12)
+            h, e = np.histogram(x, bins=bins, density=True)
+            c = 0.5 * (e[1:] + e[:-1])
+            ax.semilogy(c[h > 0], h[h > 0], "o", ms=4, color=cmap(k), label=f"phi = {cases[n][0][1]:g}")
+        xx = np.linspace(0, 6, 50)
+        ax.semilogy(xx, np.exp(-xx), "k--", lw=1, label="exp(-x)")
+        ax.set_xlabel("S/<S>")
+        ax.set_ylabel("P(S/<S>)")
+        ax.set_title(f"r = {r:g}")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "distributions.png"), dpi=130)
+    plt.close(fig)
+
+    # box quantities (Fig. 8a, b)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.9))
+    for r in rs:
+        rows = series(r, "box_phi")
+        phi = [row["phi"] for row in rows]
+        axes[0].errorbar(phi, [row["box_phi"] for row in rows], yerr=[row["box_phi_ci95"] for row in rows],
+                         marker="s", capsize=3, color=colors.get(r), label=f"r = {r:g}")
+        rows_k = series(r, "box_k_te_ratio")
+        axes[1].errorbar([row["phi"] for row in rows_k], [row["box_k_te_ratio"] for row in rows_k],
+                         yerr=[row["box_k_te_ratio_ci95"] for row in rows_k], marker="D", capsize=3,
+                         color=colors.get(r), label=f"k_te, r = {r:g}")
+        axes[1].errorbar([row["phi"] for row in rows_k], [row["box_k_re_ratio"] for row in rows_k],
+                         yerr=[row["box_k_re_ratio_ci95"] for row in rows_k], marker="o", ls="--", capsize=3,
+                         color=colors.get(r), mfc="none", label=f"k_re, r = {r:g}")
+        axes[2].errorbar(phi, [row["box_theta"] for row in rows], yerr=[row["box_theta_ci95"] for row in rows],
+                         marker="^", capsize=3, color=colors.get(r), label=f"r = {r:g}")
+    axes[0].set_ylabel("<phi_t> in the box")
+    axes[1].set_ylabel("<k_te>/<k_te0>, <k_re>/<k_re0>")
+    axes[2].set_ylabel("<theta> to the vertical (deg)")
+    for ax in axes:
+        ax.set_xlabel("sphere volume fraction phi")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "box.png"), dpi=130)
+    plt.close(fig)
+
+    # tables
+    lines = ["| case | cycles | avalanches | empty | <S> (g) | 95 % CI (g) | bodies | <S>/<S0> | 95 % CI | "
+             "sd/mean | KS D | KS p | arch bodies |",
+             "|---|---:|---:|---:|---:|---|---:|---:|---|---:|---:|---:|---:|"]
+    for n, row in sorted(summary["cases"].items(), key=lambda kv: (kv[1]["nres"], kv[1]["r"] if kv[1]["phi"] else 0,
+                                                                    kv[1]["phi"])):
+        ci = row["S_ci95_boot"]
+        rc = row.get("ratio_ci95")
+        lines.append(f"| {n} | {row['cycles']} | {row['n']} | {row['n_empty']} | {1e3 * row['S_mean']:.3g} | "
+                     f"{1e3 * ci[0]:.3g} - {1e3 * ci[1]:.3g} | {row['bodies_mean']:.1f} | "
+                     f"{row.get('ratio', float('nan')):.3f} | "
+                     f"{'' if rc is None else f'{rc[0]:.3f} - {rc[1]:.3f}'} | {row['cv']:.2f} | {row['ks_D']:.3f} | "
+                     f"{row['ks_p']:.2f} | {row['arch_removed_mean']:.1f} |")
+    lines += ["", "| case | <phi_t> | <k_te>/<k_te0> | <k_re>/<k_re0> | <theta> (deg) |", "|---|---:|---:|---:|---:|"]
+    for n, row in sorted(summary["cases"].items(), key=lambda kv: (kv[1]["nres"], kv[1]["r"] if kv[1]["phi"] else 0,
+                                                                    kv[1]["phi"])):
+        if "box_phi" not in row:
+            continue
+        lines.append(f"| {n} | {row['box_phi']:.4f} ± {row['box_phi_ci95']:.4f} | "
+                     f"{row.get('box_k_te_ratio', float('nan')):.3f} ± {row.get('box_k_te_ratio_ci95', float('nan')):.3f} | "
+                     f"{row.get('box_k_re_ratio', float('nan')):.3f} ± {row.get('box_k_re_ratio_ci95', float('nan')):.3f} | "
+                     f"{row['box_theta']:.2f} ± {row['box_theta_ci95']:.2f} |")
+    lines += ["", "| r | phi at the minimum | <S>/<S0> there | 95 % CI | p (below phi = 0) | p (below the last phi) |",
+              "|---|---:|---:|---|---:|---:|"]
+    for r, m in summary["minimum"].items():
+        ci = m.get("ratio_min_ci95") or [float("nan")] * 2
+        lines.append(f"| {r} | {m['phi_min']:g} | {m['ratio_min']:.3f} | {ci[0]:.3f} - {ci[1]:.3f} | "
+                     f"{m.get('p_below_phi0', float('nan')):.2g} | {m.get('p_below_last', float('nan')):.2g} |")
+    with open(os.path.join(a.out, "summary.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--data", default=os.path.join(ROOT, "examples", "silo_study", "results"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "doc", "images", "silo_study"))
+    ap.add_argument("--skip-first", action="store_true", help="leave out the first avalanche of every cycle")
+    ap.add_argument("--bootstrap", type=int, default=4000)
+    ap.add_argument("--seed", type=int, default=1)
+    a = ap.parse_args(argv)
+    cases, summary = analyse(a)
+    write_outputs(a, cases, summary)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,179 @@
+#!/usr/bin/python3
+"""tools/silo_study.py: the campaign driver, shortened (two tiny cases), killed and resumed.
+
+A run killed in the middle of a cycle and resumed must give exactly the results
+of an uninterrupted run (the chain is deterministic on one rank): no avalanche
+lost, none counted twice. Rows of a cycle whose hand-over was interrupted are
+dropped before the cycle runs again. Also the analysis tool on these results.
+"""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+TOOLS = os.path.join(ROOT, "tools")
+sys.path.insert(0, TOOLS)
+import silo_study as st  # noqa: E402
+
+GRANARY = os.environ.get("GRANARY_BINARY", os.path.join(ROOT, "build", "granary"))
+# a tiny silo: 7 x 2 dc, a 2.3 dc slit, filled to 7 dc, cycles end below 4.5 dc
+TINY = ["-var", "W", "7", "-var", "D", "2", "-var", "H", "11", "-var", "s", "2.3", "-var", "fill", "7",
+        "-var", "stop", "4.5", "-var", "column_w", "3", "-var", "box_w", "4", "-var", "box_h", "1.5",
+        "-var", "box_z", "1", "-var", "settle", "0.12", "-var", "box_every", "500"]
+CASES = ["r0_phi0", "r3.2_phi0.05"]
+
+
+def driver(data, work, extra=()):
+    cmd = [sys.executable, os.path.join(TOOLS, "silo_study.py"), "run", "--granary", GRANARY, "--data", data,
+           "--work", work, "--min-avalanches", "4", "--max-cycles", "3"]
+    for c in CASES:
+        cmd += ["--case", c]
+    return cmd + list(extra) + TINY
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+@unittest.skipUnless(os.path.exists(GRANARY), f"granary not built ({GRANARY})")
+class SiloStudyDriver(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="silo_study_")
+        # the reference: uninterrupted
+        cls.ref = os.path.join(cls.tmp, "ref")
+        r = subprocess.run(driver(os.path.join(cls.ref, "data"), os.path.join(cls.ref, "work")),
+                           capture_output=True, text=True, timeout=900)
+        cls.ref_out = r.stdout + r.stderr
+        cls.ref_rc = r.returncode
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def test_reference_run(self):
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        for c in CASES:
+            d = os.path.join(self.ref, "data", c)
+            for name in ("avalanches.csv", "box.csv", "cycles.csv", "case.json"):
+                self.assertTrue(os.path.exists(os.path.join(d, name)), f"{c}/{name}\n{self.ref_out}")
+            _, h, cycles = st.read_rows(os.path.join(d, "cycles.csv"))
+            _, ah, av = st.read_rows(os.path.join(d, "avalanches.csv"))
+            self.assertGreaterEqual(len(cycles), 1)
+            # cycles numbered 0, 1, ...; every avalanche row belongs to one of them, numbered 1.. per cycle
+            self.assertEqual([int(r[0]) for r in cycles], list(range(len(cycles))))
+            for k in range(len(cycles)):
+                rows = [r for r in av if int(r[0]) == k]
+                self.assertEqual([int(r[1]) for r in rows], list(range(1, len(rows) + 1)))
+                # the cycle's line agrees with its avalanches: passed bodies, deleted bodies
+                line = cycles[k]
+                passed = sum(int(r[ah.index("bodies")]) for r in rows)
+                deleted = sum(int(r[ah.index("arch_removed")]) for r in rows)
+                self.assertEqual(passed, int(float(line[h.index("passed")])), c)
+                self.assertEqual(deleted, int(float(line[h.index("deleted")])), c)
+            # the case ends when it has 4 non-empty avalanches or 3 cycles
+            self.assertTrue(st.nonempty_avalanches(d) >= 4 or len(cycles) == 3)
+            # only the last restart file is kept, from which the chain continues
+            restarts = sorted(f for f in os.listdir(os.path.join(self.ref, "work", c)) if f.endswith(".restart"))
+            self.assertEqual(restarts, [f"restart_{len(cycles) - 1}.restart"])
+
+    def test_killed_and_resumed_gives_the_same_results(self):
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        base = os.path.join(self.tmp, "killed")
+        data, work = os.path.join(base, "data"), os.path.join(base, "work")
+        first = os.path.join(data, CASES[0], "cycles.csv")
+        p = subprocess.Popen(driver(data, work), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                             start_new_session=True)
+        # kill the driver and its granary run once the first cycle is handed over and the second runs
+        t0 = time.time()
+        while time.time() - t0 < 600 and p.poll() is None:
+            if os.path.exists(first) and len(st.read_rows(first)[2]) >= 1:
+                time.sleep(1.0)
+                break
+            time.sleep(0.2)
+        killed_running = p.poll() is None
+        os.killpg(p.pid, signal.SIGKILL)
+        p.wait()
+        self.assertTrue(killed_running, "the driver finished before it could be killed")
+        done = len(st.read_rows(first)[2])
+        self.assertGreaterEqual(done, 1)
+        # an interrupted hand-over: rows of the next cycle written, its cycles.csv line not
+        av = os.path.join(data, CASES[0], "avalanches.csv")
+        comments, header, rows = st.read_rows(av)
+        st.write_rows(av, comments, header, rows + [[str(done)] + rows[0][1:]])
+        r = subprocess.run(driver(data, work), capture_output=True, text=True, timeout=900)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        for c in CASES:
+            for name in ("avalanches.csv", "box.csv"):
+                self.assertEqual(read(os.path.join(data, c, name)), read(os.path.join(self.ref, "data", c, name)),
+                                 f"{c}/{name}")
+            _, h, rows = st.read_rows(os.path.join(data, c, "cycles.csv"))
+            _, _, ref_rows = st.read_rows(os.path.join(self.ref, "data", c, "cycles.csv"))
+            keys = [h.index(k) for k in ("cycle", "steps", "passed", "deleted", "avalanches", "particle_steps")]
+            self.assertEqual([[r[k] for k in keys] for r in rows], [[r[k] for k in keys] for r in ref_rows], c)
+
+    def test_a_chain_without_its_restart_file_goes_on_with_a_new_fill(self):
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        data = os.path.join(self.tmp, "moved", "data")
+        shutil.copytree(os.path.join(self.ref, "data"), data)
+        case = os.path.join(data, CASES[0])
+        n = len(st.read_rows(os.path.join(case, "cycles.csv"))[2])
+        cmd = driver(data, os.path.join(self.tmp, "moved", "work"))
+        cmd[cmd.index("--max-cycles") + 1] = str(n + 1)
+        cmd[cmd.index("--min-avalanches") + 1] = "1000"
+        cmd = cmd[:cmd.index("--case")] + ["--case", CASES[0]] + cmd[cmd.index("--case") + 4:]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("fills a new silo", r.stdout)
+        _, h, rows = st.read_rows(os.path.join(case, "cycles.csv"))
+        self.assertEqual(len(rows), n + 1)
+        self.assertEqual(rows[-1][h.index("new_fill")], "1")
+        self.assertTrue(all(r[h.index("new_fill")] == "0" for r in rows[1:-1]))
+        _, _, av = st.read_rows(os.path.join(case, "avalanches.csv"))
+        self.assertTrue(any(int(r[0]) == n for r in av))
+
+    def test_other_variables_are_refused(self):
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        data = os.path.join(self.ref, "data")
+        r = subprocess.run(driver(data, os.path.join(self.ref, "work"), ["-var", "timeout", "0.05"]),
+                           capture_output=True, text=True, timeout=300)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("REFUSED", r.stdout)
+
+    def test_analysis_of_the_results(self):
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        out = os.path.join(self.tmp, "figures")
+        r = subprocess.run([sys.executable, os.path.join(TOOLS, "silo_study_analysis.py"), "--data",
+                            os.path.join(self.ref, "data"), "--out", out, "--bootstrap", "200"],
+                           capture_output=True, text=True, timeout=300)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        for name in ("summary.json", "summary.md", "mean_avalanche.png", "distributions.png", "box.png"):
+            self.assertGreater(os.path.getsize(os.path.join(out, name)), 100, name)
+        import json
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+        self.assertEqual(sorted(s["cases"]), sorted(CASES))
+        self.assertEqual(s["cases"]["r0_phi0"]["ratio"], 1.0)
+
+
+class CaseNames(unittest.TestCase):
+    def test_names(self):
+        self.assertEqual(st.parse_case("r3.2_phi0.05"), {"phi": 0.05, "r": 3.2, "nres": 10})
+        self.assertEqual(st.parse_case("r0_phi0_n50")["nres"], 50)
+        self.assertEqual(st.case_name(0, 0, 50), "r0_phi0_n50")
+        self.assertIn("r4.6_phi0.1", st.study_cases())
+        self.assertEqual(len(st.study_cases()), 20)  # 1 + 3 x 6 + the 50-sphere case
+        with self.assertRaises(ValueError):
+            st.parse_case("phi0.05")
+        with self.assertRaises(ValueError):
+            st.parse_case("r0_phi0.05")
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
