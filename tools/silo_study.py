@@ -157,7 +157,8 @@ def granary_version(granary):
     except OSError:
         rev = ""
     m = re.search(r"Granary (\S+)", out)
-    return (m.group(1) if m else "unknown") + (f" (git {rev})" if rev else "")
+    # a frozen copy of the executable for a campaign carries the commit in its name
+    return (m.group(1) if m else "unknown") + f" ({os.path.basename(granary)}; source tree git {rev or '?'})"
 
 
 # ------------------------------------------------------------------ one cycle
