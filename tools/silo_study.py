@@ -12,6 +12,7 @@ non-empty avalanches (or --max-cycles cycles).
                      [--data DIR] [--work DIR] [--min-avalanches 100] [--max-cycles 60]
                      [-var NAME VALUE ...]
     /usr/bin/python3 tools/silo_study.py status [--data DIR]
+    /usr/bin/python3 tools/silo_study.py picture --case NAME --out PNG [--data DIR] [--work DIR]
     /usr/bin/python3 tools/silo_study.py list
 
 Cases are named r<r>_phi<phi>[_n<nres>] (e.g. r3.2_phi0.05, r1.6_phi0, r3.2_phi0_n50);
@@ -27,6 +28,12 @@ Results (compact, meant to be committed) go to DATA/<case>/:
   case.json       the parameters, the granary command, its version
 The work files (logs, restart files) go to WORK/<case>/ and are not needed
 afterwards except the last restart file, from which the chain continues.
+
+`picture` runs one more cycle of a case from its last restart file (with the
+variables of its case.json) that ends at its first clog and leaves the arch
+in place (-var final no -var clog_dump 1), in WORK/<case>/picture/ (the
+results are not touched), and draws that clog with ParaView
+(tools/render.py, under xvfb-run when there is no display).
 
 Resuming: a cycle counts only once its granary run has finished and written its
 restart file; its rows are then added to the results, and its line in
@@ -329,6 +336,59 @@ def cmd_run(a):
     return 1 if bad else 0
 
 
+def render_command():
+    """The command that runs tools/render.py with ParaView, or (None, reason)."""
+    if not shutil.which("pvbatch"):
+        return None, "no pvbatch (Debian packages paraview, python3-paraview)"
+    if os.environ.get("DISPLAY"):
+        return ["pvbatch"], None
+    if not shutil.which("xvfb-run"):
+        return None, "no display and no xvfb-run (Debian package xvfb)"
+    return ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset", "pvbatch"], None
+
+
+def cmd_picture(a):
+    data = os.path.join(a.data, a.case)
+    work = os.path.join(a.work, a.case)
+    case_json = os.path.join(data, "case.json")
+    if not os.path.exists(case_json):
+        print(f"silo_study: no results of case {a.case} in {a.data}", file=sys.stderr)
+        return 1
+    with open(case_json) as f:
+        variables = json.load(f)["variables"]
+    k = completed_cycles(data)
+    restart = os.path.join(work, f"restart_{k - 1}.restart")
+    if k == 0 or not os.path.exists(restart):
+        print(f"silo_study: case {a.case} has no restart file of its last cycle in {work}", file=sys.stderr)
+        return 1
+    pdir = os.path.join(work, "picture")
+    if os.path.isdir(pdir):
+        shutil.rmtree(pdir)
+    os.makedirs(pdir)
+    a.np = 1
+    v = dict(variables, final="no", clog_dump="1", stop="1000", restart_out="picture.restart")
+    cmd = cycle_command(a, a.case, k, False, v)
+    cmd[cmd.index("restart_in") + 1] = os.path.abspath(restart)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    rc = subprocess.run(cmd, cwd=pdir, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                        text=True).returncode
+    if rc != 0 or not os.path.exists(os.path.join(pdir, "clog_particles.vtp")):
+        print(f"silo_study: the picture run failed (exit {rc}); see {os.path.join(pdir, 'log')}", file=sys.stderr)
+        return 1
+    render, why = render_command()
+    if render is None:
+        print(f"silo_study: picture skipped: {why}; the clog is in {pdir}/clog_*.vtp")
+        return 0
+    out = os.path.abspath(a.out)
+    r = subprocess.run(render + [os.path.join(ROOT, "tools", "render.py"), pdir, "--out", out], capture_output=True,
+                       text=True)
+    if r.returncode != 0:
+        print(f"silo_study: tools/render.py failed (exit {r.returncode}): {r.stderr.strip()[-400:]}", file=sys.stderr)
+        return 1
+    print(f"silo_study: picture of a clog of {a.case}: {out}")
+    return 0
+
+
 def cmd_status(a):
     total_core_s = 0.0
     print(f"{'case':18s} {'cycles':>6s} {'aval.':>6s} {'non-empty':>9s} {'core-h':>7s} {'particle-steps':>15s}")
@@ -363,6 +423,12 @@ def main(argv=None):
     r.add_argument("-var", nargs=2, action="append", metavar=("NAME", "VALUE"))
     s = sub.add_parser("status", help="cycles, avalanches and cost per case")
     s.add_argument("--data", default=DATA)
+    pc = sub.add_parser("picture", help="a ParaView picture of a clog of a case")
+    pc.add_argument("--case", required=True)
+    pc.add_argument("--out", required=True, help="PNG to write")
+    pc.add_argument("--data", default=DATA)
+    pc.add_argument("--work", default=WORK)
+    pc.add_argument("--granary", default=os.path.join(ROOT, "build", "granary"))
     sub.add_parser("list", help="the cases of the study")
     a = ap.parse_args(argv)
     if a.cmd == "run":
@@ -372,6 +438,9 @@ def main(argv=None):
         return cmd_run(a)
     if a.cmd == "status":
         return cmd_status(a)
+    if a.cmd == "picture":
+        a.granary = os.path.abspath(a.granary)
+        return cmd_picture(a)
     print("\n".join(study_cases()))
     return 0
 

@@ -77,7 +77,7 @@ TEST_CASE("example silo_clogging: a short discharge with clogs, on 2 ranks", "[e
 
   const std::string vars =
       " -var W 6 -var D 3 -var H 10 -var s 2.0 -var fill 7 -var stop 2 -var settle 0.08 -var timeout 0.04"
-      " -var discharge_max 6000 -var dump_every 1500 -var box_w 4 -var box_h 2 -var box_z 2"
+      " -var discharge_max 12000 -var dump_every 3000 -var box_w 4 -var box_h 2 -var box_z 2"
       " -var box_every 200 -var potdir \"" +
       (root / "potentials").string() + "\"";
   const std::string cmd = "cd \"" + dir.string() +
