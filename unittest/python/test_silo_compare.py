@@ -1,0 +1,121 @@
+#!/usr/bin/python3
+"""tools/silo_compare.py: the accounting of a log of examples/silo_liggghts/in.silo_both,
+the statistics of ensembles, and (when LIGGGHTS is installed) both programs on
+a shortened run of the script."""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+TOOLS = os.path.join(ROOT, "tools")
+sys.path.insert(0, TOOLS)
+import silo_compare as sc  # noqa: E402
+
+NRES = 10
+MC, MB, VC, VB = sc.masses(NRES, 3.2)
+
+
+def synthetic_log(n1_0, n2_0, events, bed=(1e-5, 4000, 200)):
+    """Lines of in.silo_both's output: FILLED, BED, then FLOW/CLOG/ARCH events, END."""
+    out = [f"FILLED t 0.3 n_type1_spheres {n1_0} n_type2 {n2_0} zmax 10 dc",
+           f"BED slab_volume {bed[0]} n_type1_spheres {bed[1]} n_type2 {bed[2]}"]
+    last = None
+    for e in events:
+        if e[0] == "FLOW":
+            out.append(f"FLOW {e[1]} {e[2]} {e[3]}")
+            last = e
+        elif e[0] == "CLOG":
+            out.append(f"CLOG {e[1]}")
+        else:
+            out.append(f"ARCH {e[1]} {e[2]} {e[3]}")
+    out.append(f"END t {last[1]} n_type1_spheres {last[2]} n_type2 {last[3]}")
+    return "\n".join(out) + "\n"
+
+
+class Accounting(unittest.TestCase):
+    def test_passage_and_deletion_are_told_apart(self):
+        # 1000 clump spheres (100 clumps) and 50 beads; 10 clumps and 5 beads leave in the
+        # first avalanche, a clog, the arch (2 clumps, 1 bead) is deleted, then 4 clumps leave
+        ev = [("FLOW", 0.31, 1000, 50), ("FLOW", 0.32, 950, 48), ("FLOW", 0.33, 900, 45), ("FLOW", 0.34, 900, 45),
+              ("CLOG", 0.44), ("ARCH", 0.44, 880, 44), ("FLOW", 0.45, 860, 44), ("FLOW", 0.46, 840, 44),
+              ("FLOW", 0.47, 840, 44)]
+        with tempfile.TemporaryDirectory() as tmp:
+            log = os.path.join(tmp, "log")
+            with open(log, "w") as f:
+                f.write("some other output\n" + synthetic_log(1000, 50, ev))
+            rec = sc.parse_log(log)
+            o = sc.observables(rec, dict(sc.DEFAULTS))
+        first = 10 * MC + 5 * MB
+        second = 4 * MC
+        self.assertAlmostEqual(o["mass_passed"], first + second, places=15)
+        self.assertEqual(o["clogs"], 1)
+        self.assertEqual(len(o["avalanches"]), 1)  # the one ended by the clog; the running one is not complete
+        self.assertAlmostEqual(o["avalanches"][0], first, places=15)
+        self.assertAlmostEqual(o["first_clog"], 0.44 - 0.30, places=12)
+        self.assertAlmostEqual(o["bed_phi"], (4000 / NRES * VC + 200 * VB) / 1e-5, places=12)
+        # flow rate: the mass over the 0.01 s chunks in which something passed, after the first 0.05 s
+        self.assertAlmostEqual(o["flow_rate"], (4 * MC) / 0.02, places=9)
+
+    def test_statistics(self):
+        m, sd, h = sc.ci95([1.0, 2.0, 3.0, 4.0])
+        self.assertAlmostEqual(m, 2.5)
+        self.assertAlmostEqual(sd, math.sqrt(5 / 3))
+        self.assertAlmostEqual(h, 3.182446305284263 * sd / 2, places=9)
+        rng = np.random.default_rng(1)
+        same = sc.compare(rng.normal(0, 1, 40), rng.normal(0, 1, 40))
+        self.assertGreater(same["welch_p"], 0.01)
+        wide = sc.compare(rng.normal(0, 1, 40), rng.normal(0, 3, 40))
+        self.assertLess(wide["levene_p"], 0.01)
+        shifted = sc.compare(rng.normal(0, 1, 40), rng.normal(1.5, 1, 40))
+        self.assertLess(shifted["welch_p"], 1e-4)
+
+    def test_seeds_are_primes(self):
+        p = sc.primes_from(32452843, 5)
+        self.assertEqual(len(p), 5)
+        for q in p:
+            self.assertTrue(all(q % d for d in range(2, int(math.isqrt(q)) + 1)))
+        self.assertEqual(p[0], 32452867)
+
+
+GRANARY = os.environ.get("GRANARY_BINARY", os.path.join(ROOT, "build", "granary"))
+
+
+@unittest.skipUnless(shutil.which("liggghts"), "LIGGGHTS is not installed (Debian package liggghts)")
+@unittest.skipUnless(os.path.exists(GRANARY), "granary is not built")
+class BothPrograms(unittest.TestCase):
+    def test_the_script_runs_unchanged_in_both(self):
+        # a short fill and discharge; both programs fill the same number of bodies and pass some
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "runs")
+            r = subprocess.run([sys.executable, os.path.join(TOOLS, "silo_compare.py"), "run", "--out", out,
+                                "--configs", "granary,liggghts", "--seeds", "1", "--slit", "4", "--granary", GRANARY,
+                                "-var", "W", "8", "-var", "D", "3", "-var", "H", "16", "-var", "top_ins", "15",
+                                "-var", "settle", "0.12", "-var", "tmax", "0.08"],
+                               capture_output=True, text=True, timeout=600)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            res = {}
+            for c in ("granary", "liggghts"):
+                d = os.path.join(out, c, "s4")
+                (seed,) = os.listdir(d)
+                res[c] = sc.observables(sc.parse_log(os.path.join(d, seed, "log")), dict(sc.DEFAULTS, W=8, D=3))
+            # the same insertion: the same number of bodies (insert/pack of both programs)
+            self.assertEqual(res["granary"]["bed_bodies"], res["liggghts"]["bed_bodies"])
+            for c in res:
+                self.assertGreater(res[c]["mass_passed"], 0.0, c)
+                self.assertGreater(res[c]["bed_phi"], 0.3, c)
+            rep = subprocess.run([sys.executable, os.path.join(TOOLS, "silo_compare.py"), "report", out, "--json",
+                                  os.path.join(tmp, "r.json")], capture_output=True, text=True, timeout=120)
+            self.assertEqual(rep.returncode, 0, rep.stderr)
+            with open(os.path.join(tmp, "r.json")) as f:
+                self.assertIn("granary", json.load(f)["cases"]["4"])
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
