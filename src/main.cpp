@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/input.h"
 #include "core/logger.h"
+#include "core/style_list.h"
 #include "core/variable.h"
 
 #ifdef __GLIBC__
@@ -35,6 +36,8 @@ const char* const kUsage =
     "  -log FILE|none, -l            log file (default log.granary; none: no log file)\n"
     "  -echo screen|log|both|none, -e  echo input commands (default: log)\n"
     "  -screen none, -sc             write nothing to the screen\n"
+    "  -list-styles                  print the commands and styles this build knows\n"
+    "                                (one 'KIND NAME' per line) and exit\n"
     "  -help, -h                     print this help and exit\n";
 
 struct Options {
@@ -45,6 +48,7 @@ struct Options {
   std::string echo;
   bool screen = true;
   bool help = false;
+  bool list_styles = false;
 };
 
 class UsageError : public std::runtime_error {
@@ -89,9 +93,12 @@ Options parse_options(int argc, char** argv) {
       o.screen = false;
     } else if (a == "-help" || a == "-h" || a == "--help") {
       o.help = true;
+    } else if (a == "-list-styles") {
+      o.list_styles = true;
     } else {
       std::string msg = "unknown command-line option '" + a + "'";
-      const std::string hint = granary::did_you_mean(a, {"-in", "-var", "-log", "-echo", "-screen", "-help"});
+      const std::string hint =
+          granary::did_you_mean(a, {"-in", "-var", "-log", "-echo", "-screen", "-list-styles", "-help"});
       if (!hint.empty()) msg += "; " + hint;
       throw UsageError(msg);
     }
@@ -163,6 +170,14 @@ int main(int argc, char** argv) {
   }
   if (opt.help) {
     if (rank == 0) std::fputs(kUsage, stdout);
+    MPI_Finalize();
+    return 0;
+  }
+  if (opt.list_styles) {
+    if (rank == 0) {
+      for (const auto& entry : granary::registered_names())
+        std::printf("%s %s\n", entry.first.c_str(), entry.second.c_str());
+    }
     MPI_Finalize();
     return 0;
   }

@@ -108,6 +108,35 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
   CHECK_THAT(parse_error("model hertz heating_normal_hertz on"), Catch::Contains("not supported"));
 }
 
+TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][parse]") {
+  const auto slots = granary::contact::model_names();
+  std::vector<std::string> slot_names;
+  for (const auto& slot : slots)
+    slot_names.push_back(slot.first);
+  CHECK(slot_names == std::vector<std::string>{"model", "tangential", "rolling_friction", "cohesion",
+                                               "surface", "damping"});
+  for (const auto& [slot, names] : slots) {
+    CHECK(!names.empty());
+    for (const auto& name : names) {
+      INFO(slot << " " << name);
+      const auto args = words(slot + " " + name);
+      std::size_t pos = 0;
+      CHECK_NOTHROW(parse_model_words(args, pos));
+      CHECK(pos == 2);
+    }
+  }
+  // Each name selects its own sub-model.
+  CHECK(parse_all("tangential no_history").tangential == TangentialModel::NoHistory);
+  CHECK(parse_all("rolling_friction epsd2").rolling == RollingModel::Epsd2);
+  CHECK(parse_all("model hooke").normal == NormalModel::Hooke);
+  // The lists in the messages are the same names ("off" where it is allowed).
+  CHECK_THAT(parse_error("model hertz tangential sticky"),
+             Catch::Contains("(supported: history, no_history, off)"));
+  CHECK_THAT(parse_error("model hertz cohesion x"), Catch::Contains("(supported: sjkr, off)"));
+  CHECK_THAT(parse_error("model hertz surface multicontact"),
+             Catch::Contains("'surface multicontact' is not supported (supported: default (= sphere))"));
+}
+
 TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {

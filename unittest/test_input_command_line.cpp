@@ -7,8 +7,15 @@
 #include "script_engine.h"
 #include <cstdlib>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "contact/contact_model.h"
+#include "core/registry.h"
+#include "core/style_list.h"
 
 namespace {
 
@@ -125,4 +132,67 @@ TEST_CASE("command line: -help and unknown options", "[input][cli]") {
   r = s.run("-var n");
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Contains("needs at least one value"));
+}
+
+TEST_CASE("command line: -list-styles prints every registered name", "[input][cli]") {
+  Scratch s;
+  const Result r = s.run("-list-styles");
+  CHECK(r.status == 0);
+  CHECK(r.err.empty());
+  std::set<std::pair<std::string, std::string>> listed;
+  std::istringstream lines(r.out);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string kind, name, extra;
+    words >> kind >> name;
+    INFO("line '" << line << "'");
+    CHECK(!name.empty());
+    CHECK(!(words >> extra));  // exactly two words
+    listed.emplace(kind, name);
+  }
+  // No banner, no log file: only the list.
+  CHECK(!s.exists("log.granary"));
+  CHECK(listed.size() == granary::registered_names().size());
+
+  auto require = [&](const std::string& kind, const std::vector<std::string>& names) {
+    for (const auto& n : names) {
+      INFO(kind << " " << n);
+      CHECK(listed.count({kind, n}) == 1);
+    }
+  };
+  require("command", granary::CommandRegistry::instance().names());
+  require("fix", granary::FixRegistry::instance().names());
+  require("compute", granary::ComputeRegistry::instance().names());
+  require("pair", granary::PairRegistry::instance().names());
+  require("region", granary::RegionRegistry::instance().names());
+  require("dump", granary::DumpRegistry::instance().names());
+  require("pair", {"none"});
+  require("region", {"delete"});
+  require("atom_style", {"granular", "sphere"});
+  require("model", {"hertz", "hooke"});
+  require("tangential", {"history", "no_history"});
+  require("rolling_friction", {"cdt", "epsd2"});
+  require("cohesion", {"sjkr"});
+  require("surface", {"sphere"});
+  CHECK(listed.count({"tangential", "off"}) == 0);  // "off" is no sub-model
+  CHECK(listed.count({"model", "hertz/stiffness"}) == 0);
+
+  // Every listed contact sub-model is accepted by the model parser, and every
+  // listed atom style by atom_style.
+  for (const auto& [kind, name] : listed) {
+    if (kind == "model" || kind == "tangential" || kind == "rolling_friction" || kind == "cohesion" ||
+        kind == "surface" || kind == "damping") {
+      INFO(kind << " " << name);
+      const std::vector<std::string> words = {kind, name};
+      std::size_t pos = 0;
+      CHECK_NOTHROW(granary::contact::parse_model_words(words, pos));
+      CHECK(pos == 2);
+    }
+    if (kind == "atom_style") {
+      INFO("atom_style " << name);
+      CHECK(s.run("-log none", "atom_style " + name + "\n").status == 0);
+    }
+  }
+  CHECK(s.run("-log none", "atom_style ellipsoid\n").status == 1);
 }

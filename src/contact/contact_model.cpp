@@ -62,6 +62,36 @@ bool on_off(const std::vector<std::string>& args, std::size_t pos) {
   fail("expected 'on' or 'off' after '" + args[pos] + "', got '" + v + "'");
 }
 
+// The sub-models of each slot, by the name scripts use. "off" (no sub-model)
+// is accepted besides these in the tangential, rolling_friction and cohesion
+// slots, "default" (= sphere) in the surface slot.
+const std::vector<std::pair<std::string, NormalModel>> kNormalNames = {{"hertz", NormalModel::Hertz},
+                                                                       {"hooke", NormalModel::Hooke}};
+const std::vector<std::pair<std::string, TangentialModel>> kTangentialNames = {
+    {"history", TangentialModel::History}, {"no_history", TangentialModel::NoHistory}};
+const std::vector<std::pair<std::string, RollingModel>> kRollingNames = {{"cdt", RollingModel::Cdt},
+                                                                         {"epsd2", RollingModel::Epsd2}};
+const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjkr", CohesionModel::Sjkr}};
+const std::vector<std::pair<std::string, DampingModel>> kDampingNames = {
+    {"restitution", DampingModel::Restitution}, {"viscoelastic", DampingModel::Viscoelastic}};
+const std::vector<std::string> kSurfaceNames = {"sphere"};
+
+template <class Enum>
+std::vector<std::string> names_of(const std::vector<std::pair<std::string, Enum>>& table) {
+  std::vector<std::string> out;
+  for (const auto& entry : table)
+    out.push_back(entry.first);
+  return out;
+}
+
+// "a, b, c" (the list printed after "supported: ").
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names)
+    s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
 // LIGGGHTS sub-models that exist there but are not implemented here.
 bool is_known_unsupported(const std::string& slot, const std::string& name) {
   static const std::vector<std::pair<std::string, std::string>> known = {
@@ -73,7 +103,8 @@ bool is_known_unsupported(const std::string& slot, const std::string& name) {
       {"cohesion", "sjkr2"},
       {"cohesion", "easo/capillary/viscous"},
       {"cohesion", "washino/capillary/viscous"},
-      {"surface", "superquadric"}};
+      {"surface", "superquadric"},
+      {"surface", "multicontact"}};
   for (const auto& k : known)
     if (k.first == slot && k.second == name) return true;
   return false;
@@ -84,6 +115,19 @@ bool is_known_unsupported(const std::string& slot, const std::string& name) {
     fail("'" + slot + " " + name + "' is not supported (supported: " + supported + ")");
   const std::string what = slot == "model" ? "normal" : slot;
   fail("unknown " + what + " model '" + name + "' (supported: " + supported + ")");
+}
+
+// The sub-model called `name` in the table of `slot`; with `off` set, "off"
+// selects `off_value`.
+template <class Enum>
+Enum lookup(const std::vector<std::pair<std::string, Enum>>& table, const std::string& slot,
+            const std::string& name, const Enum* off_value) {
+  for (const auto& entry : table)
+    if (entry.first == name) return entry.second;
+  if (off_value && name == "off") return *off_value;
+  std::vector<std::string> accepted = names_of(table);
+  if (off_value) accepted.push_back("off");
+  bad_model(slot, name, join(accepted));
 }
 
 // Model settings of LIGGGHTS that only switch on bookkeeping or features not
@@ -122,60 +166,32 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     const std::string& w = args[pos];
     if (w == "model") {
       once(seen_model, w);
-      const std::string& v = value_of(args, pos);
-      if (v == "hertz")
-        spec.normal = NormalModel::Hertz;
-      else if (v == "hooke")
-        spec.normal = NormalModel::Hooke;
-      else
-        bad_model(w, v, "hertz, hooke");
+      spec.normal = lookup<NormalModel>(kNormalNames, w, value_of(args, pos), nullptr);
     } else if (w == "tangential") {
       once(seen_tangential, w);
-      const std::string& v = value_of(args, pos);
-      if (v == "history")
-        spec.tangential = TangentialModel::History;
-      else if (v == "no_history")
-        spec.tangential = TangentialModel::NoHistory;
-      else if (v == "off")
-        spec.tangential = TangentialModel::None;
-      else
-        bad_model(w, v, "history, no_history, off");
+      const TangentialModel off = TangentialModel::None;
+      spec.tangential = lookup(kTangentialNames, w, value_of(args, pos), &off);
     } else if (w == "rolling_friction") {
       once(seen_rolling, w);
-      const std::string& v = value_of(args, pos);
-      if (v == "cdt")
-        spec.rolling = RollingModel::Cdt;
-      else if (v == "epsd2")
-        spec.rolling = RollingModel::Epsd2;
-      else if (v == "off")
-        spec.rolling = RollingModel::None;
-      else
-        bad_model(w, v, "cdt, epsd2, off");
+      const RollingModel off = RollingModel::None;
+      spec.rolling = lookup(kRollingNames, w, value_of(args, pos), &off);
     } else if (w == "cohesion") {
       once(seen_cohesion, w);
-      const std::string& v = value_of(args, pos);
-      if (v == "sjkr")
-        spec.cohesion = CohesionModel::Sjkr;
-      else if (v == "off")
-        spec.cohesion = CohesionModel::None;
-      else
-        bad_model(w, v, "sjkr, off");
+      const CohesionModel off = CohesionModel::None;
+      spec.cohesion = lookup(kCohesionNames, w, value_of(args, pos), &off);
     } else if (w == "damping") {
       once(seen_damping, w);
-      const std::string& v = value_of(args, pos);
-      if (v == "restitution")
-        spec.damping = DampingModel::Restitution;
-      else if (v == "viscoelastic")
-        spec.damping = DampingModel::Viscoelastic;
-      else
-        bad_model(w, v, "restitution, viscoelastic");
+      spec.damping = lookup<DampingModel>(kDampingNames, w, value_of(args, pos), nullptr);
     } else if (w == "tangential_reduce") {
       spec.tangential_reduce = on_off(args, pos);
       seen_reduce = true;
     } else if (w == "surface") {
       once(seen_surface, w);
       const std::string& v = value_of(args, pos);
-      if (v != "default" && v != "sphere") bad_model(w, v, "default (= sphere)");
+      bool known = v == "default";
+      for (const auto& name : kSurfaceNames)
+        known = known || v == name;
+      if (!known) bad_model(w, v, "default (= " + join(kSurfaceNames) + ")");
     } else if (w == "limitForce") {
       spec.limit_force = on_off(args, pos);
     } else if (w == "tangential_damping") {
@@ -196,6 +212,15 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
   if (seen_reduce && spec.cohesion == CohesionModel::None)
     fail("'tangential_reduce' applies only with a cohesion model ('cohesion sjkr')");
   return spec;
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>> model_names() {
+  return {{"model", names_of(kNormalNames)},
+          {"tangential", names_of(kTangentialNames)},
+          {"rolling_friction", names_of(kRollingNames)},
+          {"cohesion", names_of(kCohesionNames)},
+          {"surface", kSurfaceNames},
+          {"damping", names_of(kDampingNames)}};
 }
 
 std::string model_words(const ModelSpec& spec) {

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granary::contact {
@@ -84,6 +85,12 @@ void history_swap_signs(const ModelSpec&, double* signs);
 /// Throws std::invalid_argument with a clear message on an unknown or
 /// unsupported model name, a missing or invalid value, or a repeated slot.
 ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& pos);
+
+/// The sub-model names parse_model_words accepts, per slot: "model",
+/// "tangential", "rolling_friction", "cohesion", "surface", "damping" (the
+/// words "off" and "default", which select no sub-model or the default one,
+/// are not listed).
+std::vector<std::pair<std::string, std::vector<std::string>>> model_names();
 
 /// The LIGGGHTS words that describe `spec` (round-trips through parse_model_words).
 std::string model_words(const ModelSpec& spec);

@@ -1,12 +1,15 @@
 // Core setup commands: units, atom_style, atom_modify, boundary, newton,
 // dimension, create_box, region, fix/unfix, compute/uncompute, compute_modify,
 // pair_style, pair_coeff.
+#include <algorithm>
+
 #include "comm/comm.h"
 #include "compute/compute.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
 #include "core/registry.h"
+#include "core/style_list.h"
 #include "domain/domain.h"
 #include "domain/region.h"
 #include "fix/modify.h"
@@ -16,6 +19,14 @@
 #include "particles/particles.h"
 
 namespace granary {
+
+const std::vector<std::string>& atom_style_names() {
+  // Spheres with radius, density, mass, angular velocity and torque: LIGGGHTS'
+  // granular style and its alias sphere.
+  static const std::vector<std::string> names = {"granular", "sphere"};
+  return names;
+}
+
 namespace {
 
 void require_no_box(Engine& e, const std::string& cmd) {
@@ -39,7 +50,8 @@ void cmd_units(Engine& e, const Args& a) {
 void cmd_atom_style(Engine& e, const Args& a) {
   require_args(a, 1, 100, "atom_style granular|sphere");
   require_no_box(e, "atom_style");
-  if (a[0] != "granular" && a[0] != "sphere") {
+  const auto& names = atom_style_names();
+  if (std::find(names.begin(), names.end(), a[0]) == names.end()) {
     throw InputError("atom_style '" + a[0] + "' is not supported; use granular (or sphere)");
   }
 }

@@ -9,6 +9,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "core/style_list.h"
 #include "domain/region.h"
 #include "particles/particles.h"
 
@@ -87,7 +88,7 @@ bool Domain::inside_box(const Vec3& x) const {
 
 void Domain::add_region(const std::vector<std::string>& args) {
   if (args.size() < 2) throw InputError("usage: region ID style args... [side in|out] [units box|lattice]");
-  if (args[1] == "delete") {
+  if (args[1] == kRegionDeleteWord) {
     delete_region(args[0]);
     return;
   }

@@ -3,6 +3,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "core/style_list.h"
 #include "pair/pair.h"
 
 namespace granary {
@@ -12,9 +13,9 @@ Force::~Force() = default;
 
 void Force::create_pair(const Args& args) {
   if (args.empty()) throw InputError("usage: pair_style STYLE args...");
-  if (args[0] == "none") {
+  if (args[0] == kPairNoneWord) {
     pair.reset();
-    pair_style = "none";
+    pair_style = kPairNoneWord;
     return;
   }
   const auto& registry = PairRegistry::instance();
