@@ -9,10 +9,12 @@ build folders outside a git checkout) for paths that leave it:
     climb above the repository from the file's own folder.
 Also checks that the scan itself finds such paths in made-up text.
 """
+import fnmatch
 import os
 import re
 import subprocess
 import sys
+import tempfile
 import unittest
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -45,10 +47,20 @@ def repository_files(root):
             return names
     except (OSError, subprocess.CalledProcessError):
         pass
+    # not a git checkout (or no git): every file but those .gitignore names
+    ignored = []
+    if os.path.exists(os.path.join(root, ".gitignore")):
+        with open(os.path.join(root, ".gitignore")) as f:
+            ignored = [line.strip().strip("/") for line in f if line.strip() and not line.startswith("#")]
+
+    def is_ignored(rel):
+        parts = rel.split(os.sep)
+        return any(fnmatch.fnmatch(rel, pat) or any(fnmatch.fnmatch(p, pat) for p in parts) for pat in ignored)
+
     names = []
     for d, dirs, files in os.walk(root):
-        dirs[:] = [x for x in dirs if x not in SKIP_DIRS and not x.startswith("build")]
-        names += [os.path.relpath(os.path.join(d, f), root) for f in files]
+        dirs[:] = [x for x in dirs if x not in SKIP_DIRS and not is_ignored(os.path.relpath(os.path.join(d, x), root))]
+        names += [r for r in (os.path.relpath(os.path.join(d, f), root) for f in files) if not is_ignored(r)]
     return names
 
 
@@ -90,6 +102,15 @@ class SelfContained(unittest.TestCase):
             for n, msg in violations(rel, raw.decode("utf-8", "replace")):
                 bad.append(f"{rel}:{n}: {msg}")
         self.assertEqual(bad, [], "files that need something outside the repository:\n" + "\n".join(bad))
+
+    def test_outside_git_the_ignored_files_are_left_out(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(os.path.join(tmp, ".gitignore"), "w") as f:
+                f.write("build*/\n/out/\nbuild-fuzz.log\n*.pyc\n")
+            for rel in ("src/a.cpp", "build/x.o", "build-fuzz.log", "out/r.csv", "tools/t.pyc", "doc/b.md"):
+                os.makedirs(os.path.dirname(os.path.join(tmp, rel)) or tmp, exist_ok=True)
+                open(os.path.join(tmp, rel), "w").close()
+            self.assertEqual(sorted(repository_files(tmp)), [".gitignore", "doc/b.md", "src/a.cpp"])
 
     def test_the_scan_finds_paths_that_leave(self):
         cases = {
