@@ -6,7 +6,9 @@ of cycles of examples/silo_study/in.cycle, one granary run per cycle: cycle 0
 fills the silo, every later cycle reads the restart file of the one before,
 tops the bed up and discharges it down to the stop height, avalanche after
 avalanche. A case is done when its completed cycles hold --min-avalanches
-non-empty avalanches (or --max-cycles cycles).
+non-empty avalanches that began at an arch removal (the first avalanche of a
+cycle begins at the opened shutter, from a freshly settled bed, and is
+counted only with --count-first), or --max-cycles cycles.
 
     /usr/bin/python3 tools/silo_study.py run [--case NAME ...] [--jobs J] [--np N]
                      [--data DIR] [--work DIR] [--min-avalanches 100] [--max-cycles 60]
@@ -135,12 +137,14 @@ def completed_cycles(data_dir):
     return len(rows)
 
 
-def nonempty_avalanches(data_dir):
+def nonempty_avalanches(data_dir, first=False):
+    """Non-empty avalanches of the completed cycles; without `first`, not counting the first
+    avalanche of each cycle (it starts from the opened shutter, not from an arch removal)."""
     _, header, rows = read_rows(os.path.join(data_dir, "avalanches.csv"))
     if not header:
         return 0
-    k = header.index("bodies")
-    return sum(1 for r in rows if int(float(r[k])) > 0)
+    k, a = header.index("bodies"), header.index("avalanche")
+    return sum(1 for r in rows if int(float(r[k])) > 0 and (first or int(r[a]) > 1))
 
 
 def drop_uncommitted(data_dir):
@@ -155,7 +159,8 @@ def drop_uncommitted(data_dir):
 
 def granary_version(granary):
     try:
-        out = subprocess.run([granary, "-h"], capture_output=True, text=True, timeout=30).stdout
+        out = subprocess.run([granary, "-in", os.devnull, "-log", "none"], capture_output=True, text=True,
+                             timeout=60).stdout
     except OSError:
         out = ""
     try:
@@ -299,7 +304,7 @@ def run_case(a, case, variables):
     messages = []
     while True:
         k = completed_cycles(data)
-        n = nonempty_avalanches(data)
+        n = nonempty_avalanches(data, a.count_first)
         if n >= a.min_avalanches:
             messages.append(f"{case}: done, {n} non-empty avalanches in {k} cycles")
             break
@@ -391,7 +396,8 @@ def cmd_picture(a):
 
 def cmd_status(a):
     total_core_s = 0.0
-    print(f"{'case':18s} {'cycles':>6s} {'aval.':>6s} {'non-empty':>9s} {'core-h':>7s} {'particle-steps':>15s}")
+    print(f"{'case':18s} {'cycles':>6s} {'aval.':>6s} {'non-empty':>9s} {'core-h':>7s} {'particle-steps':>15s}"
+          "   (non-empty: after an arch removal)")
     for case in sorted(os.listdir(a.data)) if os.path.isdir(a.data) else []:
         d = os.path.join(a.data, case)
         if not os.path.isdir(d):
@@ -416,7 +422,10 @@ def main(argv=None):
     r.add_argument("--data", default=DATA)
     r.add_argument("--work", default=WORK)
     r.add_argument("--granary", default=os.path.join(ROOT, "build", "granary"))
-    r.add_argument("--min-avalanches", type=int, default=100)
+    r.add_argument("--min-avalanches", type=int, default=100,
+                   help="non-empty avalanches that start at an arch removal (default 100)")
+    r.add_argument("--count-first", action="store_true",
+                   help="count the first avalanche of each cycle too (it starts from the opened shutter)")
     r.add_argument("--max-cycles", type=int, default=60)
     r.add_argument("--keep-work", action="store_true", help="keep each cycle's folder (logs)")
     r.add_argument("--keep-restarts", action="store_true")

@@ -9,15 +9,16 @@ for every case r<r>_phi<phi>[_n<nres>] and writes to OUT:
   distributions.png         P(S/<S>) per case with the exponential exp(-x) (Fig. 7b)
   box.png                   <phi_t>, <k_te>/<k_te0>, <k_re>/<k_re0>, <theta> against phi (Fig. 8a, b)
 
-    /usr/bin/python3 tools/silo_study_analysis.py [--data DIR] [--out DIR] [--skip-first]
+    /usr/bin/python3 tools/silo_study_analysis.py [--data DIR] [--out DIR] [--keep-first]
                      [--bootstrap 4000] [--seed 1]
 
 Definitions:
   S         mass of an avalanche (kg), over the non-empty avalanches of all
-            completed cycles; empty avalanches (an arch removal after which
-            nothing passed) are counted apart. --skip-first leaves out the
-            first avalanche of every cycle (it starts from the opened shutter,
-            not from an arch removal).
+            completed cycles that began at an arch removal; empty avalanches
+            (an arch removal after which nothing passed) are counted apart.
+            The first avalanche of every cycle begins at the opened shutter,
+            from a freshly settled bed, and is left out (its mean is reported
+            apart); --keep-first keeps it.
   <S>       mean, 95 % CI from the t-distribution and from a percentile
             bootstrap (B resamples, fixed seed).
   <S>/<S0>  ratio to the case phi = 0 with the same clump resolution; 95 % CI
@@ -25,7 +26,9 @@ Definitions:
   exponential   the maximum-likelihood exponential has mean <S>; fit quality:
             the Kolmogorov-Smirnov distance D to it with a p-value from a
             parametric bootstrap (Lilliefors: the mean is estimated), and the
-            coefficient of variation sd/mean (1 for an exponential).
+            coefficient of variation sd/mean (1 for an exponential); the same
+            for the tail, the excesses S - s20 over the 20 % quantile s20
+            (exponential above s20 if the sizes are exponential there).
   box       rows of box.csv whose averaging window lies inside an avalanche
             (t_start + window <= time <= t_end of the same cycle), averaged:
             phi_t = total solid fraction in the box, k_te = translational and
@@ -102,14 +105,16 @@ def ks_exponential(x, B, rng):
     return float(d), float((np.sum(sims >= d) + 1) / (B + 1))
 
 
-def load_case(d, skip_first):
+def load_case(d, keep_first):
     av = read_table(os.path.join(d, "avalanches.csv"))
     keep = np.ones(len(av["mass"]), bool)
-    if skip_first:
+    first = (av["avalanche"] == 1) & (av["bodies"] > 0)
+    if not keep_first:
         keep &= av["avalanche"] > 1
     nonempty = keep & (av["bodies"] > 0)
     empty = keep & (av["bodies"] == 0)
     out = {"S": av["mass"][nonempty], "bodies": av["bodies"][nonempty], "n_empty": int(empty.sum()),
+           "S_first": av["mass"][first],
            "arch_removed": av["arch_removed"][keep], "cycles": int(av["cycle"].max() + 1) if len(av["cycle"]) else 0,
            "types": {k: av[k][nonempty] for k in av if k.startswith("bodies_t") or k.startswith("mass_t")}}
     box_path = os.path.join(d, "box.csv")
@@ -143,10 +148,10 @@ def analyse(a):
     for name in sorted(os.listdir(a.data)):
         p = parse_case(name)
         if p and os.path.exists(os.path.join(a.data, name, "avalanches.csv")):
-            cases[name] = (p, load_case(os.path.join(a.data, name), a.skip_first))
+            cases[name] = (p, load_case(os.path.join(a.data, name), a.keep_first))
     if not cases:
         raise SystemExit(f"silo_study_analysis: no case with results in {a.data}")
-    summary = {"skip_first": a.skip_first, "bootstrap": a.bootstrap, "cases": {}}
+    summary = {"keep_first": a.keep_first, "bootstrap": a.bootstrap, "cases": {}}
     boots = {}
     for name, ((r, phi, nres), c) in cases.items():
         S = c["S"]
@@ -154,12 +159,19 @@ def analyse(a):
         bm = boot_means(S, a.bootstrap, rng) if len(S) > 1 else np.full(a.bootstrap, np.nan)
         boots[name] = bm
         d, p = ks_exponential(S, a.bootstrap // 4, rng)
+        tail = S[S > np.quantile(S, 0.2)] - np.quantile(S, 0.2) if len(S) >= 10 else np.array([])
+        dt_, pt_ = ks_exponential(tail, a.bootstrap // 4, rng) if len(tail) >= 5 else (float("nan"), float("nan"))
         row = {"r": r, "phi": phi, "nres": nres, "n": int(len(S)), "n_empty": c["n_empty"], "cycles": c["cycles"],
                "S_mean": m, "S_ci95_t": h, "S_ci95_boot": [float(np.nanpercentile(bm, 2.5)),
                                                        float(np.nanpercentile(bm, 97.5))],
                "bodies_mean": float(np.mean(c["bodies"])) if len(S) else float("nan"),
                "cv": float(np.std(S, ddof=1) / np.mean(S)) if len(S) > 1 else float("nan"),
-               "ks_D": d, "ks_p": p,
+               "ks_D": d, "ks_p": p, "tail_ks_D": dt_, "tail_ks_p": pt_,
+               "tail_cv": float(np.std(tail, ddof=1) / np.mean(tail)) if len(tail) > 1 else float("nan"),
+               "first_n": int(len(c["S_first"])),
+               "first_S_mean": float(np.mean(c["S_first"])) if len(c["S_first"]) else float("nan"),
+               "first_vs_rest_p": float(stats.mannwhitneyu(c["S_first"], S, alternative="two-sided").pvalue)
+               if len(c["S_first"]) >= 3 and len(S) >= 3 else float("nan"),
                "arch_removed_mean": float(np.mean(c["arch_removed"])) if len(c["arch_removed"]) else float("nan")}
         if "box" in c and len(c["box"]["phi"]):
             for k, v in c["box"].items():
@@ -294,8 +306,8 @@ def write_outputs(a, cases, summary):
 
     # tables
     lines = ["| case | cycles | avalanches | empty | <S> (g) | 95 % CI (g) | bodies | <S>/<S0> | 95 % CI | "
-             "sd/mean | KS D | KS p | arch bodies |",
-             "|---|---:|---:|---:|---:|---|---:|---:|---|---:|---:|---:|---:|"]
+             "sd/mean | KS p | tail sd/mean | tail KS p | arch bodies | first of cycle (g) | p first |",
+             "|---|---:|---:|---:|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|"]
     for n, row in sorted(summary["cases"].items(), key=lambda kv: (kv[1]["nres"], kv[1]["r"] if kv[1]["phi"] else 0,
                                                                     kv[1]["phi"])):
         ci = row["S_ci95_boot"]
@@ -303,8 +315,9 @@ def write_outputs(a, cases, summary):
         lines.append(f"| {n} | {row['cycles']} | {row['n']} | {row['n_empty']} | {1e3 * row['S_mean']:.3g} | "
                      f"{1e3 * ci[0]:.3g} - {1e3 * ci[1]:.3g} | {row['bodies_mean']:.1f} | "
                      f"{row.get('ratio', float('nan')):.3f} | "
-                     f"{'' if rc is None else f'{rc[0]:.3f} - {rc[1]:.3f}'} | {row['cv']:.2f} | {row['ks_D']:.3f} | "
-                     f"{row['ks_p']:.2f} | {row['arch_removed_mean']:.1f} |")
+                     f"{'' if rc is None else f'{rc[0]:.3f} - {rc[1]:.3f}'} | {row['cv']:.2f} | {row['ks_p']:.3f} | "
+                     f"{row['tail_cv']:.2f} | {row['tail_ks_p']:.3f} | {row['arch_removed_mean']:.1f} | "
+                     f"{1e3 * row['first_S_mean']:.3g} | {row['first_vs_rest_p']:.2g} |")
     lines += ["", "| case | <phi_t> | <k_te>/<k_te0> | <k_re>/<k_re0> | <theta> (deg) |", "|---|---:|---:|---:|---:|"]
     for n, row in sorted(summary["cases"].items(), key=lambda kv: (kv[1]["nres"], kv[1]["r"] if kv[1]["phi"] else 0,
                                                                     kv[1]["phi"])):
@@ -329,7 +342,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", default=os.path.join(ROOT, "examples", "silo_study", "results"))
     ap.add_argument("--out", default=os.path.join(ROOT, "doc", "images", "silo_study"))
-    ap.add_argument("--skip-first", action="store_true", help="leave out the first avalanche of every cycle")
+    ap.add_argument("--keep-first", action="store_true",
+                    help="keep the first avalanche of every cycle (it begins at the opened shutter)")
     ap.add_argument("--bootstrap", type=int, default=4000)
     ap.add_argument("--seed", type=int, default=1)
     a = ap.parse_args(argv)
