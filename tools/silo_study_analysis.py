@@ -272,7 +272,7 @@ def write_outputs(a, cases, summary):
         ax.semilogy(xx, np.exp(-xx), "k--", lw=1, label="exp(-x)")
         ax.set_xlabel("S/<S>")
         ax.set_ylabel("P(S/<S>)")
-        ax.set_title(f"r = {r:g}")
+        ax.set_title(f"r = {r:g}" if r else "phi = 0 (cylinders only)")
         ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "distributions.png"), dpi=130)
