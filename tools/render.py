@@ -48,7 +48,7 @@ centred in the picture and enlarged in one direction to the picture's aspect.
 
 Output: the PNG (--out, default RUN_DIR/render.png) and beside it PNG.json with
 the world-to-pixel mapping (image centre in world x, z, metres per pixel, image
-size), the colours (0-255), the files and the time drawn, and the numbers of
+size), the colours (0-255), the files drawn (relative to the PNG's folder) and the time, and the numbers of
 spheres and clumps. Exit status 1 for a missing or unreadable file (also one
 that ParaView reads with fewer points than its header declares), a collection
 without frames or a missing array; 2 for bad arguments; 3 when
@@ -472,7 +472,9 @@ def render(args, state, out):
         "state": state["label"],
         "time": t,
         "step": int(step) if step is not None else None,
-        "files": {k: state[k] for k in ("particles", "bodies", "mesh")},
+        # relative to the picture's folder, so that a picture kept with its JSON names no machine's paths
+        "files": {k: (os.path.relpath(state[k], os.path.dirname(out)) if state[k] else state[k])
+                  for k in ("particles", "bodies", "mesh")},
         "counts": {"particles": int(npart), "spheres": int(nspheres), "clumps": int(nbodies)},
         "sphere_type": args.sphere_type,
         "clump_size": list(args.clump_size),

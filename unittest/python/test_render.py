@@ -301,7 +301,8 @@ class RenderSilo(unittest.TestCase):
         self.assertTrue(pic.at(pic.background, 0.0, -1.0 * DC))
 
     def test_clog_state(self):
-        png = self.png("clog.png")
+        os.makedirs(self.png("pictures"), exist_ok=True)
+        png = self.png(os.path.join("pictures", "clog.png"))
         r = render(self.dir, "--out", png, "--size", "800", "600")
         pic = self.assert_rendered(r, png)
         m = pic.meta
@@ -309,6 +310,11 @@ class RenderSilo(unittest.TestCase):
         self.assertEqual(m["counts"]["clumps"], len(CLUMPS))
         self.assertEqual(m["counts"]["spheres"], len(SPHERES))
         self.assertTrue(m["files"]["particles"].endswith("clog_particles.vtp"))
+        # named relative to the picture's folder (a kept picture names no machine's paths)
+        for key in ("particles", "bodies", "mesh"):
+            self.assertFalse(os.path.isabs(m["files"][key]), m["files"][key])
+            self.assertEqual(os.path.realpath(os.path.join(os.path.dirname(png), m["files"][key])),
+                             os.path.realpath(os.path.join(self.dir, "clog_%s.vtp" % key)))
         self.assertAlmostEqual(m["time"], DT * STEPS, delta=1e-12)
         # slit view: x from -6 to 6 dc, z from -2 to 7 dc, in a 4:3 picture
         self.assertAlmostEqual(m["metres_per_pixel"], 12 * DC / 800, delta=1e-12)
