@@ -10,7 +10,11 @@ for every case r<r>_phi<phi>[_n<nres>] and writes to OUT:
   box.png                   <phi_t>, <k_te>/<k_te0>, <k_re>/<k_re0>, <theta> against phi (Fig. 8a, b)
 
     /usr/bin/python3 tools/silo_study_analysis.py [--data DIR] [--out DIR] [--keep-first]
-                     [--bootstrap 4000] [--seed 1]
+                     [--bootstrap 4000] [--seed 1] [--complete 100]
+
+A case with fewer than --complete non-empty avalanches is analysed as it
+stands and marked "(in progress)" in the tables ("complete": false in
+summary.json).
 
 Definitions:
   S         mass of an avalanche (kg), over the non-empty avalanches of all
@@ -178,7 +182,9 @@ def analyse(a):
                 mm, hh = mean_ci(v)
                 row[f"box_{k}"] = mm
                 row[f"box_{k}_ci95"] = hh
+        row["complete"] = bool(row["n"] >= a.complete)
         summary["cases"][name] = row
+    summary["complete_at"] = a.complete
     # ratios to phi = 0 of the same clump resolution
     for name, row in summary["cases"].items():
         base = next((n for n, rr in summary["cases"].items() if rr["phi"] == 0 and rr["nres"] == row["nres"]), None)
@@ -312,7 +318,7 @@ def write_outputs(a, cases, summary):
                                                                     kv[1]["phi"])):
         ci = row["S_ci95_boot"]
         rc = row.get("ratio_ci95")
-        lines.append(f"| {n} | {row['cycles']} | {row['n']} | {row['n_empty']} | {1e3 * row['S_mean']:.3g} | "
+        lines.append(f"| {n}{'' if row['complete'] else ' (in progress)'} | {row['cycles']} | {row['n']} | {row['n_empty']} | {1e3 * row['S_mean']:.3g} | "
                      f"{1e3 * ci[0]:.3g} - {1e3 * ci[1]:.3g} | {row['bodies_mean']:.1f} | "
                      f"{row.get('ratio', float('nan')):.3f} | "
                      f"{'' if rc is None else f'{rc[0]:.3f} - {rc[1]:.3f}'} | {row['cv']:.2f} | {row['ks_p']:.3f} | "
@@ -323,7 +329,7 @@ def write_outputs(a, cases, summary):
                                                                     kv[1]["phi"])):
         if "box_phi" not in row:
             continue
-        lines.append(f"| {n} | {row['box_phi']:.4f} ± {row['box_phi_ci95']:.4f} | "
+        lines.append(f"| {n}{'' if row['complete'] else ' (in progress)'} | {row['box_phi']:.4f} ± {row['box_phi_ci95']:.4f} | "
                      f"{row.get('box_k_te_ratio', float('nan')):.3f} ± {row.get('box_k_te_ratio_ci95', float('nan')):.3f} | "
                      f"{row.get('box_k_re_ratio', float('nan')):.3f} ± {row.get('box_k_re_ratio_ci95', float('nan')):.3f} | "
                      f"{row['box_theta']:.2f} ± {row['box_theta_ci95']:.2f} |")
@@ -345,6 +351,8 @@ def main(argv=None):
     ap.add_argument("--keep-first", action="store_true",
                     help="keep the first avalanche of every cycle (it begins at the opened shutter)")
     ap.add_argument("--bootstrap", type=int, default=4000)
+    ap.add_argument("--complete", type=int, default=100,
+                    help="non-empty avalanches that complete a case; fewer: marked '(in progress)' (default 100)")
     ap.add_argument("--seed", type=int, default=1)
     a = ap.parse_args(argv)
     cases, summary = analyse(a)

@@ -136,6 +136,10 @@ class HiddenMinimum(unittest.TestCase):
             self.assertEqual(c["n_empty"], 9)
             self.assertAlmostEqual(c["S_mean"], float(np.mean(masses[1:60])), places=12)
             self.assertAlmostEqual(c["first_S_mean"], float(masses[0]), places=12)
+            # 59 non-empty avalanches: short of the 100 that complete a case
+            self.assertFalse(c["complete"])
+            with open(os.path.join(tmp, "out", "summary.md")) as f:
+                self.assertIn("| r0_phi0 (in progress) |", f.read())
 
     def test_first_avalanche_of_a_cycle_apart_and_found_smaller(self):
         # the first avalanche of every cycle drawn with a third of the mean: reported apart,
