@@ -52,10 +52,11 @@ MIRROR=$(printf '%s\n' "${SOURCES[@]}" | awk '$2 == "bookworm" { print $1; exit 
 [ -n "$MIRROR" ] || { echo "check_fresh_machine: no bookworm source in this machine's apt sources" >&2; exit 2; }
 
 COMMIT=$(git -C "$REPO" rev-parse --short HEAD)
+COMMIT_FULL=$(git -C "$REPO" rev-parse HEAD)   # both roots check this commit, even if HEAD moves meanwhile
 echo "check_fresh_machine: repository $REPO at $COMMIT; mirror $MIRROR"
 for c in "${COMMANDS[@]}"; do echo "  README command: $c"; done
 [ -z "$(git -C "$REPO" status --porcelain --untracked-files=no)" ] ||
-  echo "  note: uncommitted changes are not part of the check (the clone holds HEAD)"
+  echo "  note: uncommitted changes are not part of the check (the clones hold HEAD as it was at the start)"
 
 RESULTS=()
 MOUNTED=()
@@ -128,7 +129,7 @@ check_root() {
   local home
   home=$(home_of "$root" "$user")
   installed_packages "$root" > "$DIR/$name.before"
-  git clone -q "$REPO" "$root$home/granary"
+  git clone -q "$REPO" "$root$home/granary" && git -C "$root$home/granary" checkout -q "$COMMIT_FULL"
   chroot "$root" chown -R "$user:" "$home/granary"
   for c in "${COMMANDS[@]}"; do
     step "[$name] as $user: $prefix$c" "$log" in_root "$root" "$user" "$prefix$c" || ok=1
