@@ -85,13 +85,18 @@ def mean_ci_t(x, level=0.95):
     return m, se, m - h, m + h
 
 
+def bootstrap_means(x, rng, nboot=10000):
+    """The means of nboot resamples of x (with replacement)."""
+    x = np.asarray(x, dtype=float)
+    idx = rng.integers(0, len(x), size=(nboot, len(x)))
+    return x[idx].mean(axis=1)
+
+
 def mean_ci_bootstrap(x, rng, nboot=10000, level=0.95):
     """Percentile bootstrap interval of the mean."""
-    n = len(x)
-    if n < 2:
+    if len(x) < 2:
         return float("nan"), float("nan")
-    idx = rng.integers(0, n, size=(nboot, n))
-    means = np.asarray(x)[idx].mean(axis=1)
+    means = bootstrap_means(x, rng, nboot)
     lo, hi = np.quantile(means, [0.5 - level / 2, 0.5 + level / 2])
     return float(lo), float(hi)
 

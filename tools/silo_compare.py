@@ -224,14 +224,13 @@ def observables(rec, v):
 
 
 def ci95(x):
+    """(mean, sd, half-width of the 95 % t interval) of the finite values of x."""
     import numpy as np
-    from scipy import stats
+    from avalanche_stats import mean_ci_t
     x = np.asarray(x, float)
     x = x[np.isfinite(x)]
-    if len(x) < 2:
-        return (float(x.mean()) if len(x) else float("nan"), float("nan"), float("nan"))
-    h = stats.t.ppf(0.975, len(x) - 1) * x.std(ddof=1) / math.sqrt(len(x))
-    return float(x.mean()), float(x.std(ddof=1)), float(h)
+    m, se, lo, hi = mean_ci_t(x)
+    return m, (float(x.std(ddof=1)) if len(x) > 1 else float("nan")), (hi - m) if len(x) > 1 else float("nan")
 
 
 def compare(x, y):

@@ -55,6 +55,9 @@ import sys
 import numpy as np
 from scipy import stats
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from avalanche_stats import bootstrap_means, mean_ci_t  # noqa: E402
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 
@@ -78,17 +81,9 @@ def parse_case(name):
 
 
 def mean_ci(x):
-    x = np.asarray(x, float)
-    n = len(x)
-    if n < 2:
-        return float(np.mean(x)) if n else float("nan"), float("nan")
-    return float(x.mean()), float(stats.t.ppf(0.975, n - 1) * x.std(ddof=1) / math.sqrt(n))
-
-
-def boot_means(x, B, rng):
-    x = np.asarray(x, float)
-    idx = rng.integers(0, len(x), size=(B, len(x)))
-    return x[idx].mean(axis=1)
+    """(mean, half-width of its 95 % t interval)."""
+    m, _, lo, hi = mean_ci_t(np.asarray(x, float))
+    return m, (hi - m) if np.isfinite(hi) else float("nan")
 
 
 def ks_exponential(x, B, rng):
@@ -160,7 +155,7 @@ def analyse(a):
     for name, ((r, phi, nres), c) in cases.items():
         S = c["S"]
         m, h = mean_ci(S)
-        bm = boot_means(S, a.bootstrap, rng) if len(S) > 1 else np.full(a.bootstrap, np.nan)
+        bm = bootstrap_means(S, rng, a.bootstrap) if len(S) > 1 else np.full(a.bootstrap, np.nan)
         boots[name] = bm
         d, p = ks_exponential(S, a.bootstrap // 4, rng)
         tail = S[S > np.quantile(S, 0.2)] - np.quantile(S, 0.2) if len(S) >= 10 else np.array([])

@@ -29,6 +29,9 @@ class Dump {
   virtual int modify_param(const Args& args, std::size_t k) { return 0; }
   /// Called when the dump is removed (undump) or the engine ends: finish files.
   virtual void finish() {}
+  /// write_dump writes one file: a style that keeps a collection of its frames
+  /// (a ParaView .pvd) drops it here (`modify pvd NAME` can ask for one again).
+  virtual void single_file() {}
 
   void modify(const Args& args);
 

@@ -22,6 +22,10 @@ class DumpBodiesVTK : public Dump {
   void init() override;
   void write() override;
   int modify_param(const Args& args, std::size_t k) override;
+  void single_file() override {
+    pvd_.path.clear();
+    pvd_.clear();
+  }
 
  private:
   FixMultisphere& multisphere() const;

@@ -32,6 +32,10 @@ class DumpCustomVTK : public Dump {
   void init() override;
   void write() override;
   int modify_param(const Args& args, std::size_t k) override;
+  void single_file() override {
+    pvd_.path.clear();
+    pvd_.clear();
+  }
 
   /// One VTK point-data array: 1 or 3 columns of the packed rows.
   struct Array {

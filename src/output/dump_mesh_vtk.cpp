@@ -73,6 +73,11 @@ class DumpMeshVTK : public Dump {
     pvd_.path = vtkio::pvd_name(filename, id);
   }
 
+  void single_file() override {
+    pvd_.path.clear();
+    pvd_.clear();
+  }
+
   int modify_param(const Args& args, std::size_t k) override {
     const std::string& key = args[k];
     const std::string where = "dump_modify " + id + " " + key;

@@ -32,10 +32,8 @@ void cmd_write_dump(Engine& e, const Args& a) {
     dump_args.push_back(a[k]);
   std::unique_ptr<Dump> dump = (*factory)(e, dump_args);
 
-  // one file, no .pvd collection (the styles that keep one; `modify pvd NAME` asks for one)
+  dump->single_file();
   Args modify_args{"write_dump"};
-  if (a[1] == "custom/vtk" || a[1] == "bodies/vtk" || a[1] == "mesh/vtk")
-    modify_args.insert(modify_args.end(), {"pvd", "no"});
   for (++k; k < a.size(); ++k)
     modify_args.push_back(a[k]);
   if (modify_args.size() > 1) dump->modify(modify_args);

@@ -113,6 +113,14 @@ class ChecksCatchMistakes(unittest.TestCase):
                 return
         self.fail(f"no row {kind} {name}")
 
+    def linked_docs(self):
+        """A folder of links to LIGGGHTS' doc pages, to add or change pages in."""
+        docs = self.tmp / "doc"
+        docs.mkdir()
+        for page in DOC_DIR.glob("*.html"):
+            (docs / page.name).symlink_to(page)
+        return docs
+
     def test_unchanged_copy_passes(self):
         status, text = self.check()
         self.assertEqual(status, 0, text)
@@ -124,10 +132,7 @@ class ChecksCatchMistakes(unittest.TestCase):
         self.assertIn("fix heat/gran (fix_heat_gran_conduction.html) has no row", text)
 
     def test_new_page_in_the_index_without_row(self):
-        docs = self.tmp / "doc"
-        docs.mkdir()
-        for page in DOC_DIR.glob("*.html"):
-            (docs / page.name).symlink_to(page)
+        docs = self.linked_docs()
         index = (DOC_DIR / "Section_commands.html").read_text(errors="replace")
         extra = '<td><a class="reference internal" href="fix_new_style.html"><em>new/style</em></a></td>'
         at = index.index('<div class="section" id="fix-styles">')
@@ -140,10 +145,7 @@ class ChecksCatchMistakes(unittest.TestCase):
         self.assertIn("fix new/style (fix_new_style.html) has no row", text)
 
     def test_unlinked_page_without_row(self):
-        docs = self.tmp / "doc"
-        docs.mkdir()
-        for page in DOC_DIR.glob("*.html"):
-            (docs / page.name).symlink_to(page)
+        docs = self.linked_docs()
         (docs / "compute_new_thing.html").write_text("<h1>compute new/thing command</h1>")
         status, text = self.check("--doc-dir", str(docs))
         self.assertEqual(status, 1)
