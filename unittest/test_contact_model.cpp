@@ -254,13 +254,13 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
             select_kernel(s)(s, c, mat, h2.data(), b);
             dispatch_model(s, [&](auto kernel) {
               using K = decltype(kernel);
-              CHECK(K::history_size == nh);
-              CHECK(K::normal == nm);
-              CHECK(K::tangential == tm);
-              CHECK(K::rolling == rm);
-              CHECK(K::limit_force == limit);
-              CHECK(K::cohesion == cm);
-              K::evaluate(s, c, mat, h3.data(), d);
+              CHECK(K::history_size(s) == nh);
+              CHECK(K::normal(s) == nm);
+              CHECK(K::tangential(s) == tm);
+              CHECK(K::rolling(s) == rm);
+              CHECK(K::limit_force(s) == limit);
+              CHECK(K::cohesion(s) == cm);
+              evaluate_with<K>(s, c, mat, h3.data(), d);
             });
           }
           CHECK(a.force == b.force);
@@ -281,8 +281,8 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   std::vector<double> h1(3, 0.0), h2(3, 0.0);
   ContactResult a, b;
   evaluate(s, c, mat, h1.data(), a);
-  evaluate_t<NormalModel::Hertz, TangentialModel::History, RollingModel::None, false>(s, c, mat, h2.data(),
-                                                                                      b);
+  evaluate_with<Kernel<NormalModel::Hertz, TangentialModel::History, RollingModel::None, false>>(
+      s, c, mat, h2.data(), b);
   CHECK(a.force == b.force);
 }
 

@@ -1,9 +1,9 @@
-// The lane pair loop of pair_style gran (contact_lanes.h kernels, contacts in
-// blocks across particles) against a plain loop over the same neighbour list
-// that calls the scalar contact kernel (contact::evaluate) pair by pair in
-// the list's order: on a settled, partly sliding bed of two kinds of spheres
-// both must give the same forces, torques, shear histories and contact flags
-// to the last bit.
+// The pair loop of pair_style gran (pair/pair_loop.h: two contacts at a time,
+// in blocks across particles) against a plain loop over the same neighbour
+// list that calls contact::evaluate (the same formulas on one lane) pair by
+// pair in the list's order: on a settled, partly sliding bed of two kinds of
+// spheres both must give the same forces, torques, histories and contact
+// flags to the last bit, for compiled hot kernels and run-time slots alike.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -34,27 +34,42 @@ bool same(double a, double b) {
 // A bed of 2 mm spheres (type 1) and 1.6 mm lighter ones (type 2, other
 // material) poured into a box of plane walls.
 void pour(ScriptEngine& s, const std::string& pair_words, const std::string& newton) {
-  s.cmds({"atom_style granular", "atom_modify map array", "boundary m m m", "newton " + newton,
-          "communicate single vel yes", "units si",
-          "region domain block -0.01 0.01 -0.01 0.01 0.0 0.04 units box", "create_box 2 domain",
-          "neighbor 0.0005 bin", "neigh_modify delay 0",
+  s.cmds({"atom_style granular",
+          "atom_modify map array",
+          "boundary m m m",
+          "newton " + newton,
+          "communicate single vel yes",
+          "units si",
+          "region domain block -0.01 0.01 -0.01 0.01 0.0 0.04 units box",
+          "create_box 2 domain",
+          "neighbor 0.0005 bin",
+          "neigh_modify delay 0",
           "fix m1 all property/global youngsModulus peratomtype 5.e6 2.e6",
           "fix m2 all property/global poissonsRatio peratomtype 0.45 0.3",
           "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 0.7 0.7 0.5",
           "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.3 0.3 0.2",
           "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.05 0.05 0.02",
-          "pair_style " + pair_words, "pair_coeff * *", "timestep 0.00001",
+          "fix m6 all property/global characteristicVelocity scalar 0.5",
+          "fix m7 all property/global cohesionEnergyDensity peratomtypepair 2 300 200 200 100",
+          "pair_style " + pair_words,
+          "pair_coeff * *",
+          "timestep 0.00001",
           "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
           "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
           "fix xw1 all wall/gran model hertz tangential history primitive type 1 xplane -0.01",
           "fix xw2 all wall/gran model hertz tangential history primitive type 1 xplane 0.01",
           "fix yw1 all wall/gran model hertz tangential history primitive type 1 yplane -0.01",
           "fix yw2 all wall/gran model hertz tangential history primitive type 1 yplane 0.01",
-          "lattice bcc 0.0025", "region fill block -0.0085 0.0085 -0.0085 0.0085 0.0051 0.0301 units box",
-          "create_atoms 1 region fill", "set group all diameter 0.002 density 2500",
+          "lattice bcc 0.0025",
+          "region fill block -0.0085 0.0085 -0.0085 0.0085 0.0051 0.0301 units box",
+          "create_atoms 1 region fill",
+          "set group all diameter 0.002 density 2500",
           "region small block -0.0085 0.0085 -0.0085 0.0 0.0051 0.0301 units box",
-          "set region small type 2", "set region small diameter 0.0016 density 1800",
-          "velocity all set 0.1 0.0 -0.5 units box", "fix integr all nve/sphere", "run 15000"});
+          "set region small type 2",
+          "set region small diameter 0.0016 density 1800",
+          "velocity all set 0.1 0.0 -0.5 units box",
+          "fix integr all nve/sphere",
+          "run 15000"});
 }
 
 // Forces, torques and history of one pair computation by the loop of the pair style.
@@ -177,6 +192,15 @@ void compare_loops(const std::string& pair_words, const std::string& newton) {
 }
 
 }  // namespace
+
+TEST_CASE("Pair loop equals contact::evaluate pair by pair (run-time slots: epsd2, cohesion)",
+          "[pair][lanes]") {
+  compare_loops("gran model hertz tangential history rolling_friction epsd2 cohesion sjkr", "off");
+}
+
+TEST_CASE("Pair loop equals contact::evaluate pair by pair (run-time slots: hooke)", "[pair][lanes]") {
+  compare_loops("gran model hooke tangential history rolling_friction cdt", "on");
+}
 
 TEST_CASE("Lane pair loop equals the scalar kernel pair by pair (cdt rolling)", "[pair][lanes]") {
   compare_loops("gran model hertz tangential history rolling_friction cdt", "off");

@@ -1,424 +1,418 @@
-// Inline, templated contact kernels. Each sub-model slot is one small function
-// templated on its model enum; evaluate_t<Normal, Tangential, Rolling, Limit,
-// Cohesion> chains them for one contact with no allocation, no virtual call and
-// no runtime branch on the model choice.
+// The contact formulas, each sub-model written once.
 //
-// Instantiated combinations: all of them. The current slots span
-// 2 normal x 3 tangential x 3 rolling x limitForce on/off x 2 cohesion = 72
-// kernels, few enough that every combination is compiled and no generic slow
-// path exists. The damping choice of the Hertz model (restitution or
-// viscoelastic) is a runtime branch inside normal_coefficients(): it changes
-// two coefficients once per contact and would otherwise double the count.
-// dispatch_model() turns a runtime ModelSpec into the matching Kernel type once,
-// so a pair loop can be compiled for exactly that kernel:
+// Every formula is templated on two things:
+//  - the number type S (contact/lane.h): a double for one contact, or a lane of
+//    two doubles for two contacts at once. Branches are selections (a ternary
+//    for a double), so the same text gives the same IEEE operations per lane;
+//  - the sub-model slots K: which normal, tangential, rolling and cohesion
+//    sub-model and whether limitForce is on. Kernel<N, T, R, Limit, C> fixes
+//    them at compile time (the comparisons fold away); RuntimeKernel reads them
+//    from the ModelSpec at run time. The formula text is the same for both.
 //
-//   dispatch_model(spec, [&](auto kernel) {
-//     using K = decltype(kernel);
-//     for (...) K::evaluate(spec, state, material, history, result);
-//   });
+// Only the hot combinations are compiled as Kernel types: Hertz with
+// tangential history, rolling none or cdt, limitForce off or on, no cohesion
+// (the model of nearly every LIGGGHTS script: 4 kernels). Every other
+// combination runs through RuntimeKernel: its slot tests are branches on the
+// run-time spec, uniform over a run and so predicted, on the same formula text.
+// dispatch_model() picks the kernel type once per loop. doc/architecture.md
+// says why.
+//
+// Two stages per contact, so that a pair loop can run the first over many
+// contacts before the second (the first is a chain of square roots and
+// divisions that does not depend on the history; across contacts the chains
+// are independent and the processor overlaps them):
+//   prepare()   -> Prepared<S>: coefficients, lever arms, |omega_i - omega_j|
+//   interact()  -> Result<S>:   forces, torques, updated history
+// evaluate() runs both for one contact given as a ContactState (walls, tests).
 //
 // Formulas and sign conventions: doc/contact_models.md.
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/Geometry>  // cross products
-#include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "contact/contact_model.h"
+#include "contact/lane.h"
 
 namespace granary::contact {
 
-namespace detail {
-
 constexpr double kSqrtFiveSixths = 0.91287092917527685576;  // sqrt(5/6)
-
-/// Stiffness and damping coefficients of one contact evaluation.
-struct Coefficients {
-  double kn;       ///< normal stiffness: elastic normal force = kn * overlap
-  double kt;       ///< tangential stiffness
-  double gamma_n;  ///< normal damping coefficient (>= 0)
-  double gamma_t;  ///< tangential damping coefficient (>= 0)
-};
-
-/// Square roots of one contact that do not depend on its history: those of
-/// the Hertz coefficients and the magnitude of the relative spin. A pair loop
-/// can compute them for all contacts of a particle in a pass of its own
-/// (independent iterations that the processor overlaps) before the kernels
-/// run; otherwise evaluate() computes them first. Same operations either way.
-struct Roots {
-  double sqrt_rd = 0.0;  ///< Hertz: sqrt(R* delta)
-  double root_n = 0.0;   ///< Hertz, restitution damping: sqrt(S_n m*), S_n = 2 Y* sqrt(R* delta)
-  double root_t = 0.0;   ///< Hertz, restitution damping: sqrt(S_t m*), S_t = 8 G* sqrt(R* delta)
-  double spin = 0.0;     ///< rolling models: |omega_i - omega_j|
-};
-
-[[gnu::always_inline]] inline double root(double x) {
-  return std::sqrt(x);
-}
-[[gnu::always_inline]] inline Eigen::Array2d root(const Eigen::Array2d& x) {
-  return x.sqrt();
-}
-
-/// The roots of Roots for one contact (S = double) or two at once (S =
-/// Eigen::Array2d, one contact per lane: packed square roots, the same IEEE
-/// result per lane). `w` is omega_i - omega_j (cdt only).
-template <NormalModel N, RollingModel R, class S>
-[[gnu::always_inline]] inline void contact_roots_lanes(const ModelSpec& spec, const S& r_eff,
-                                                       const S& overlap, const S& m_eff, const S& Y_eff,
-                                                       const S& G_eff, const S& wx, const S& wy, const S& wz,
-                                                       S& sqrt_rd, S& root_n, S& root_t, S& spin) {
-  if constexpr (N == NormalModel::Hertz) {
-    const S sqrtval = root(S(r_eff * overlap));
-    sqrt_rd = sqrtval;
-    if (spec.damping != DampingModel::Viscoelastic) {
-      const S sn = 2.0 * Y_eff * sqrtval;
-      const S st = 8.0 * G_eff * sqrtval;
-      root_n = root(S(sn * m_eff));
-      root_t = root(S(st * m_eff));
-    }
-  } else {
-    (void)spec, (void)r_eff, (void)overlap, (void)m_eff, (void)Y_eff, (void)G_eff, (void)sqrt_rd,
-        (void)root_n, (void)root_t;
-  }
-  // Eigen's norm of a 3-vector: sqrt((x^2 + y^2) + z^2)
-  if constexpr (R == RollingModel::Cdt) {
-    spin = root(S((wx * wx + wy * wy) + wz * wz));
-  } else {
-    (void)wx, (void)wy, (void)wz, (void)spin;
-  }
-}
-
-template <NormalModel N, RollingModel R>
-[[gnu::always_inline]] inline void contact_roots(const ModelSpec& spec, const ContactState& c,
-                                                 const PairMaterial& m, Roots& q) {
-  const Vec3 w = c.omega_i - c.omega_j;
-  contact_roots_lanes<N, R, double>(spec, c.r_eff, c.overlap, c.m_eff, m.Y_eff, m.G_eff, w[0], w[1], w[2],
-                                    q.sqrt_rd, q.root_n, q.root_t, q.spin);
-}
-
-/// Normal sub-model: stiffness and damping for the current overlap.
-template <NormalModel N>
-[[gnu::always_inline]] inline Coefficients normal_coefficients(const ModelSpec& spec, const ContactState& c,
-                                                               const PairMaterial& m, const Roots& q) {
-  Coefficients k;
-  if constexpr (N == NormalModel::Hertz) {
-    // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
-    const double sqrtval = q.sqrt_rd;
-    const double sn = 2.0 * m.Y_eff * sqrtval;
-    const double st = 8.0 * m.G_eff * sqrtval;
-    k.kn = (4.0 / 3.0) * m.Y_eff * sqrtval;
-    k.kt = st;
-    if (spec.damping == DampingModel::Viscoelastic) {
-      // Brilliantov et al. (1996): the dissipative force is A d/dt of the
-      // elastic force's overlap dependence, -A (3/2) kn vn = -A S_n vn, with
-      // S_n = 2 Y* sqrt(R* delta) the tangent stiffness; the tangential
-      // dashpot uses the same relaxation time on the tangential stiffness.
-      k.gamma_n = m.dissipative_time * sn;
-      k.gamma_t = m.dissipative_time * st;
-    } else {
-      k.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * q.root_n;
-      k.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * q.root_t;
-    }
-  } else {
-    (void)q;
-    // Linear spring whose stiffness gives the Hertz maximum overlap at the
-    // characteristic impact velocity V:
-    //   kn = 16/15 sqrt(R*) Y* (15 m* V^2 / (16 sqrt(R*) Y*))^(1/5).
-    const double sqrt_r = std::sqrt(c.r_eff);
-    const double v = m.char_velocity;
-    k.kn =
-        (16.0 / 15.0) * sqrt_r * m.Y_eff * std::pow(15.0 * c.m_eff * v * v / (16.0 * sqrt_r * m.Y_eff), 0.2);
-    k.kt = spec.kt_to_kn_user ? (2.0 / 7.0) * k.kn : k.kn;
-    // sqrt(4 m* kn / (1 + (pi/ln e)^2)) written so that e = 1 gives exactly 0.
-    k.gamma_n = -2.0 * m.beta * std::sqrt(c.m_eff * k.kn);
-    k.gamma_t = k.gamma_n;
-  }
-  if (!spec.tangential_damping) k.gamma_t = 0.0;
-  return k;
-}
-
-/// Size of the history block of each slot (doubles).
-template <TangentialModel T>
-constexpr int tangential_history_size() {
-  return T == TangentialModel::History ? 3 : 0;
-}
-template <RollingModel R>
-constexpr int rolling_history_size() {
-  return R == RollingModel::Epsd2 ? 3 : 0;
-}
-
-/// Tangential sub-model: force on i at the contact point. `vt` is the
-/// tangential relative velocity of the contact point, `fn` the total normal
-/// force, `shear` the slot's history block (only read for History).
-template <TangentialModel T>
-[[gnu::always_inline]] inline Vec3 tangential_force(const ContactState& c, const PairMaterial& m,
-                                                    const Coefficients& k, double fn, const Vec3& vt,
-                                                    double* shear) {
-  const double ft_max = m.friction * std::abs(fn);
-  if constexpr (T == TangentialModel::NoHistory) {
-    // Pure viscous friction, limited by Coulomb: -min(gamma_t |vt|, mu |Fn|) vt/|vt|.
-    const double vt_mag = vt.norm();
-    if (vt_mag <= 0.0) return Vec3::Zero();
-    const double ft_mag = std::min(k.gamma_t * vt_mag, ft_max);
-    return (-ft_mag / vt_mag) * vt;
-  } else if constexpr (T == TangentialModel::History) {
-    // Integrate the tangential displacement, then keep it in the current
-    // tangent plane (the contact normal may have rotated since the last step).
-    Eigen::Map<Vec3> s(shear);
-    s += c.dt * vt;
-    s -= s.dot(c.n) * c.n;
-    Vec3 ft = -k.kt * s;
-    const double ft_spring = k.kt * s.norm();
-    if (ft_spring > ft_max) {
-      // Slip (ft_spring > 0 here): the spring force is held at the Coulomb limit
-      // and the stored displacement shrunk to match; no damping in a slipping step.
-      ft *= ft_max / ft_spring;
-      s = ft / (-k.kt);
-    } else {
-      ft -= k.gamma_t * vt;  // stick: spring + dashpot
-    }
-    return ft;
-  } else {
-    (void)c, (void)m, (void)k, (void)fn, (void)vt, (void)shear, (void)ft_max;
-    return Vec3::Zero();
-  }
-}
-
-/// Rolling sub-model: rolling-resistance torque on i (j receives the opposite).
-/// `fn` is the total normal force, `fn_elastic` = kn * overlap, `hist` the
-/// slot's history block (only used by epsd2).
 /// Relative rolling spins below this fraction of |omega_i| + |omega_j| count as
 /// zero in the cdt model (round-off of equal spins, never real rolling).
 constexpr double kRollingSpinTolerance = 1e-10;
+/// Most history doubles any model needs (shear 3 + epsd2 torque 3).
+constexpr int kMaxHistory = 6;
 
-template <RollingModel R>
-[[gnu::always_inline]] inline Vec3 rolling_torque(const ContactState& c, const PairMaterial& m,
-                                                  const Coefficients& k, const Roots& q, double fn,
-                                                  double fn_elastic, double* hist) {
-  if constexpr (R == RollingModel::None) {
-    (void)c, (void)m, (void)k, (void)q, (void)fn, (void)fn_elastic, (void)hist;
-    return Vec3::Zero();
-  } else {
-    // Relative spin without its twisting (normal) part.
-    Vec3 w = c.omega_i - c.omega_j;
-    const double w_full = q.spin;  // |omega_i - omega_j| (cdt only)
-    w -= w.dot(c.n) * c.n;
-    if constexpr (R == RollingModel::Cdt) {
-      // Constant directional torque mu_r (kn delta) R*, opposing the rolling
-      // (tangential) part of the relative spin and scaled by its share of the
-      // whole relative spin |w_r|, twist included, as LIGGGHTS does: a contact
-      // that also twists gets a smaller rolling torque.
-      (void)hist, (void)fn;
-      // A relative spin at the round-off level of the spins themselves (two
-      // bodies turning together) gets no torque: its direction is noise.
-      // (|a| + |b|)^2 <= 2 (a^2 + b^2): a relative spin clearly above the
-      // tolerance (the usual case) is recognised without the two square roots;
-      // the factor 4 instead of 2 leaves room for the rounding of the bound.
-      const double w2 = w_full * w_full;
-      const double s2 = c.omega_i.squaredNorm() + c.omega_j.squaredNorm();
-      if (!(w2 > 4.0 * kRollingSpinTolerance * kRollingSpinTolerance * s2) &&
-          w_full <= kRollingSpinTolerance * (c.omega_i.norm() + c.omega_j.norm()))
-        return Vec3::Zero();
-      return (-m.rolling_friction * fn_elastic * c.r_eff / w_full) * w;
-    } else {
-      // Elastic-plastic spring: incremental spring torque with k_r = kt R*^2,
-      // capped at full mobilisation mu_r R* |Fn|.
-      (void)fn_elastic, (void)w_full;
-      Eigen::Map<Vec3> torque(hist);
-      const double kr = k.kt * c.r_eff * c.r_eff;
-      torque -= (kr * c.dt) * w;
-      const double t_max = m.rolling_friction * c.r_eff * std::abs(fn);
-      const double t_mag = torque.norm();
-      if (t_mag > t_max) torque *= t_max / t_mag;
-      return torque;
-    }
+/// Sub-model slots fixed at compile time. Every query takes the spec so that
+/// the formula text is the same as for RuntimeKernel; here it is ignored.
+template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
+struct Kernel {
+  static constexpr bool compiled = true;
+  static constexpr NormalModel normal(const ModelSpec&) { return N; }
+  static constexpr TangentialModel tangential(const ModelSpec&) { return T; }
+  static constexpr RollingModel rolling(const ModelSpec&) { return R; }
+  static constexpr CohesionModel cohesion(const ModelSpec&) { return C; }
+  static constexpr bool limit_force(const ModelSpec&) { return Limit; }
+  static constexpr int shear_offset(const ModelSpec&) { return T == TangentialModel::History ? 0 : -1; }
+  static constexpr int rolling_offset(const ModelSpec&) {
+    return R == RollingModel::Epsd2 ? (T == TangentialModel::History ? 3 : 0) : -1;
   }
+  static constexpr int history_size(const ModelSpec&) {
+    return (T == TangentialModel::History ? 3 : 0) + (R == RollingModel::Epsd2 ? 3 : 0);
+  }
+};
+
+/// Sub-model slots read from the spec at run time.
+struct RuntimeKernel {
+  static constexpr bool compiled = false;
+  static NormalModel normal(const ModelSpec& s) { return s.normal; }
+  static TangentialModel tangential(const ModelSpec& s) { return s.tangential; }
+  static RollingModel rolling(const ModelSpec& s) { return s.rolling; }
+  static CohesionModel cohesion(const ModelSpec& s) { return s.cohesion; }
+  static bool limit_force(const ModelSpec& s) { return s.limit_force; }
+  static int shear_offset(const ModelSpec& s) { return s.tangential == TangentialModel::History ? 0 : -1; }
+  static int rolling_offset(const ModelSpec& s) {
+    return s.rolling == RollingModel::Epsd2 ? (s.tangential == TangentialModel::History ? 3 : 0) : -1;
+  }
+  static int history_size(const ModelSpec& s) {
+    return (s.tangential == TangentialModel::History ? 3 : 0) + (s.rolling == RollingModel::Epsd2 ? 3 : 0);
+  }
+};
+
+/// PairMaterial with one value per lane.
+template <class S>
+struct MaterialT {
+  S Y_eff, G_eff, beta, friction, rolling_friction, char_velocity, cohesion_energy_density, dissipative_time;
+};
+
+template <class S>
+[[gnu::always_inline]] inline void set_material(MaterialT<S>& m, int l, const PairMaterial& p) {
+  lane::set(m.Y_eff, l, p.Y_eff);
+  lane::set(m.G_eff, l, p.G_eff);
+  lane::set(m.beta, l, p.beta);
+  lane::set(m.friction, l, p.friction);
+  lane::set(m.rolling_friction, l, p.rolling_friction);
+  lane::set(m.char_velocity, l, p.char_velocity);
+  lane::set(m.cohesion_energy_density, l, p.cohesion_energy_density);
+  lane::set(m.dissipative_time, l, p.dissipative_time);
 }
 
-/// Cohesion sub-model: magnitude of the attractive normal force (>= 0).
-/// sjkr: F = k A with A the area of the contact circle: for two spheres the
-/// circle in which the two sphere surfaces intersect,
+/// The geometry of W contacts: what prepare() reads.
+template <class S>
+struct GeometryT {
+  lane::V3<S> n;   ///< unit normal from j to i
+  S overlap;       ///< r_i + r_j - |x_i - x_j| (> 0 in contact)
+  S r_i, r_j;      ///< radii; r_j = 0: a wall
+  S r_eff, m_eff;  ///< R*, m* (a wall: r_i, m_i)
+  lane::V3<S> omega_i, omega_j;
+};
+
+/// What prepare() hands to interact(): everything the second stage reads
+/// apart from the history, the spins of i and the relative velocity. A pair
+/// loop keeps these for a block of contacts, so only what interact() needs is
+/// here (the geometry and material of the first stage are gone by then).
+template <class S>
+struct PreparedT {
+  lane::V3<S> n;  ///< unit normal from j to i
+  S overlap, r_eff;
+  S kn, kt, gamma_n, gamma_t;  ///< stiffness and damping of the normal sub-model
+  S cr_i, cr_j;                ///< lever arms r - overlap/2 (a wall: 0)
+  S friction, rolling_friction;
+  lane::V3<S> omega_j;  ///< spin of the partner
+  S spin;               ///< cdt: |omega_i - omega_j|
+  S f_coh;              ///< sjkr: the cohesive pull (>= 0); unset without cohesion
+};
+
+/// Forces and torques of W contacts.
+template <class S>
+struct ResultT {
+  lane::V3<S> force;     ///< on i (j receives -force)
+  lane::V3<S> torque_i;  ///< on i about its centre
+  lane::V3<S> torque_j;  ///< on j about its centre
+  S fn;                  ///< signed normal force (after limitForce, minus cohesion)
+  lane::V3<S> ft;        ///< tangential part of force
+};
+
+/// Cohesion sjkr: magnitude of the attractive normal force (>= 0), F = k A with
+/// A the area of the contact circle: for two spheres the circle in which the
+/// two sphere surfaces intersect,
 ///   a^2 = delta (d + r_i - r_j)(d - r_i + r_j)(d + r_i + r_j) / (4 d^2),
 ///   d = r_i + r_j - delta,
 /// for a wall (r_j = 0) the circle where the plane cuts the sphere,
 ///   a^2 = 2 r_i delta - delta^2;
 /// A = pi a^2.
-template <CohesionModel C>
-[[gnu::always_inline]] inline double cohesion_force(const ContactState& c, const PairMaterial& m) {
-  if constexpr (C == CohesionModel::Sjkr) {
-    double a2;
-    if (c.r_j > 0.0) {
-      const double d = c.r_i + c.r_j - c.overlap;
-      a2 = c.overlap * (d + c.r_i - c.r_j) * (d - c.r_i + c.r_j) * (d + c.r_i + c.r_j) / (4.0 * d * d);
+template <class S>
+[[gnu::always_inline]] inline S sjkr_force(const GeometryT<S>& g, const MaterialT<S>& m) {
+  using lane::select;
+  const S d = g.r_i + g.r_j - g.overlap;
+  const S a2_pair =
+      g.overlap * (d + g.r_i - g.r_j) * (d - g.r_i + g.r_j) * (d + g.r_i + g.r_j) / (4.0 * d * d);
+  const S a2_wall = g.overlap * (2.0 * g.r_i - g.overlap);
+  const S a2 = select(g.r_j > 0.0, a2_pair, a2_wall);
+  return m.cohesion_energy_density * M_PI * select(a2 < 0.0, lane::splat<S>(0.0), a2);
+}
+
+/// First stage: the normal sub-model's coefficients, the lever arms, the
+/// relative spin and the cohesive pull. None of it depends on the history.
+template <class K, class S>
+[[gnu::always_inline]] inline void prepare(const ModelSpec& spec, const GeometryT<S>& g,
+                                           const MaterialT<S>& m, PreparedT<S>& q) {
+  using lane::select;
+  using lane::sqrt;
+  if (K::normal(spec) == NormalModel::Hertz) {
+    // Hertz with the damping of Tsuji et al. in the form used by LIGGGHTS.
+    const S sqrtval = sqrt(S(g.r_eff * g.overlap));
+    const S sn = 2.0 * m.Y_eff * sqrtval;
+    const S st = 8.0 * m.G_eff * sqrtval;
+    q.kn = (4.0 / 3.0) * m.Y_eff * sqrtval;
+    q.kt = st;
+    if (spec.damping == DampingModel::Viscoelastic) {
+      // Brilliantov et al. (1996): the dissipative force is A d/dt of the
+      // elastic force's overlap dependence, -A (3/2) kn vn = -A S_n vn, with
+      // S_n = 2 Y* sqrt(R* delta) the tangent stiffness; the tangential
+      // dashpot uses the same relaxation time on the tangential stiffness.
+      q.gamma_n = m.dissipative_time * sn;
+      q.gamma_t = m.dissipative_time * st;
     } else {
-      a2 = c.overlap * (2.0 * c.r_i - c.overlap);
+      const S root_n = sqrt(S(sn * g.m_eff));
+      const S root_t = sqrt(S(st * g.m_eff));
+      q.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * root_n;
+      q.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * root_t;
     }
-    return m.cohesion_energy_density * M_PI * std::max(a2, 0.0);
   } else {
-    (void)c, (void)m;
-    return 0.0;
+    // Linear spring whose stiffness gives the Hertz maximum overlap at the
+    // characteristic impact velocity V:
+    //   kn = 16/15 sqrt(R*) Y* (15 m* V^2 / (16 sqrt(R*) Y*))^(1/5).
+    const S sqrt_r = sqrt(g.r_eff);
+    const S v = m.char_velocity;
+    q.kn = (16.0 / 15.0) * sqrt_r * m.Y_eff *
+           lane::pow(S(15.0 * g.m_eff * v * v / (16.0 * sqrt_r * m.Y_eff)), 0.2);
+    q.kt = spec.kt_to_kn_user ? S((2.0 / 7.0) * q.kn) : q.kn;
+    // sqrt(4 m* kn / (1 + (pi/ln e)^2)) written so that e = 1 gives exactly 0.
+    q.gamma_n = -2.0 * m.beta * sqrt(S(g.m_eff * q.kn));
+    q.gamma_t = q.gamma_n;
+  }
+  if (!spec.tangential_damping) q.gamma_t = lane::splat<S>(0.0);
+  q.n = g.n;
+  q.overlap = g.overlap;
+  q.r_eff = g.r_eff;
+  q.friction = m.friction;
+  q.rolling_friction = m.rolling_friction;
+  q.omega_j = g.omega_j;
+  if (K::cohesion(spec) == CohesionModel::Sjkr)
+    q.f_coh = sjkr_force(g, m);
+  else if constexpr (!K::compiled)
+    q.f_coh = lane::splat<S>(0.0);  // read by no one; set so that the value is defined
+  // The contact point lies in the middle of the overlap region, at distance
+  // r - delta/2 from each centre (a wall has no lever arm).
+  q.cr_i = g.r_i - 0.5 * g.overlap;
+  q.cr_j = select(g.r_j > 0.0, S(g.r_j - 0.5 * g.overlap), lane::splat<S>(0.0));
+  if (K::rolling(spec) == RollingModel::Cdt) {
+    const lane::V3<S> w = g.omega_i - g.omega_j;
+    q.spin = sqrt(dot(w, w));  // Eigen's norm: sqrt((x^2 + y^2) + z^2)
+  } else {
+    q.spin = lane::splat<S>(0.0);
   }
 }
 
-}  // namespace detail
-
-/// One contact with the sub-models fixed at compile time. Same contract as
-/// evaluate(); `Limit` replaces spec.limit_force, `C` spec.cohesion, the other
-/// spec switches (damping, tangential_damping, kt_to_kn_user,
-/// tangential_reduce) are read at run time.
-/// evaluate_prepared_t() takes the history-independent square roots from `q`
-/// (detail::contact_roots() of the same contact).
-template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
-[[gnu::always_inline]] inline void evaluate_prepared_t(const ModelSpec& spec, const ContactState& c,
-                                                       const PairMaterial& m, const detail::Roots& q,
-                                                       double* history, ContactResult& out) {
-  constexpr int kShear = 0;
-  constexpr int kRolling = detail::tangential_history_size<T>();
-  constexpr int kSize = kRolling + detail::rolling_history_size<R>();
-
-  out.torque_i.setZero();
-  out.torque_j.setZero();
-  out.ft.setZero();
-  if (!(c.overlap > 0.0)) {
-    out.force.setZero();
-    out.fn = 0.0;
-    for (int h = 0; h < kSize; ++h)
-      history[h] = 0.0;
-    return;
-  }
-
-  const detail::Coefficients k = detail::normal_coefficients<N>(spec, c, m, q);
-
+/// Second stage: forces and torques of W contacts from the first stage's `q`,
+/// the spins of the particles i, the relative velocity of the centres `v_rel`
+/// (v_i - v_j; a wall: v_i minus the wall's velocity) and the timestep `dt`. `shear` (tangential history)
+/// and `roll` (epsd2 spring torque) are the contacts' history, updated in
+/// place; a slot the model does not use is left alone. A lane whose overlap is
+/// not positive gets a zero result and a zero history.
+template <class K, class S>
+[[gnu::always_inline]] inline void interact(const ModelSpec& spec, const PreparedT<S>& q,
+                                            const lane::V3<S>& omega_i, const lane::V3<S>& v_rel, double dt,
+                                            lane::V3<S>& shear, lane::V3<S>& roll, ResultT<S>& out) {
+  using lane::select;
+  using lane::splat;
+  using V = lane::V3<S>;
+  const V n = q.n;
   // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
   // pushes the bodies apart on approach and pulls on separation.
-  const double vn = c.v_rel.dot(c.n);
-  const double fn_elastic = k.kn * c.overlap;
-  double fn = fn_elastic - k.gamma_n * vn;
-  if constexpr (Limit) {
-    if (fn < 0.0) fn = 0.0;
-  }
+  const S vn = dot(v_rel, n);
+  const S fn_elastic = q.kn * q.overlap;
+  S fn = fn_elastic - q.gamma_n * vn;
+  if (K::limit_force(spec)) fn = select(fn < 0.0, splat<S>(0.0), fn);
   // Cohesion pulls the bodies together after limitForce (which forbids only
   // the attraction of the dashpot). By default the Coulomb and rolling limits
   // below see the contact force without it (LIGGGHTS "tangential_reduce off").
-  const double f_coh = detail::cohesion_force<C>(c, m);
-  const double fn_total = fn - f_coh;
-  if constexpr (C != CohesionModel::None) {
-    if (spec.tangential_reduce) fn = std::max(fn_total, 0.0);  // net compression
+  S fn_total = fn;
+  if (K::cohesion(spec) == CohesionModel::Sjkr) {
+    fn_total = fn - q.f_coh;
+    if (spec.tangential_reduce) fn = select(fn_total < 0.0, splat<S>(0.0), fn_total);  // net compression
   }
-  out.fn = fn_total;
-  out.force = fn_total * c.n;
+  V force = fn_total * n;
+  V torque_i = lane::zero3<S>(), torque_j = lane::zero3<S>(), ft = lane::zero3<S>();
+  V s_new = shear;
 
-  if constexpr (T != TangentialModel::None) {
-    // Lever arms: the contact point lies in the middle of the overlap region,
-    // at distance r - delta/2 from each centre (a wall has no lever arm).
-    const double cr_i = c.r_i - 0.5 * c.overlap;
-    const double cr_j = c.r_j > 0.0 ? c.r_j - 0.5 * c.overlap : 0.0;
+  const TangentialModel tm = K::tangential(spec);
+  if (tm != TangentialModel::None) {
     // Tangential relative velocity of the contact points: the tangential part
     // of the centre velocities minus the surface velocity from the spins,
     // (v_rel - vn n) - w x n. w x n already lies in the tangent plane, so no
     // second projection; this order of evaluation is LIGGGHTS', and it decides
     // the round-off that CDT rolling friction amplifies in symmetric packings.
-    const Vec3 w = cr_i * c.omega_i + cr_j * c.omega_j;
-    const Vec3 vt = (c.v_rel - vn * c.n) - w.cross(c.n);
-    const Vec3 ft = detail::tangential_force<T>(c, m, k, fn, vt, history + kShear);
-    out.ft = ft;
-    out.force += ft;
+    const V w = q.cr_i * omega_i + q.cr_j * q.omega_j;
+    const V vt = (v_rel - vn * n) - cross(w, n);
+    const S ft_max = q.friction * lane::abs(fn);
+    if (tm == TangentialModel::History) {
+      // Integrate the tangential displacement, then keep it in the current
+      // tangent plane (the contact normal may have rotated since the last step).
+      V s = shear + dt * vt;
+      s = s - dot(s, n) * n;
+      const S minus_kt = -q.kt;
+      ft = minus_kt * s;
+      const S ft_spring = q.kt * lane::sqrt(dot(s, s));
+      const auto slip = ft_spring > ft_max;
+      if (lane::any(slip)) {
+        // Slip: the spring force is held at the Coulomb limit and the stored
+        // displacement shrunk to match; no damping in a slipping step. (Four
+        // divisions per lane, only when a lane slips: in a resting bed rarely.)
+        const V ft_slip = (ft_max / ft_spring) * ft;
+        const V s_slip = {ft_slip.x / minus_kt, ft_slip.y / minus_kt, ft_slip.z / minus_kt};
+        ft = select(slip, ft_slip, V(ft - q.gamma_t * vt));
+        s = select(slip, s_slip, s);
+      } else {
+        ft = ft - q.gamma_t * vt;  // stick: spring + dashpot
+      }
+      s_new = s;
+    } else {
+      // no_history: pure viscous friction, limited by Coulomb:
+      // -min(gamma_t |vt|, mu |Fn|) vt/|vt|
+      const S vt_mag = lane::sqrt(dot(vt, vt));
+      const S viscous = q.gamma_t * vt_mag;
+      const S ft_mag = select(ft_max < viscous, ft_max, viscous);
+      ft = select(vt_mag > 0.0, V((-ft_mag / vt_mag) * vt), lane::zero3<S>());
+    }
+    force = force + ft;
     // ft acts on i at x_i - cr_i n and -ft on j at x_j + cr_j n.
-    const Vec3 n_x_ft = c.n.cross(ft);
-    out.torque_i = -cr_i * n_x_ft;
-    out.torque_j = -cr_j * n_x_ft;
+    const V n_x_ft = cross(n, ft);
+    torque_i = -q.cr_i * n_x_ft;
+    torque_j = -q.cr_j * n_x_ft;
   }
 
-  if constexpr (R != RollingModel::None) {
-    const Vec3 mr = detail::rolling_torque<R>(c, m, k, q, fn, fn_elastic, history + kRolling);
-    out.torque_i += mr;
-    out.torque_j -= mr;
+  const RollingModel rm = K::rolling(spec);
+  V roll_new = roll;
+  if (rm != RollingModel::None) {
+    // Relative spin without its twisting (normal) part.
+    V wr = omega_i - q.omega_j;
+    wr = wr - dot(wr, n) * n;
+    V mr;
+    if (rm == RollingModel::Cdt) {
+      // Constant directional torque mu_r (kn delta) R*, opposing the rolling
+      // (tangential) part of the relative spin and scaled by its share of the
+      // whole relative spin |w_r|, twist included, as LIGGGHTS does: a contact
+      // that also twists gets a smaller rolling torque.
+      // A relative spin at the round-off level of the spins themselves (two
+      // bodies turning together) gets no torque: its direction is noise.
+      // (|a| + |b|)^2 <= 2 (a^2 + b^2): a relative spin clearly above the
+      // tolerance (the usual case) is recognised without the two square roots;
+      // the factor 4 instead of 2 leaves room for the rounding of the bound.
+      const S w_full = q.spin;
+      const S w2 = w_full * w_full;
+      const S s2 = dot(omega_i, omega_i) + dot(q.omega_j, q.omega_j);
+      constexpr double tol = kRollingSpinTolerance;
+      const auto clearly = w2 > 4.0 * tol * tol * s2;
+      lane::Mask<S> none{};
+      if (!lane::all(clearly)) {  // rare: spins equal to round-off
+        const S bound = tol * (lane::sqrt(dot(omega_i, omega_i)) + lane::sqrt(dot(q.omega_j, q.omega_j)));
+        none = lane::mask_andnot(clearly, w_full <= bound);
+      }
+      const S scale = -q.rolling_friction * fn_elastic * q.r_eff / w_full;
+      mr = select(none, lane::zero3<S>(), V(scale * wr));
+    } else {
+      // epsd2, an elastic-plastic spring: incremental spring torque with
+      // k_r = kt R*^2, capped at full mobilisation mu_r R* |Fn|.
+      const S kr = q.kt * q.r_eff * q.r_eff;
+      V t = roll - (kr * dt) * wr;
+      const S t_max = q.rolling_friction * q.r_eff * lane::abs(fn);
+      const S t_mag = lane::sqrt(dot(t, t));
+      t = select(t_mag > t_max, V((t_max / t_mag) * t), t);
+      roll_new = t;
+      mr = t;
+    }
+    torque_i = torque_i + mr;
+    torque_j = torque_j - mr;
   }
+
+  const auto touching = q.overlap > 0.0;
+  const V zero = lane::zero3<S>();
+  out.force = select(touching, force, zero);
+  out.torque_i = select(touching, torque_i, zero);
+  out.torque_j = select(touching, torque_j, zero);
+  out.ft = select(touching, ft, zero);
+  out.fn = select(touching, fn_total, splat<S>(0.0));
+  if (tm == TangentialModel::History) shear = select(touching, s_new, zero);
+  if (rm == RollingModel::Epsd2) roll = select(touching, roll_new, zero);
 }
 
-template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
-[[gnu::always_inline]] inline void evaluate_t(const ModelSpec& spec, const ContactState& c,
-                                              const PairMaterial& m, double* history, ContactResult& out) {
-  detail::Roots q;
-  if (c.overlap > 0.0) detail::contact_roots<N, R>(spec, c, m, q);
-  evaluate_prepared_t<N, T, R, Limit, C>(spec, c, m, q, history, out);
+/// One contact given as a ContactState: the same formulas on one lane. Same
+/// contract as contact::evaluate().
+template <class K>
+[[gnu::always_inline]] inline void evaluate_with(const ModelSpec& spec, const ContactState& c,
+                                                 const PairMaterial& m, double* history, ContactResult& out) {
+  const int nh = K::history_size(spec);
+  if (!(c.overlap > 0.0)) {
+    out = ContactResult();
+    for (int h = 0; h < nh; ++h)
+      history[h] = 0.0;
+    return;
+  }
+  using V = lane::V3<double>;
+  auto v3 = [](const Vec3& a) { return V{a[0], a[1], a[2]}; };
+  GeometryT<double> g;
+  g.n = v3(c.n);
+  g.overlap = c.overlap;
+  g.r_i = c.r_i;
+  g.r_j = c.r_j;
+  g.r_eff = c.r_eff;
+  g.m_eff = c.m_eff;
+  g.omega_i = v3(c.omega_i);
+  g.omega_j = v3(c.omega_j);
+  MaterialT<double> mat;
+  set_material(mat, 0, m);
+  PreparedT<double> q;
+  prepare<K>(spec, g, mat, q);
+  const int so = K::shear_offset(spec), ro = K::rolling_offset(spec);
+  V shear = so >= 0 ? V{history[so], history[so + 1], history[so + 2]} : lane::zero3<double>();
+  V roll = ro >= 0 ? V{history[ro], history[ro + 1], history[ro + 2]} : lane::zero3<double>();
+  ResultT<double> r;
+  interact<K>(spec, q, g.omega_i, v3(c.v_rel), c.dt, shear, roll, r);
+  if (so >= 0) lane::store(shear, 0, history + so);
+  if (ro >= 0) lane::store(roll, 0, history + ro);
+  out.force = lane::get(r.force, 0);
+  out.torque_i = lane::get(r.torque_i, 0);
+  out.torque_j = lane::get(r.torque_j, 0);
+  out.fn = r.fn;
+  out.ft = lane::get(r.ft, 0);
 }
 
-/// A compiled kernel as a type, handed to the callback of dispatch_model().
-template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, CohesionModel C = CohesionModel::None>
-struct Kernel {
-  static constexpr NormalModel normal = N;
-  static constexpr TangentialModel tangential = T;
-  static constexpr RollingModel rolling = R;
-  static constexpr bool limit_force = Limit;
-  static constexpr CohesionModel cohesion = C;
-  static constexpr int history_size =
-      detail::tangential_history_size<T>() + detail::rolling_history_size<R>();
-  [[gnu::always_inline]] static void evaluate(const ModelSpec& spec, const ContactState& c,
-                                              const PairMaterial& m, double* history, ContactResult& out) {
-    evaluate_t<N, T, R, Limit, C>(spec, c, m, history, out);
-  }
-  /// The square roots that do not depend on the history (see detail::Roots).
-  [[gnu::always_inline]] static void roots(const ModelSpec& spec, const ContactState& c,
-                                           const PairMaterial& m, detail::Roots& q) {
-    detail::contact_roots<N, R>(spec, c, m, q);
-  }
-  [[gnu::always_inline]] static void evaluate_prepared(const ModelSpec& spec, const ContactState& c,
-                                                       const PairMaterial& m, const detail::Roots& q,
-                                                       double* history, ContactResult& out) {
-    evaluate_prepared_t<N, T, R, Limit, C>(spec, c, m, q, history, out);
-  }
-};
-
-namespace detail {
-
-template <NormalModel N, TangentialModel T, RollingModel R, bool Limit, class Fn>
-inline decltype(auto) dispatch_cohesion(const ModelSpec& s, Fn&& fn) {
-  if (s.cohesion == CohesionModel::Sjkr) return fn(Kernel<N, T, R, Limit, CohesionModel::Sjkr>{});
-  return fn(Kernel<N, T, R, Limit, CohesionModel::None>{});
+/// True for the combinations compiled as Kernel types (see the top of this file).
+inline bool hot(const ModelSpec& s) {
+  return s.normal == NormalModel::Hertz && s.tangential == TangentialModel::History &&
+         (s.rolling == RollingModel::None || s.rolling == RollingModel::Cdt) &&
+         s.cohesion == CohesionModel::None;
 }
 
-template <NormalModel N, TangentialModel T, RollingModel R, class Fn>
-inline decltype(auto) dispatch_limit(const ModelSpec& s, Fn&& fn) {
-  if (s.limit_force) return dispatch_cohesion<N, T, R, true>(s, fn);
-  return dispatch_cohesion<N, T, R, false>(s, fn);
-}
-
-template <NormalModel N, TangentialModel T, class Fn>
-inline decltype(auto) dispatch_rolling(const ModelSpec& s, Fn&& fn) {
-  switch (s.rolling) {
-    case RollingModel::Cdt:
-      return dispatch_limit<N, T, RollingModel::Cdt>(s, fn);
-    case RollingModel::Epsd2:
-      return dispatch_limit<N, T, RollingModel::Epsd2>(s, fn);
-    case RollingModel::None:
-      break;
-  }
-  return dispatch_limit<N, T, RollingModel::None>(s, fn);
-}
-
-template <NormalModel N, class Fn>
-inline decltype(auto) dispatch_tangential(const ModelSpec& s, Fn&& fn) {
-  switch (s.tangential) {
-    case TangentialModel::None:
-      return dispatch_rolling<N, TangentialModel::None>(s, fn);
-    case TangentialModel::NoHistory:
-      return dispatch_rolling<N, TangentialModel::NoHistory>(s, fn);
-    case TangentialModel::History:
-      break;
-  }
-  return dispatch_rolling<N, TangentialModel::History>(s, fn);
-}
-
-}  // namespace detail
-
-/// Call fn(Kernel<...>{}) with the kernel type matching the runtime spec and
-/// return what fn returns (fn must return the same type for every kernel).
+/// Call fn(K{}) with the kernel type for the run-time spec: one of the four
+/// compiled hot kernels, or RuntimeKernel; return what fn returns (the same
+/// type for every kernel).
 template <class Fn>
-inline decltype(auto) dispatch_model(const ModelSpec& spec, Fn&& fn) {
-  if (spec.normal == NormalModel::Hooke) return detail::dispatch_tangential<NormalModel::Hooke>(spec, fn);
-  return detail::dispatch_tangential<NormalModel::Hertz>(spec, fn);
+inline decltype(auto) dispatch_model(const ModelSpec& s, Fn&& fn) {
+  constexpr auto H = NormalModel::Hertz;
+  constexpr auto TH = TangentialModel::History;
+  if (hot(s)) {
+    if (s.rolling == RollingModel::Cdt) {
+      if (s.limit_force) return fn(Kernel<H, TH, RollingModel::Cdt, true>{});
+      return fn(Kernel<H, TH, RollingModel::Cdt, false>{});
+    }
+    if (s.limit_force) return fn(Kernel<H, TH, RollingModel::None, true>{});
+    return fn(Kernel<H, TH, RollingModel::None, false>{});
+  }
+  return fn(RuntimeKernel{});
 }
 
 }  // namespace granary::contact

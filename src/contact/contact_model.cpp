@@ -286,12 +286,12 @@ PairMaterial mix_materials(double Y_i, double nu_i, double Y_j, double nu_j, dou
 // Dispatch
 
 KernelFn select_kernel(const ModelSpec& spec) {
-  return dispatch_model(spec, [](auto kernel) -> KernelFn { return &decltype(kernel)::evaluate; });
+  return dispatch_model(spec, [](auto kernel) -> KernelFn { return &evaluate_with<decltype(kernel)>; });
 }
 
 void evaluate(const ModelSpec& spec, const ContactState& c, const PairMaterial& m, double* history,
               ContactResult& out) {
-  dispatch_model(spec, [&](auto kernel) { decltype(kernel)::evaluate(spec, c, m, history, out); });
+  dispatch_model(spec, [&](auto kernel) { evaluate_with<decltype(kernel)>(spec, c, m, history, out); });
 }
 
 }  // namespace granary::contact

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products of Vec3
 #include <cstddef>
 #include <string>
 #include <utility>

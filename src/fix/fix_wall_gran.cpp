@@ -395,7 +395,7 @@ void FixWallGran::post_force() {
   const int nvisit = use_near ? static_cast<int>(near_.size()) : p.nlocal;
   contact::dispatch_model(spec, [&](auto kernel) {
     using K = decltype(kernel);
-    constexpr int nh = K::history_size;
+    const int nh = K::history_size(spec);
     contact::ContactState c;
     contact::ContactResult res;
     c.dt = dt;
@@ -422,7 +422,7 @@ void FixWallGran::post_force() {
         touching = contact(x[i], r, overlap, n);
       }
       if (!touching) {
-        if constexpr (nh > 0) {
+        if (nh > 0) {
           bool stale = false;
           for (int q = 0; q < nh; ++q)
             stale |= h[q] != 0.0;
@@ -439,7 +439,7 @@ void FixWallGran::post_force() {
       c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
       c.v_rel = v[i];
       c.omega_i = omega[i];
-      K::evaluate(spec, c, materials(type[i], wall_type), h, res);
+      contact::evaluate_with<K>(spec, c, materials(type[i], wall_type), h, res);
       f[i] += res.force;
       torque[i] += res.torque_i;
     }
@@ -500,16 +500,18 @@ void FixWallGran::post_force_mesh() {
 
   contact::dispatch_model(spec, [&](auto kernel) {
     using K = decltype(kernel);
-    constexpr int nh = K::history_size;
-    constexpr int stride = kSlotHeader + nh;
+    const int nh = K::history_size(spec);
+    const int stride = kSlotHeader + nh;
     contact::ContactState c;
     contact::ContactResult res;
     c.dt = dt;
     c.r_j = 0.0;
     c.omega_j.setZero();
-    double fresh[kMeshSlots * stride + 1];  // this step's slots, written back at the end
-    double prev[kMeshSlots * stride + 1];   // the slots of a particle with extra ones
-    double zeros[nh > 0 ? nh : 1] = {};
+    double fresh[kMeshSlots * (kSlotHeader + contact::kMaxHistory) +
+                 1];  // this step's slots, written back at the end
+    double prev[kMeshSlots * (kSlotHeader + contact::kMaxHistory) +
+                1];  // the slots of a particle with extra ones
+    double zeros[contact::kMaxHistory] = {};
     // At run setup the forces leave the history as it was: the per-particle
     // slots are restored by Update, the extra ones are not written.
     const bool keep_extra = engine_.update->in_setup_forces;
@@ -524,7 +526,8 @@ void FixWallGran::post_force_mesh() {
       const Vec3 xi = x[i];
       // this particle's stored slots: the per-particle ones, followed by its
       // extra ones when it had more contacts than those hold
-      double* const h_inline = nh > 0 ? hist_base + static_cast<std::size_t>(i) * kInlineSlots * stride : nullptr;
+      double* const h_inline =
+          nh > 0 ? hist_base + static_cast<std::size_t>(i) * kInlineSlots * stride : nullptr;
       const double* h = h_inline;
       int nold = nh > 0 ? static_cast<int>(count[i]) : 0;
       if (nold > kInlineSlots) {
@@ -532,7 +535,8 @@ void FixWallGran::post_force_mesh() {
         const int nextra = it != extra_.end() ? static_cast<int>(it->second.size()) / stride : 0;
         nold = std::min(kInlineSlots + nextra, kMeshSlots);
         std::copy_n(h_inline, kInlineSlots * stride, prev);
-        if (nextra > 0) std::copy_n(it->second.data(), (nold - kInlineSlots) * stride, prev + kInlineSlots * stride);
+        if (nextra > 0)
+          std::copy_n(it->second.data(), (nold - kInlineSlots) * stride, prev + kInlineSlots * stride);
         h = prev;
       }
       int ncand = 0;
@@ -574,7 +578,7 @@ void FixWallGran::post_force_mesh() {
         }
       }
       if (ncand == 0) {
-        if constexpr (nh > 0) {
+        if (nh > 0) {
           if (count[i] != 0.0) {
             if (keep_extra) {
               for (int q = 0; q < kInlineSlots * stride; ++q)
@@ -615,7 +619,7 @@ void FixWallGran::post_force_mesh() {
       // match this step's contacts with the stored ones
       int source[kMeshSlots];
       bool used[kMeshSlots] = {};
-      if constexpr (nh > 0) {
+      if (nh > 0) {
         for (int k = 0; k < nkept; ++k) {
           const Candidate& ck = cand[kept[k]];
           const double key = key_base_[ck.mesh] + ck.tri + 1;
@@ -651,7 +655,7 @@ void FixWallGran::post_force_mesh() {
         const Candidate& ck = cand[kept[k]];
         TriMesh& mesh = meshes_[ck.mesh]->mesh;
         double* hk = zeros;
-        if constexpr (nh > 0) {
+        if (nh > 0) {
           double* slot = fresh + k * stride;
           slot[0] = key_base_[ck.mesh] + ck.tri + 1;
           slot[1] = ck.point[0];
@@ -665,13 +669,13 @@ void FixWallGran::post_force_mesh() {
         c.n = ck.n;
         c.overlap = ck.overlap;
         c.v_rel = v[i] - mesh.velocity_at(ck.tri, ck.point);  // the wall material at the contact point
-        K::evaluate(spec, c, materials(type[i], meshes_[ck.mesh]->wall_type), hk, res);
+        contact::evaluate_with<K>(spec, c, materials(type[i], meshes_[ck.mesh]->wall_type), hk, res);
         f[i] += res.force;
         torque[i] += res.torque_i;
         total -= res.force;
         mesh.tri_force[ck.tri] -= res.force;
       }
-      if constexpr (nh > 0) {
+      if (nh > 0) {
         const int ninline = std::min(nkept, kInlineSlots);
         for (int q = 0; q < ninline * stride; ++q)
           h_inline[q] = fresh[q];

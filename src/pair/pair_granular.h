@@ -30,25 +30,13 @@ class PairGranular : public Pair {
  private:
   template <class Kernel>
   void loop();
-  template <class Kernel>
-  void scalar_loop();
   void take_restart_history();
   contact::ModelSpec spec_;
   MaterialTable materials_;
   ContactHistory history_;
   bool coeff_set_ = false;
-  // pair loop scratch for the contacts of one particle: list positions, and
-  // geometry and history-independent square roots computed ahead of the kernel
-  std::vector<int> contacts_;
-  struct Prepared {
-    double r2, inv_r, overlap, r_eff, m_eff;
-    contact::detail::Roots roots;
-  };
-  std::vector<Prepared> prepared_;
-  template <class Kernel>
-  void lane_loop();
-  std::vector<int> owner_;            // particle of each neighbour-list entry (lane loop)
-  std::int64_t owner_build_ = -1;     // the list build owner_ belongs to
+  std::vector<int> owner_;         // particle of each neighbour-list entry (pair loop)
+  std::int64_t owner_build_ = -1;  // the list build owner_ belongs to
 };
 
 /// `pair_style gran ...` (LIGGGHTS spelling).

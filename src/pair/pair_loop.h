@@ -1,0 +1,236 @@
+// The neighbour loop of the granular pair styles: one loop for every contact
+// model and both widths. It is templated on the sub-model slots K
+// (contact_kernels.h: a compiled hot kernel or RuntimeKernel) and on the
+// number type S (double: one contact at a time; lane::D2: two).
+//
+// In blocks of about kBlock contacts:
+//  1. all list entries as one stream, W at a time: which touch, without a
+//     branch per entry (whether a listed pair touches is close to a coin toss
+//     in a dense bed, and a mispredicted branch per entry costs more than the
+//     distance test itself); the history of contacts that ended is cleared;
+//     the contacts are appended to the block with their particle;
+//  2. for all contacts of the block, W at a time (lanes may hold contacts of
+//     different particles): geometry and contact::prepare() (the square roots
+//     and divisions that do not depend on the history: in one contact they form
+//     a long chain of dependent slow operations, across contacts they are
+//     independent and the processor overlaps them);
+//  3. contact::interact() and the sums, contact after contact in the list's
+//     order, so the sums are the same additions in the same order whatever W.
+// Long stretches of entries and contacts instead of a particle's few keep the
+// loops from ending (a mispredicted branch) at every particle. A last group
+// with fewer than W contacts repeats its last contact in the spare lanes;
+// their results are not used. The results are the same to the last bit for
+// every W (unittest/test_pair_lane_loop.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "contact/contact_kernels.h"
+#include "contact/lane.h"
+#include "core/vec3.h"
+#include "pair/materials.h"
+
+namespace granary {
+
+/// What the pair loop reads and writes.
+struct PairLoopData {
+  int nlocal = 0;
+  bool newton = false;
+  const int* offset = nullptr;  ///< list entries of particle i: offset[i] .. offset[i+1]
+  const int* neigh = nullptr;
+  const int* owner = nullptr;  ///< particle of each list entry
+  const Vec3* x = nullptr;
+  const Vec3* v = nullptr;
+  const Vec3* omega = nullptr;
+  Vec3* f = nullptr;
+  Vec3* torque = nullptr;
+  const double* radius = nullptr;
+  const double* rmass = nullptr;
+  const double* body_mass = nullptr;  ///< null without clumps
+  const int* type = nullptr;
+  std::uint8_t* touch = nullptr;  ///< per list entry: touched at the last evaluation (models with history)
+  double* hist = nullptr;         ///< per list entry: history_size doubles
+  const MaterialTable* materials = nullptr;
+  const contact::ModelSpec* spec = nullptr;
+  double dt = 0.0;  ///< timestep of the history integration
+};
+
+constexpr int kPairBlock = 64;
+
+template <class K, class S>
+void pair_loop(const PairLoopData& L) {
+  using namespace contact;
+  using lane::V3;
+  constexpr int W = lane::width<S>();
+  const ModelSpec spec = *L.spec;
+  const int nh = K::history_size(spec);
+  const int so = K::shear_offset(spec), ro = K::rolling_offset(spec);
+  const int nlocal = L.nlocal;
+  const int* const neigh = L.neigh;
+  const Vec3* const x = L.x;
+  const Vec3* const v = L.v;
+  const Vec3* const omega = L.omega;
+  Vec3* const f = L.f;
+  Vec3* const torque = L.torque;
+  const double* const radius = L.radius;
+  const double* const rmass = L.rmass;
+  const double* const body_mass = L.body_mass;
+  const int* const type = L.type;
+  std::uint8_t* const touch = L.touch;
+  double* const hist = L.hist;
+  const MaterialTable& materials = *L.materials;
+  const double dt = L.dt;
+  const bool newton = L.newton;
+  // the block: list position and particle of each contact, the first stage's
+  // results; fewer than kPairBlock contacts before the last group of W entries
+  constexpr int kCap = kPairBlock + W;
+  int blk_k[kCap], blk_i[kCap];
+  PreparedT<S> prep[(kCap + W - 1) / W];
+
+  // sub-spheres of clumps use their body's mass (filled by fix multisphere)
+  auto mass = [&](int a) { return body_mass && body_mass[a] > 0.0 ? body_mass[a] : rmass[a]; };
+
+  // stages 2 and 3 for the n contacts of the block
+  auto flush = [&](int n) {
+    // R* and m* again only for pairs unlike the last group's (exact
+    // comparisons: the same operands give the same quotients); radii are
+    // positive, so nothing matches at first
+    S last_ri = lane::splat<S>(-1.0), last_rj = last_ri, last_mi = last_ri, last_mj = last_ri;
+    S r_eff = last_ri, m_eff = last_ri;
+    for (int m = 0; m < n; m += W) {
+      int ii[W], j[W];
+      for (int l = 0; l < W; ++l) {
+        const int c = std::min(m + l, n - 1);
+        ii[l] = blk_i[c];
+        j[l] = neigh[blk_k[c]];
+      }
+      GeometryT<S> g;  // the first stage's inputs: locals, so unused fields cost nothing
+      MaterialT<S> mat{};
+      const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, j);
+      const S r_i = lane::gather<S>(radius, ii);
+      const S r_j = lane::gather<S>(radius, j);
+      S m_i{}, m_j{};
+      for (int l = 0; l < W; ++l) {
+        lane::set(m_i, l, mass(ii[l]));
+        lane::set(m_j, l, mass(j[l]));
+      }
+      if (!lane::all(lane::mask_and(lane::mask_and(r_i == last_ri, r_j == last_rj),
+                                    lane::mask_and(m_i == last_mi, m_j == last_mj)))) {
+        r_eff = r_i * r_j / (r_i + r_j);
+        m_eff = m_i * m_j / (m_i + m_j);
+        last_ri = r_i;
+        last_rj = r_j;
+        last_mi = m_i;
+        last_mj = m_j;
+      }
+      // 1/r, then n = d * (1/r), not d / r: the same rounding as LIGGGHTS
+      // (round-off spins feed the cdt rolling torque, so the last bit matters)
+      const S r = lane::sqrt(dot(d, d));
+      const S inv_r = 1.0 / r;
+      g.n = {d.x * inv_r, d.y * inv_r, d.z * inv_r};
+      g.overlap = (r_i + r_j) - r;
+      g.r_i = r_i;
+      g.r_j = r_j;
+      g.r_eff = r_eff;
+      g.m_eff = m_eff;
+      g.omega_i = lane::gather<S>(omega, ii);
+      g.omega_j = lane::gather<S>(omega, j);
+      for (int l = 0; l < W; ++l)
+        set_material(mat, l, materials(type[ii[l]], type[j[l]]));
+      prepare<K>(spec, g, mat, prep[m / W]);
+    }
+    ResultT<S> out;
+    for (int m = 0; m < n; m += W) {
+      const int nvalid = std::min(W, n - m);
+      int kk[W], ii[W], j[W];
+      for (int l = 0; l < W; ++l) {
+        const int c = std::min(m + l, n - 1);
+        kk[l] = blk_k[c];
+        ii[l] = blk_i[c];
+        j[l] = neigh[kk[l]];
+      }
+      const V3<S> v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
+      V3<S> shear = lane::zero3<S>(), roll = lane::zero3<S>();
+      for (int l = 0; l < W; ++l) {
+        const double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
+        if (so >= 0) lane::set(shear, l, h + so);
+        if (ro >= 0) lane::set(roll, l, h + ro);
+      }
+      interact<K>(spec, prep[m / W], lane::gather<S>(omega, ii), v_rel, dt, shear, roll, out);
+      for (int l = 0; l < nvalid; ++l) {
+        if (nh > 0) {
+          double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
+          if (so >= 0) lane::store(shear, l, h + so);
+          if (ro >= 0) lane::store(roll, l, h + ro);
+          touch[kk[l]] = 1;
+        }
+        // i's sums in memory, contact after contact: the same additions in
+        // the same order as a running sum (no partner of i's row is i)
+        const Vec3 force = lane::get(out.force, l);
+        f[ii[l]] += force;
+        torque[ii[l]] += lane::get(out.torque_i, l);
+        if (newton || j[l] < nlocal) {
+          f[j[l]] -= force;
+          torque[j[l]] += lane::get(out.torque_j, l);
+        }
+      }
+    }
+  };
+
+  // a contact that ended: forget its history (rare)
+  auto forget = [&](int k) {
+    touch[k] = 0;
+    double* h = hist + static_cast<std::size_t>(k) * nh;
+    for (int q = 0; q < nh; ++q)
+      h[q] = 0.0;
+  };
+
+  // Stage 1 over all list entries as one stream, W at a time (entries of
+  // consecutive particles lie one after the other; `owner` names each one's
+  // particle), appending the contacts to the block.
+  const int* const owner = L.owner;
+  const int nentries = L.offset[nlocal];
+  int nblock = 0;
+  int k = 0;
+  for (; k + W <= nentries; k += W) {
+    int ii[W];
+    for (int l = 0; l < W; ++l)
+      ii[l] = owner[k + l];
+    const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, neigh + k);
+    const S rsum = lane::gather<S>(radius, ii) + lane::gather<S>(radius, neigh + k);
+    const S r2 = dot(d, d);
+    const auto t = lane::mask_and(r2 < rsum * rsum, r2 != 0.0);
+    bool ended = false;
+    for (int l = 0; l < W; ++l) {
+      const int tl = lane::on(t, l);
+      blk_k[nblock] = k + l;
+      blk_i[nblock] = ii[l];
+      nblock += tl;
+      if (nh > 0) ended |= !tl & (touch[k + l] != 0);
+    }
+    if (ended)
+      for (int l = 0; l < W; ++l)
+        if (!lane::on(t, l) && touch[k + l] != 0) forget(k + l);
+    if (nblock >= kPairBlock) {
+      flush(nblock);
+      nblock = 0;
+    }
+  }
+  for (; k < nentries; ++k) {  // the last entries, one lane's arithmetic
+    const int i = owner[k];
+    const int j = neigh[k];
+    const Vec3 d = x[i] - x[j];
+    const double rsum = radius[i] + radius[j];
+    const double r2 = d.squaredNorm();
+    const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
+    blk_k[nblock] = k;
+    blk_i[nblock] = i;
+    nblock += touching;
+    if (nh > 0 && !touching && touch[k] != 0) forget(k);
+  }
+  if (nblock > 0) flush(nblock);
+}
+
+}  // namespace granary
