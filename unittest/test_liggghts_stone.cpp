@@ -57,6 +57,7 @@
 #include "fix/fix_multisphere.h"
 #include "fix/fix_particletemplate_multisphere.h"
 #include "fix/modify.h"
+#include "skip.h"
 
 namespace {
 
@@ -105,14 +106,14 @@ struct Tutorial {
 /// warning, when either is missing, so the test is skipped.
 bool locate_tutorial(Tutorial& t, const std::string& dir_prefix) {
   if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
-    WARN("liggghts not found: test skipped");
+    granary::test::skip("liggghts not found (package liggghts)");
     return false;
   }
   const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
   t.input = find_tutorial_file(listing, "multisphere_stone_restitution/in.multisphere");
   t.stone = find_tutorial_file(listing, "multisphere_stone_restitution/data/stone1.multisphere");
   if (t.input.empty() || t.stone.empty()) {
-    WARN("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found: test skipped");
+    granary::test::skip("LIGGGHTS tutorial multisphere_stone_restitution (package liggghts-doc) not found");
     return false;
   }
   auto dir_template = granary::test::temp_template(dir_prefix);

@@ -209,8 +209,7 @@ void Comm::exchange(ContactHistory* history) {
       first_lost = buf;
     }
     ++nlost;
-    if (history) history->forget_particle(p.id[i]);
-    p.remove_local(i);
+    engine_.delete_particle(i);  // slot i now holds another particle: look at it next
   }
 
   for (int d = 0; d < 3; ++d) {

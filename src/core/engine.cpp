@@ -9,10 +9,12 @@
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "fix/modify.h"
+#include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
 #include "output/output.h"
 #include "output/thermo.h"
 #include "pair/force.h"
+#include "pair/pair.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -58,6 +60,22 @@ void Engine::destroy_subsystems() {
   groups.reset();
   domain.reset();
   particles.reset();
+}
+
+void Engine::delete_particle(int i) {
+  ContactHistory* history = force->pair ? force->pair->history() : nullptr;
+  if (history) history->forget_particle(particles->id[i]);
+  particles->remove_local(i);
+}
+
+long long Engine::delete_particles(const std::vector<char>& doomed) {
+  long long n = 0;
+  for (int i = particles->nlocal - 1; i >= 0; --i) {
+    if (!doomed[i]) continue;
+    delete_particle(i);
+    ++n;
+  }
+  return n;
 }
 
 void Engine::clear() {

@@ -74,6 +74,17 @@ class Engine {
   /// Per-atom values of fix ID, same indexing.
   void fix_peratom(const std::string& id, int col, std::vector<double>& out);
 
+  // ---- deleting particles (engine.cpp): every deletion goes through here
+  /// Delete owned particle i and everything keyed on it (its contact history
+  /// in the pair style's store; per-particle fields go with the particle).
+  /// The last owned particle moves into slot i and ghosts are dropped. Not
+  /// collective; body records of clumps are FixMultisphere's to remove.
+  void delete_particle(int i);
+  /// Delete the owned particles with doomed[i] != 0 (nlocal entries), from the
+  /// last to the first (a particle moved into a freed slot has been looked at
+  /// already). Returns the number deleted on this rank.
+  long long delete_particles(const std::vector<char>& doomed);
+
   MPI_Comm world;
   int rank = 0;
   int nprocs = 1;

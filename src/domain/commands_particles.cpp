@@ -870,9 +870,7 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
     for (int i = 0; i < p.nlocal; ++i)
       if (p.body[i] >= 0 && gone.count(static_cast<long long>(p.body[i]))) doomed[i] = 1;
   }
-  // from the end, so the particle moved into slot i has been looked at already
-  for (int i = p.nlocal - 1; i >= 0; --i)
-    if (doomed[i]) p.remove_local(i);
+  e.delete_particles(doomed);
   p.clear_ghosts();
   // whole clumps removed: their body records go too
   if (mol && !gone_bodies.empty())

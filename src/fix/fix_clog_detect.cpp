@@ -587,14 +587,10 @@ void FixClogDetect::pre_exchange() {
   Engine& e = engine_;
   Particles& p = *e.particles;
   std::sort(pending_ids_.begin(), pending_ids_.end());
-  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
-  long long removed = 0;
-  for (int i = p.nlocal - 1; i >= 0; --i) {
-    if (p.body[i] >= 0 || !std::binary_search(pending_ids_.begin(), pending_ids_.end(), p.id[i])) continue;
-    if (history) history->forget_particle(p.id[i]);
-    p.remove_local(i);
-    ++removed;
-  }
+  std::vector<char> doomed(p.nlocal, 0);
+  for (int i = 0; i < p.nlocal; ++i)
+    doomed[i] = p.body[i] < 0 && std::binary_search(pending_ids_.begin(), pending_ids_.end(), p.id[i]);
+  long long removed = e.delete_particles(doomed);
   if (!pending_bodies_.empty() && ms_) removed += ms_->remove_bodies(pending_bodies_);
   long long all = 0;
   MPI_Allreduce(&removed, &all, 1, MPI_LONG_LONG, MPI_SUM, e.world);

@@ -28,7 +28,6 @@ namespace granary {
 namespace {
 
 constexpr const char* kIndexField = "multisphere/index";
-constexpr const char* kMassField = "body_mass";
 
 /// cos and sin of x. NO_SQUISH's half angles are small (|omega| dt / 2, about
 /// 1e-3): below 0.01 the Taylor series to x^6 / x^7 equals the functions to
@@ -139,7 +138,7 @@ FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, a
 void FixMultisphere::find_fields() {
   Particles& p = *engine_.particles;
   index_field_ = p.add_field(kIndexField, 1, false, true);
-  mass_field_ = p.add_field(kMassField, 1, true, true);
+  mass_field_ = p.add_field(kBodyMassField, 1, true, true);
 }
 
 FixMultisphere* FixMultisphere::find(const Modify& modify) {
@@ -330,14 +329,10 @@ long long FixMultisphere::remove_incomplete_bodies() {
       ++ndoomed;
     }
   }
-  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
-  long long removed = 0;
-  for (int i = p.nlocal - 1; i >= 0; --i) {
-    if (p.body[i] < 0 || !doomed[bodies_.find(p.body[i])]) continue;
-    if (history) history->forget_particle(p.id[i]);
-    p.remove_local(i);
-    ++removed;
-  }
+  std::vector<char> gone(p.nlocal, 0);
+  for (int i = 0; i < p.nlocal; ++i)
+    gone[i] = p.body[i] >= 0 && doomed[bodies_.find(p.body[i])];
+  const long long removed = e.delete_particles(gone);
   long long removed_all = 0;
   MPI_Allreduce(&removed, &removed_all, 1, MPI_LONG_LONG, MPI_SUM, e.world);
   bodies_.remove(doomed);
@@ -362,16 +357,12 @@ long long FixMultisphere::remove_bodies(const std::vector<tagint>& ids) {
     any = any || b >= 0;
   }
   if (!any) return 0;
-  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
-  long long removed = 0;
-  for (int i = p.nlocal - 1; i >= 0; --i) {
-    if (p.body[i] < 0) continue;
-    const int b = bodies_.find(p.body[i]);
-    if (b < 0 || !doomed[b]) continue;
-    if (history) history->forget_particle(p.id[i]);
-    p.remove_local(i);
-    ++removed;
+  std::vector<char> gone(p.nlocal, 0);
+  for (int i = 0; i < p.nlocal; ++i) {
+    const int b = p.body[i] >= 0 ? bodies_.find(p.body[i]) : -1;
+    gone[i] = b >= 0 && doomed[b];
   }
+  const long long removed = e.delete_particles(gone);
   bodies_.remove(doomed);
   bodies_changed();
   reindex();  // body indices moved (collective: every rank removes the same bodies)

@@ -200,6 +200,7 @@ void FixWallGran::unpack_restart(const std::string& in) {
 
 void FixWallGran::init() {
   materials_.build(engine_, spec_, "fix " + id + " wall/gran");
+  body_mass_ = FieldRef(*engine_.particles, kBodyMassField);
   if (nhist_ > 0) field_ = engine_.particles->find_field(field_name_);
   if (mesh_ && nhist_ > 0) {
     // the slot counts follow from the slots (also for files that lack them)
@@ -367,8 +368,7 @@ void FixWallGran::post_force() {
   const double dt = engine_.update->history_dt();
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
   // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
-  const int body_mass_field = p.find_field("body_mass");
-  const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  const double* body_mass = body_mass_.data(p);
   // Planes are tested inline (one coordinate per particle); this loop runs for
   // every particle near the wall on every step, so no calls or stores unless in contact.
   const bool plane = shape_ != Shape::ZCylinder;
@@ -468,8 +468,7 @@ void FixWallGran::post_force() {
 void FixWallGran::post_force_mesh() {
   Particles& p = *engine_.particles;
   const double dt = engine_.update->history_dt();
-  const int body_mass_field = p.find_field("body_mass");
-  const double* body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  const double* body_mass = body_mass_.data(p);
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
   double* const count = nhist_ > 0 ? p.extras[count_field_].data.data() : nullptr;
   const Vec3* const x = p.x.data();

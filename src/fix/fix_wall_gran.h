@@ -18,6 +18,7 @@
 #include "core/vec3.h"
 #include "fix/fix.h"
 #include "pair/materials.h"
+#include "particles/particles.h"
 
 #include <cstdint>
 #include <string>
@@ -77,13 +78,14 @@ class FixWallGran : public Fix {
   // mesh form: number of occupied contact slots per particle, a dense field so
   // that particles away from the mesh skip their (large) slot rows entirely
   int count_field_ = -1;
+  FieldRef body_mass_;  // clump mass of each sub-sphere (fix multisphere), found at init
   std::string count_name_;
   int nhist_ = 0;
   std::string field_name_;
 
   // particles within reach of the wall (see post_neighbor)
   std::vector<int> near_;
-  std::int64_t near_build_ = -1;   // Neighbor::nbuilds when near_ was made; -1: none
+  std::int64_t near_build_ = -1;  // Neighbor::nbuilds when near_ was made; -1: none
   std::vector<long long> moves_;  // mesh form: TriMesh::moves() of each mesh when near_ was made
   /// Whether near_ holds every particle that can touch the wall now.
   bool near_current() const;

@@ -84,6 +84,7 @@ void PairGranular::coeff(const Args& args) {
 void PairGranular::init() {
   if (!coeff_set_) throw InputError("pair style " + style + " needs 'pair_coeff * *' before run");
   materials_.build(engine_, spec_, "pair_style " + style);
+  body_mass_ = FieldRef(*engine_.particles, kBodyMassField);
   std::vector<double> signs(history_size());
   if (!signs.empty()) history_swap_signs(signs.data());
   if (history_.nvalues() != history_size()) history_.configure(history_size(), signs);
@@ -146,8 +147,7 @@ void PairGranular::loop() {
   L.torque = p.torque.data();
   L.radius = p.radius.data();
   L.rmass = p.rmass.data();
-  const int body_mass_field = p.find_field("body_mass");
-  L.body_mass = body_mass_field >= 0 ? p.extras[body_mass_field].data.data() : nullptr;
+  L.body_mass = body_mass_.data(p);
   L.type = p.type.data();
   L.touch = nh > 0 ? history_.touch_.data() : nullptr;
   L.hist = nh > 0 ? history_.values_.data() : nullptr;

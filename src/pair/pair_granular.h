@@ -11,6 +11,7 @@
 #include "neighbor/contact_history.h"
 #include "pair/materials.h"
 #include "pair/pair.h"
+#include "particles/particles.h"
 
 namespace granary {
 
@@ -35,6 +36,7 @@ class PairGranular : public Pair {
   MaterialTable materials_;
   ContactHistory history_;
   bool coeff_set_ = false;
+  FieldRef body_mass_;             ///< clump mass of each sub-sphere (fix multisphere), found at init
   std::vector<int> owner_;         // particle of each neighbour-list entry (pair loop)
   std::int64_t owner_build_ = -1;  // the list build owner_ belongs to
 };

@@ -28,6 +28,12 @@ struct ExtraField {
   std::vector<double> data;  // ncomp values per particle
 };
 
+/// Extra fields read by styles other than the one that registers them, by a
+/// FieldRef obtained once at set-up (never a name looked up in a loop):
+/// the mass of the clump a sub-sphere belongs to (0 for a free sphere),
+/// registered and kept current by fix multisphere, read by the contact loops.
+inline constexpr const char* kBodyMassField = "body_mass";
+
 class Particles {
  public:
   Particles();
@@ -101,6 +107,24 @@ class Particles {
   void pack_extras(int i, bool ExtraField::*flag, std::vector<double>& buf) const;
   int unpack_extras(int i, bool ExtraField::*flag, const double* buf);
   std::vector<int> map_;
+};
+
+/// A registered extra field, found once by name (at a style's init) and read
+/// by index after: data() is the field's values, nullptr when no style has
+/// registered the field (or it was released).
+class FieldRef {
+ public:
+  FieldRef() = default;
+  FieldRef(const Particles& p, const char* name) : index_(p.find_field(name)) {}
+  double* data(Particles& p) const {
+    return index_ >= 0 && !p.extras[index_].data.empty() ? p.extras[index_].data.data() : nullptr;
+  }
+  const double* data(const Particles& p) const {
+    return index_ >= 0 && !p.extras[index_].data.empty() ? p.extras[index_].data.data() : nullptr;
+  }
+
+ private:
+  int index_ = -1;
 };
 
 }  // namespace granary
