@@ -37,7 +37,7 @@
 #include "core/error.h"
 #include "core/update.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 #include "script_engine.h"
 

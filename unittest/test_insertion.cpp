@@ -25,7 +25,7 @@
 #include "fix/fix_insert_pack.h"
 #include "fix/fix_insert_rate_region.h"
 #include "fix/fix_particledistribution_discrete.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 using Catch::Matchers::Contains;

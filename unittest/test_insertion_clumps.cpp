@@ -35,7 +35,7 @@
 #include "fix/fix_insert_pack.h"
 #include "fix/fix_multisphere.h"
 #include "fix/fix_particledistribution_discrete.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 using granary::Engine;

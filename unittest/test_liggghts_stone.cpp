@@ -56,7 +56,7 @@
 #include "core/logger.h"
 #include "fix/fix_multisphere.h"
 #include "fix/fix_particletemplate_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "skip.h"
 
 namespace {

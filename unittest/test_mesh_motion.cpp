@@ -14,7 +14,7 @@
 
 #include "core/engine.h"
 #include "fix/fix_mesh_surface.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "mesh_files.h"
 #include "particles/particles.h"
 #include "script_engine.h"

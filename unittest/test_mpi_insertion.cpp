@@ -21,7 +21,7 @@
 #include "core/logger.h"
 #include "neighbor/neighbor.h"
 #include "neighbor/contact_history.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 

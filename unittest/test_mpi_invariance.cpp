@@ -20,7 +20,7 @@
 #include "core/logger.h"
 #include "core/update.h"
 #include "neighbor/contact_history.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 

@@ -32,7 +32,7 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace {

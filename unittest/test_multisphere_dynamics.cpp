@@ -20,7 +20,7 @@
 #include "core/logger.h"
 #include "core/update.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 using granary::Bodies;

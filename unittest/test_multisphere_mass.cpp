@@ -1,4 +1,4 @@
-// Mass properties of sphere clumps (src/fix/mass_properties.cpp) and the
+// Mass properties of sphere clumps (src/geometry/mass_properties.cpp) and the
 // particle template built on them (fix particletemplate/multisphere).
 //
 // References: a single sphere and a dumbbell of two separate spheres are
@@ -21,8 +21,8 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "fix/fix_particletemplate_multisphere.h"
-#include "fix/mass_properties.h"
-#include "fix/modify.h"
+#include "geometry/mass_properties.h"
+#include "core/modify.h"
 
 using granary::MassProperties;
 using granary::sphere_union_properties;

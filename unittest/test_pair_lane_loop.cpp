@@ -14,7 +14,7 @@
 #include "core/engine.h"
 #include "core/update.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair_granular.h"
 #include "script_engine.h"
 

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "compute/sphere_box_volume.h"
+#include "geometry/sphere_box_volume.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "script_engine.h"
 
 using granary::sphere_box_volume;

@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "core/input.h"
 #include "core/logger.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 using Catch::Matchers::Contains;

@@ -14,7 +14,7 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "fix/fix_property_global.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 using Catch::Matchers::Contains;

@@ -15,8 +15,7 @@
 #include "domain/domain.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
-#include "pair/pair.h"
+#include "core/force.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -233,7 +232,7 @@ BalanceResult Balancer::shift(double thresh, const ShiftSettings& settings, doub
 
 void Balancer::migrate() {
   Engine& e = engine_;
-  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  ContactHistory* history = e.force->contact_history();
   e.particles->clear_ghosts();
   e.comm->setup(min_width());
   e.comm->exchange(history);

@@ -19,7 +19,7 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {

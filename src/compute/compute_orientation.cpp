@@ -19,7 +19,7 @@
 #include "domain/domain.h"
 #include "domain/region.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 
 namespace granary {
 

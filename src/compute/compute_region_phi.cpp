@@ -22,14 +22,14 @@
 #include <vector>
 
 #include "compute/compute.h"
-#include "compute/sphere_box_volume.h"
+#include "geometry/sphere_box_volume.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "domain/domain.h"
 #include "domain/region.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/bodies.h"
 #include "particles/particles.h"
 

@@ -12,9 +12,9 @@
 #include "core/style_list.h"
 #include "domain/domain.h"
 #include "domain/region.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 

@@ -8,12 +8,12 @@
 #include "core/update.h"
 #include "domain/domain.h"
 #include "domain/groups.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
 #include "output/output.h"
 #include "output/thermo.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 
@@ -63,7 +63,7 @@ void Engine::destroy_subsystems() {
 }
 
 void Engine::delete_particle(int i) {
-  ContactHistory* history = force->pair ? force->pair->history() : nullptr;
+  ContactHistory* history = force->contact_history();
   if (history) history->forget_particle(particles->id[i]);
   particles->remove_local(i);
 }

@@ -9,7 +9,7 @@
 #include "domain/groups.h"
 #include "domain/region.h"
 #include "fix/fix.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "output/thermo.h"
 #include "particles/particles.h"
 

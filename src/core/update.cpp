@@ -15,12 +15,12 @@
 #include "core/logger.h"
 #include "core/registry.h"
 #include "domain/domain.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
 #include "output/output.h"
 #include "output/thermo.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 
@@ -58,7 +58,7 @@ struct Timer {
 // particles freely: nothing refers to particle indices any more.
 void Update::reneighbor(bool save_history) {
   Engine& e = engine_;
-  ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+  ContactHistory* history = e.force->contact_history();
   {
     Timer t(timers[kNeigh]);
     if (history && save_history) history->save(*e.neighbor, *e.particles);
@@ -145,7 +145,7 @@ void Update::setup() {
   // Forces at the start of a run are those of the current state: contact
   // history (pair and per-particle fields marked as history) is not advanced.
   {
-    ContactHistory* history = e.force->pair ? e.force->pair->history() : nullptr;
+    ContactHistory* history = e.force->contact_history();
     std::vector<double> saved_pair;
     std::vector<std::uint8_t> saved_touch;
     if (history) {

@@ -9,15 +9,13 @@
 #include <limits>
 #include <sstream>
 
-#include "compute/compute.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
 #include "core/registry.h"
 #include "domain/domain.h"
 #include "domain/region.h"
-#include "fix/fix.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -148,16 +146,11 @@ void Groups::command(const Args& args) {
     require_args(args, 2, 2, "group ID delete");
     const int g = find_or_error(name, "group delete");
     if (g == 0) throw InputError("group all cannot be deleted");
-    for (const auto& f : engine_.modify->fixes) {
-      if (f->igroup == g) {
-        throw InputError("cannot delete group " + name + ": fix " + f->id + " uses it; unfix it first");
-      }
-    }
-    for (const auto& c : engine_.modify->computes) {
-      if (c->igroup == g) {
-        throw InputError("cannot delete group " + name + ": compute " + c->id +
-                         " uses it; uncompute it first");
-      }
+    const std::string user = engine_.modify->group_user(g);
+    if (!user.empty()) {
+      const bool fix = user.rfind("fix ", 0) == 0;
+      throw InputError("cannot delete group " + name + ": " + user + " uses it; " +
+                       (fix ? "unfix" : "uncompute") + " it first");
     }
     const int keep = ~bitmask(g);
     for (int i = 0; i < p.size(); ++i)

@@ -30,7 +30,7 @@
 #include "core/update.h"
 #include "core/variable.h"
 #include "fix/fix.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 
 namespace granary {
 

@@ -16,7 +16,7 @@
 #include "core/update.h"
 #include "fix/fix.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair_granular.h"
 #include "particles/particles.h"
 

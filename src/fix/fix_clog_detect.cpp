@@ -43,10 +43,10 @@
 #include "domain/region.h"
 #include "fix/fix.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 

@@ -6,13 +6,13 @@
 // STEPS steps a batch of R * STEPS * dt particles (fractions carried over to
 // the next batch, so the count after k batches is floor(k R STEPS dt)), until
 // N particles (or the number expected for mass M) are in. Placement, overlap
-// checks, ids and rank independence are those of FixInsert (fix_insert_pack.h).
+// checks, ids and rank independence are those of FixInsert (fix_insert.h).
 #pragma once
 
 #include <map>
 #include <string>
 
-#include "fix/fix_insert_pack.h"
+#include "fix/fix_insert.h"
 
 namespace granary {
 

@@ -27,7 +27,7 @@
 // imposed in end_of_step.
 //
 // Placement, overlap check, ids, restart state and rank independence are those
-// of FixInsert (fix_insert_pack.h); the amount and rate keywords those of
+// of FixInsert (fix_insert.h); the amount and rate keywords those of
 // FixInsertRateRegion. See doc/fixes/insert_stream.md.
 #include <algorithm>
 #include <cmath>
@@ -41,7 +41,7 @@
 #include "fix/fix_insert_rate_region.h"
 #include "fix/fix_mesh_surface.h"
 #include "fix/fix_particledistribution_discrete.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {

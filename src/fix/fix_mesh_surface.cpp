@@ -24,7 +24,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "fix/fix.h"
-#include "fix/tri_mesh.h"
+#include "geometry/tri_mesh.h"
 
 namespace granary {
 

@@ -21,7 +21,7 @@
 #include "core/update.h"
 #include "fix/fix.h"
 #include "fix/fix_mesh_surface.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 
 namespace granary {
 

@@ -17,9 +17,9 @@
 #include "core/update.h"
 #include "domain/domain.h"
 #include "fix/fix_particletemplate_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "neighbor/contact_history.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/logger.h"
 #include "core/registry.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 
 namespace granary {
 

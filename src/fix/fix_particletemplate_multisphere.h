@@ -11,7 +11,7 @@
 #pragma once
 
 #include "fix/fix_particle_template.h"
-#include "fix/mass_properties.h"
+#include "geometry/mass_properties.h"
 
 namespace granary {
 

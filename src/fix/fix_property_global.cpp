@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "domain/domain.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -52,6 +52,7 @@ void check_types(const Engine& engine, const FixPropertyGlobal& p) {
 
 FixPropertyGlobal::FixPropertyGlobal(Engine& engine, const Args& args) : Fix(engine, args) {
   if (args.size() < 6) throw InputError(std::string("wrong number of arguments; usage: ") + kUsage);
+  owner_id = id;
   name = args[3];
   kind = args[4];
   if (kind == "atomtype") kind = "peratomtype";  // older LIGGGHTS spellings
@@ -97,23 +98,6 @@ FixPropertyGlobal::FixPropertyGlobal(Engine& engine, const Args& args) : Fix(eng
 double FixPropertyGlobal::compute_vector(int i) {
   if (i < 0 || i >= static_cast<int>(values.size())) return 0.0;
   return values[i];
-}
-
-double FixPropertyGlobal::per_type(int t) const {
-  if (t < 1 || t > static_cast<int>(values.size())) {
-    throw InputError("property " + name + " has " + std::to_string(values.size()) +
-                     " per-type value(s); type " + std::to_string(t) + " has none");
-  }
-  return values[t - 1];
-}
-
-double FixPropertyGlobal::per_pair(int a, int b) const {
-  const int nrows = static_cast<int>(values.size()) / ncols;
-  if (a < 1 || a > nrows || b < 1 || b > ncols) {
-    throw InputError("property " + name + " is a " + std::to_string(nrows) + " x " + std::to_string(ncols) +
-                     " table; types (" + std::to_string(a) + ", " + std::to_string(b) + ") are outside it");
-  }
-  return values[static_cast<std::size_t>(a - 1) * ncols + (b - 1)];
 }
 
 FixPropertyGlobal* FixPropertyGlobal::find(const Modify& modify, const std::string& name) {

@@ -13,7 +13,7 @@
 #include "core/update.h"
 #include "domain/domain.h"
 #include "domain/groups.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "particles/particles.h"
 
 namespace granary {

@@ -21,7 +21,7 @@
 #include "core/registry.h"
 #include "core/update.h"
 #include "fix/fix_multisphere.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "output/dump_custom.h"
 #include "particles/particles.h"
 #include "output/vtk_frame.h"

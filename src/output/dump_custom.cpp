@@ -20,7 +20,7 @@
 #include "domain/domain.h"
 #include "domain/region.h"
 #include "fix/fix.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {

@@ -31,7 +31,7 @@
 #include "core/registry.h"
 #include "core/update.h"
 #include "fix/fix_mesh_surface.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "output/dump.h"
 #include "output/dump_custom.h"
 #include "output/vtk_support.h"

@@ -37,10 +37,10 @@
 #include "fix/fix.h"
 #include "fix/fix_multisphere.h"
 #include "fix/fix_property_global.h"
-#include "fix/modify.h"
+#include "core/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 
@@ -225,7 +225,7 @@ std::string particles_section(Engine& e) {
 
 std::string history_section(Engine& e) {
   std::vector<double> mine;
-  ContactHistory* h = e.force->pair ? e.force->pair->history() : nullptr;
+  ContactHistory* h = e.force->contact_history();
   if (h) {
     if (e.update->running) h->save(*e.neighbor, *e.particles);
     h->pack_all(mine);

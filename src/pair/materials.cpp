@@ -9,8 +9,8 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
-#include "fix/fix_property_global.h"
-#include "fix/modify.h"
+#include "core/global_property.h"
+#include "core/modify.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -22,38 +22,38 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   table_.assign(static_cast<std::size_t>(stride_) * stride_, contact::PairMaterial{});
   youngs_.assign(stride_, 0.0);
   poisson_.assign(stride_, 0.0);
-  auto* Y = FixPropertyGlobal::require(modify, "youngsModulus", user);
-  auto* nu = FixPropertyGlobal::require(modify, "poissonsRatio", user);
+  const GlobalProperty* Y = &modify.require_property("youngsModulus", user);
+  const GlobalProperty* nu = &modify.require_property("poissonsRatio", user);
   // With viscoelastic damping the restitution follows from the dissipative
   // time constant; coefficientRestitution is then optional (unused).
   const bool viscoelastic = spec.damping == contact::DampingModel::Viscoelastic;
-  FixPropertyGlobal* e = viscoelastic ? FixPropertyGlobal::find(modify, "coefficientRestitution")
-                                      : FixPropertyGlobal::require(modify, "coefficientRestitution", user);
-  FixPropertyGlobal* coh = nullptr;
+  const GlobalProperty* e = viscoelastic ? modify.find_property("coefficientRestitution")
+                                         : &modify.require_property("coefficientRestitution", user);
+  const GlobalProperty* coh = nullptr;
   if (spec.cohesion == contact::CohesionModel::Sjkr) {
-    coh = FixPropertyGlobal::require(modify, "cohesionEnergyDensity", user);
+    coh = &modify.require_property("cohesionEnergyDensity", user);
   }
-  FixPropertyGlobal* diss = nullptr;
-  if (viscoelastic) diss = FixPropertyGlobal::require(modify, "dissipativeTimeConstant", user);
-  FixPropertyGlobal* mu = nullptr;
+  const GlobalProperty* diss = nullptr;
+  if (viscoelastic) diss = &modify.require_property("dissipativeTimeConstant", user);
+  const GlobalProperty* mu = nullptr;
   if (spec.tangential != contact::TangentialModel::None) {
-    mu = FixPropertyGlobal::require(modify, "coefficientFriction", user);
+    mu = &modify.require_property("coefficientFriction", user);
   }
-  FixPropertyGlobal* mur = nullptr;
+  const GlobalProperty* mur = nullptr;
   if (spec.rolling != contact::RollingModel::None) {
-    mur = FixPropertyGlobal::require(modify, "coefficientRollingFriction", user);
+    mur = &modify.require_property("coefficientRollingFriction", user);
   }
   double vchar = 0.0;
   if (spec.normal == contact::NormalModel::Hooke) {
-    vchar = FixPropertyGlobal::require(modify, "characteristicVelocity", user)->compute_scalar();
+    vchar = modify.require_property("characteristicVelocity", user).scalar();
   }
   // A restart file remembers the materials of the run that wrote it.
-  for (const FixPropertyGlobal* prop : {Y, nu, e, mu, mur, coh, diss}) {
+  for (const GlobalProperty* prop : {Y, nu, e, mu, mur, coh, diss}) {
     if (!prop) continue;
     auto it = modify.restart_materials.find(prop->name);
     if (it == modify.restart_materials.end()) continue;
     if (it->second != prop->values) {
-      engine.logger->warning("material property " + prop->name + " (fix " + prop->id +
+      engine.logger->warning("material property " + prop->name + " (fix " + prop->owner_id +
                              ") differs from the one stored in the restart file");
     }
     engine.modify->restart_materials.erase(prop->name);
@@ -62,14 +62,14 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     youngs_[a] = Y->per_type(a);
     poisson_[a] = nu->per_type(a);
   }
-  for (const FixPropertyGlobal* prop : {e, mu, mur, coh, diss}) {
+  for (const GlobalProperty* prop : {e, mu, mur, coh, diss}) {
     if (!prop) continue;
     for (int a = 1; a <= n; ++a)
       for (int b = a + 1; b <= n; ++b)
         if (prop->per_pair(a, b) != prop->per_pair(b, a)) {
           throw InputError(user + ": " + prop->name + " must be symmetric, but the value for types " +
                            std::to_string(a) + "," + std::to_string(b) + " differs from " +
-                           std::to_string(b) + "," + std::to_string(a) + " (fix " + prop->id + ")");
+                           std::to_string(b) + "," + std::to_string(a) + " (fix " + prop->owner_id + ")");
         }
   }
   for (int a = 1; a <= n; ++a) {

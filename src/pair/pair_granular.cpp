@@ -13,7 +13,7 @@
 #include "core/registry.h"
 #include "core/update.h"
 #include "neighbor/neighbor.h"
-#include "pair/force.h"
+#include "core/force.h"
 #include "pair/pair_loop.h"
 #include "particles/particles.h"
 

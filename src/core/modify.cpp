@@ -1,4 +1,4 @@
-#include "fix/modify.h"
+#include "core/modify.h"
 
 #include "compute/compute.h"
 #include "core/engine.h"
@@ -6,6 +6,7 @@
 #include "core/logger.h"
 #include "core/registry.h"
 #include "fix/fix.h"
+#include "fix/fix_property_global.h"
 
 namespace granary {
 
@@ -200,6 +201,22 @@ bool Modify::end_of_step_due(std::int64_t step) const {
 void Modify::reset_dt() {
   for (auto& f : fixes)
     f->reset_dt();
+}
+
+const GlobalProperty* Modify::find_property(const std::string& name) const {
+  return FixPropertyGlobal::find(*this, name);
+}
+
+const GlobalProperty& Modify::require_property(const std::string& name, const std::string& needed_by) const {
+  return *FixPropertyGlobal::require(*this, name, needed_by);
+}
+
+std::string Modify::group_user(int igroup) const {
+  for (const auto& f : fixes)
+    if (f->igroup == igroup) return "fix " + f->id;
+  for (const auto& c : computes)
+    if (c->igroup == igroup) return "compute " + c->id;
+  return "";
 }
 
 bool Modify::has_integrator() const {

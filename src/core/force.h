@@ -11,12 +11,16 @@ namespace granary {
 
 class Engine;
 class Pair;
+class ContactHistory;
 
 class Force {
  public:
   explicit Force(Engine& engine);
   ~Force();
   void create_pair(const Args& args);
+  /// The contact history of the pair style, or nullptr (no pair style, or a
+  /// model without history).
+  ContactHistory* contact_history() const;
   std::unique_ptr<Pair> pair;
   std::string pair_style = "none";
   Args pair_words;           // the words after the style name

@@ -1,4 +1,4 @@
-#include "pair/force.h"
+#include "core/force.h"
 
 #include "core/engine.h"
 #include "core/error.h"
@@ -10,6 +10,10 @@ namespace granary {
 
 Force::Force(Engine& engine) : engine_(engine) {}
 Force::~Force() = default;
+
+ContactHistory* Force::contact_history() const {
+  return pair ? pair->history() : nullptr;
+}
 
 void Force::create_pair(const Args& args) {
   if (args.empty()) throw InputError("usage: pair_style STYLE args...");

@@ -14,6 +14,7 @@ namespace granary {
 class Engine;
 class Fix;
 class Compute;
+struct GlobalProperty;
 
 class Modify {
  public:
@@ -49,6 +50,14 @@ class Modify {
   void reset_dt();
 
   bool has_integrator() const;
+
+  /// The global property NAME (fix property/global; the latest definition
+  /// wins), or nullptr.
+  const GlobalProperty* find_property(const std::string& name) const;
+  /// As find_property(), or InputError naming `needed_by` and the fix to add.
+  const GlobalProperty& require_property(const std::string& name, const std::string& needed_by) const;
+  /// The fix or compute that uses group bit `igroup` ("fix ID", "compute ID"), or "".
+  std::string group_user(int igroup) const;
 
   std::vector<std::unique_ptr<Fix>> fixes;
   std::vector<std::unique_ptr<Compute>> computes;

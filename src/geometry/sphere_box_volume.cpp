@@ -1,4 +1,4 @@
-#include "compute/sphere_box_volume.h"
+#include "geometry/sphere_box_volume.h"
 
 #include <algorithm>
 #include <array>

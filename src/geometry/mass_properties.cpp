@@ -1,4 +1,4 @@
-#include "fix/mass_properties.h"
+#include "geometry/mass_properties.h"
 
 #include <algorithm>
 #include <cmath>

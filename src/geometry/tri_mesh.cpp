@@ -1,4 +1,4 @@
-#include "fix/tri_mesh.h"
+#include "geometry/tri_mesh.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,0 +1,53 @@
+// The lattice command (lattice sc|bcc|fcc|none ...): the lattice create_atoms fills.
+
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/logger.h"
+#include "core/registry.h"
+#include "domain/domain.h"
+
+#include "commands/particle_commands.h"
+
+namespace granary {
+
+namespace {
+
+using namespace particle_commands;
+
+void cmd_lattice(Engine& e, const Args& a) {
+  const char* usage = "lattice none [SCALE] | lattice sc|bcc|fcc SCALE";
+  require_args(a, 1, 2, usage);
+  Domain& dom = *e.domain;
+  const std::string& style = a[0];
+  std::vector<Vec3> basis;
+  if (style == "sc") {
+    basis = {Vec3(0, 0, 0)};
+  } else if (style == "bcc") {
+    basis = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5)};
+  } else if (style == "fcc") {
+    basis = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
+  } else if (style != "none") {
+    const std::vector<std::string> known = {"none", "sc", "bcc", "fcc"};
+    const std::string hint = did_you_mean(style, known);
+    throw InputError("unknown lattice style '" + style + "'" + (hint.empty() ? "" : "; " + hint) +
+                     "; usage: " + usage);
+  }
+  if (style != "none" && a.size() != 2) {
+    throw InputError("lattice " + style + " needs the lattice constant; usage: " + usage);
+  }
+  const double scale = a.size() == 2 ? parse_double(a[1], "the lattice constant") : 1.0;
+  if (!(scale > 0.0)) throw InputError("the lattice constant must be positive, got '" + a[1] + "'");
+  dom.lattice_style = style;
+  dom.lattice_basis = basis;
+  for (double& s : dom.lattice_spacing)
+    s = scale;
+  if (style != "none") {
+    e.logger->print("Lattice spacing in x,y,z = " + fmt(scale) + " " + fmt(scale) + " " + fmt(scale) + "\n");
+  }
+}
+
+}  // namespace
+
+GRANARY_COMMAND("lattice", cmd_lattice);
+
+}  // namespace granary
