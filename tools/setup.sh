@@ -19,7 +19,7 @@ cd "$(dirname "$0")/.."
 installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 
 packages=(cmake g++ make libeigen3-dev libopenmpi-dev openmpi-bin catch2
-          python3-numpy python3-scipy python3-matplotlib clang libclang-rt-14-dev)
+          python3-numpy python3-scipy python3-matplotlib clang libclang-rt-14-dev clang-format)
 if installed libvtk9-dev; then
   echo "setup: libvtk9-dev is installed; building against it (ParaView's Python cannot be installed beside it)"
 else

@@ -321,7 +321,8 @@ TEST_CASE("clog-detect: arch_layer deletes only the lowest layer of the arch reg
   ScriptEngine a;
   a.cmds(clog_scene::restarted(filled_restart()));
   const double poured = grains(a);
-  a.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch arch_layer 0 action delete file " + f0);
+  a.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch arch_layer 0 action delete file " +
+        f0);
   a.cmd("run 12000");
   const Csv c0 = read_csv(f0);
   REQUIRE(c0.rows.size() >= 2);
@@ -338,7 +339,8 @@ TEST_CASE("clog-detect: arch_layer deletes only the lowest layer of the arch reg
   ScriptEngine w, all;
   w.cmds(clog_scene::restarted(filled_restart()));
   all.cmds(clog_scene::restarted(filled_restart()));
-  w.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch arch_layer 1.0 action delete file " + fw);
+  w.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch arch_layer 1.0 action delete file " +
+        fw);
   all.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete file " + fa);
   w.cmd("run 6000");
   all.cmd("run 6000");
@@ -358,8 +360,10 @@ TEST_CASE("clog-detect: final_action deletes the arch of the clog that ends the 
   ScriptEngine s;
   s.cmds(clog_scene::restarted(filled_restart()));
   const double poured = grains(s);
-  s.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete stop_height 1.0 "
-        "final_action yes file " + ff);
+  s.cmd(
+      "fix clog grains clog-detect outlet out timeout 0.05 arch arch action delete stop_height 1.0 "
+      "final_action yes file " +
+      ff);
   s.cmd("run 100000");
   // the first clog ends the discharge (every fill height is below 1 m), and its arch is gone
   const Csv c = read_csv(ff);
@@ -378,7 +382,8 @@ TEST_CASE("clog-detect: still waits until the bodies in the region are at rest")
   ScriptEngine s, n;
   s.cmds(clog_scene::restarted(filled_restart()));
   n.cmds(clog_scene::restarted(filled_restart()));
-  s.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt still arch 0.002 file " + fs);
+  s.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt still arch 0.002 file " +
+        fs);
   n.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt file " + fn);
   s.cmd("run 100000");
   n.cmd("run 100000");
@@ -401,7 +406,8 @@ TEST_CASE("clog-detect: still waits until the bodies in the region are at rest")
   const std::string fr = temp_name("clog_r_") + ".csv";
   ScriptEngine r;
   r.cmds(clog_scene::restarted(filled_restart()));
-  r.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt still arch 100 file " + fr);
+  r.cmd("fix clog grains clog-detect outlet out timeout 0.05 arch arch action halt still arch 100 file " +
+        fr);
   r.cmd("run 100000");
   const Csv cr = read_csv(fr);
   REQUIRE(cr.rows.size() == 1);
@@ -603,14 +609,17 @@ TEST_CASE("clog-detect: bad input is refused") {
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 stop_empty 0"), Contains("stop_empty"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 quantile 1.5"), Contains("quantile"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 height_region nowhere"), Contains("nowhere"));
-  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch_layer 0.001"), Contains("give arch REGION"));
-  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch out arch_layer -1"), Contains("arch_layer"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch_layer 0.001"),
+             Contains("give arch REGION"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch out arch_layer -1"),
+             Contains("arch_layer"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still out"), Contains("still"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still out 0"), Contains("positive speed"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 still nowhere 0.1"), Contains("nowhere"));
   CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 arch out final_action yes"),
              Contains("action delete or kick"));
-  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 final_action maybe"), Contains("final_action"));
+  CHECK_THAT(error("fix c all clog-detect outlet out timeout 1 final_action maybe"),
+             Contains("final_action"));
   s.cmd("fix c all clog-detect outlet out timeout 1");  // a valid definition
   CHECK(s.e.modify->find_fix("c") != nullptr);
 }

@@ -250,8 +250,8 @@ TEST_CASE("fix check/timestep/gran vmax keyword and the skin check", "[errors]")
   Sim s;
   s.lines(granular_setup());
   s.lines({"create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
-           "fix integr all nve/sphere", "timestep 1e-5",
-           "fix ts all check/timestep/gran 10 0.9 0.9 vmax 2.0", "run 10"});
+           "fix integr all nve/sphere", "timestep 1e-5", "fix ts all check/timestep/gran 10 0.9 0.9 vmax 2.0",
+           "run 10"});
   CHECK(s.e.fix_value("ts", 2) == Approx(1e-5 / hertz_time(2.0)).epsilon(1e-9));
   CHECK(s.e.fix_value("ts", 3) == Approx(2 * 2.0 * 1e-5 / 0.001).epsilon(1e-12));
   // 2 v dt = 2 * 60 * 1e-5 = 1.2 mm > skin 1 mm

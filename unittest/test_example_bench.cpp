@@ -60,7 +60,8 @@ TEST_CASE("bench_silo: clumps and glass spheres fill the silo and fall without l
   CHECK(thermo(s, "ke") < 0.5 * mass * v * v * 1.001);
 }
 
-TEST_CASE("bench_silo_balanced: fill, balance and discharge run, and one rank keeps the whole box", "[example]") {
+TEST_CASE("bench_silo_balanced: fill, balance and discharge run, and one rank keeps the whole box",
+          "[example]") {
   ScriptEngine s;
   s.cmds({"variable nfill index 60", "variable nsteps index 20", "variable dir index " + kBench,
           "include " + kBench + "/in.bench_silo_balanced"});

@@ -118,9 +118,9 @@ TEST_CASE("example silo_clogging: a short discharge with clogs, on 2 ranks", "[e
     else
       rows.push_back(split(l, ','));
   }
-  const std::vector<std::string> expect = {"avalanche", "t_start",   "t_end",     "t_clog",      "duration",
-                                           "bodies",    "mass",      "flow_rate", "fill_height", "arch_removed",
-                                           "bodies_t1", "mass_t1",   "bodies_t2", "mass_t2"};
+  const std::vector<std::string> expect = {"avalanche", "t_start", "t_end",     "t_clog",      "duration",
+                                           "bodies",    "mass",    "flow_rate", "fill_height", "arch_removed",
+                                           "bodies_t1", "mass_t1", "bodies_t2", "mass_t2"};
   CHECK(header == expect);
   REQUIRE(static_cast<double>(rows.size()) == avalanches);
   double bodies = 0, mass = 0, t_prev = 0, arch_removed = 0;

@@ -193,7 +193,8 @@ TEST_CASE("a pour into a cylinder matches LIGGGHTS") {
 
 TEST_CASE("the stored LIGGGHTS output is what LIGGGHTS prints") {
   if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
-    granary::test::skip("LIGGGHTS is not installed (package liggghts): the stored reference output cannot be checked");
+    granary::test::skip(
+        "LIGGGHTS is not installed (package liggghts): the stored reference output cannot be checked");
     return;
   }
   const std::string cmd = "liggghts -in " + std::string(GRANARY_SOURCE_DIR) +

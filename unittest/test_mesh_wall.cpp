@@ -389,7 +389,8 @@ TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_
   }
 }
 
-TEST_CASE("mesh contacts beyond the per-particle slots survive write_restart and read_restart", "[mesh][restart]") {
+TEST_CASE("mesh contacts beyond the per-particle slots survive write_restart and read_restart",
+          "[mesh][restart]") {
   // Spheres wedged in a channel narrower than they are (side walls at
   // y = +-2^-10 m, 1 um inside the radius) touch the floor and both walls:
   // three contacts, the third kept in the wall fix's table of extra slots,

@@ -387,8 +387,7 @@ TEST_CASE("balance and fix balance refuse bad arguments") {
   CHECK_THROWS_WITH(s.cmd("balance 1.1 bisect z"), Contains("unknown balance style 'bisect'"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight neigh 0.5"),
                     Contains("needs the neighbour lists of the current particles"));
-  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight mass 0.5"),
-                    Contains("'weight neigh FACTOR'"));
+  CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight mass 0.5"), Contains("'weight neigh FACTOR'"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight neigh 0"), Contains("must be in (0, 1]"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 weight time 1.5"), Contains("must be in (0, 1]"));
   CHECK_THROWS_WITH(s.cmd("balance 1.1 shift z 10 1.05 extra"), Contains("unknown balance keyword 'extra'"));

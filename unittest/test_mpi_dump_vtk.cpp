@@ -303,8 +303,7 @@ TEST_CASE("dump custom/vtk: binary, zlib-compressed round trip", "[dump][vtk][mp
 
 TEST_CASE("dump custom/vtk: binary without compression", "[dump][vtk][mpi]") {
   const std::string dir = fresh_dir("uncompressed");
-  run_and_check(dir, {"compression none"}, true, "format=\"binary\"",
-                "compressor=", false);  // empty pieces
+  run_and_check(dir, {"compression none"}, true, "format=\"binary\"", "compressor=", false);  // empty pieces
 }
 
 TEST_CASE("dump custom/vtk: ascii round trip", "[dump][vtk][mpi]") {

@@ -39,9 +39,10 @@ std::vector<std::string> scene(const std::string& processors, const std::string&
           "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
           "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
           "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 2 " + mu + " " + mu + " " + mu + " " + mu,
-          "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 " + mu_r + " " + mu_r + " " +
-              mu_r + " " + mu_r,
+          "fix m4 all property/global coefficientFriction peratomtypepair 2 " + mu + " " + mu + " " + mu +
+              " " + mu,
+          "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 " + mu_r + " " + mu_r +
+              " " + mu_r + " " + mu_r,
           "pair_style gran model hertz tangential history rolling_friction cdt",
           "pair_coeff * *",
           "timestep " + timestep};
@@ -88,20 +89,22 @@ struct Snapshot {
 Snapshot run_box(MPI_Comm comm, const std::string& file) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  std::vector<std::string> script = scene("* * 1", "-0.011 0.011 -0.011 0.011 -0.005 0.03", "0.5", "0.1", "2e-5");
+  std::vector<std::string> script =
+      scene("* * 1", "-0.011 0.011 -0.011 0.011 -0.005 0.03", "0.5", "0.1", "2e-5");
   for (const auto& l : std::vector<std::string>{
-      "region fill block -0.0088 0.0088 -0.0088 0.0088 0.0012 0.025 units box",
-      "create_atoms 1 random 300 4711 fill overlap 0.0021 maxtry 200",
-      "set type 1 diameter 0.002 density 2500",
-      "velocity all set 0.1 -0.05 -0.5",
-      "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
-      "fix cad all mesh/surface file " + file + " type 2",
-      "fix walls all wall/gran model hertz tangential history rolling_friction cdt mesh n_meshes 1 meshes "
-      "cad",
-      "fix integr all nve/sphere",
-      "thermo 500",
-      "run 1200",
-  })
+           "region fill block -0.0088 0.0088 -0.0088 0.0088 0.0012 0.025 units box",
+           "create_atoms 1 random 300 4711 fill overlap 0.0021 maxtry 200",
+           "set type 1 diameter 0.002 density 2500",
+           "velocity all set 0.1 -0.05 -0.5",
+           "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+           "fix cad all mesh/surface file " + file + " type 2",
+           "fix walls all wall/gran model hertz tangential history rolling_friction cdt mesh n_meshes 1 "
+           "meshes "
+           "cad",
+           "fix integr all nve/sphere",
+           "thermo 500",
+           "run 1200",
+       })
     script.push_back(l);
   for (const auto& l : script)
     e.input->one(l);
@@ -183,9 +186,11 @@ Channel run_channel(MPI_Comm comm, bool mesh) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
   const std::string model = "wall/gran model hertz tangential history rolling_friction cdt ";
-  std::vector<std::string> script = scene("* 1 1", "-0.001 0.041 -0.002 0.002 -0.001 0.004", "0.1", "0.0", "1e-5");
+  std::vector<std::string> script =
+      scene("* 1 1", "-0.001 0.041 -0.002 0.002 -0.001 0.004", "0.1", "0.0", "1e-5");
   for (int k = 0; k < 6; ++k)
-    script.push_back("create_atoms 1 single " + std::to_string(0.002 + 0.0035 * k) + " 0.0 0.0009774625 units box");
+    script.push_back("create_atoms 1 single " + std::to_string(0.002 + 0.0035 * k) +
+                     " 0.0 0.0009774625 units box");
   for (const auto& l : std::vector<std::string>{
            "set type 1 diameter 0.001955125 density 2500",
            "velocity all set 0.4 0.0 0.0 units box",
@@ -247,7 +252,7 @@ TEST_CASE("spheres sliding in a narrow mesh channel keep three contacts with his
   }
   INFO("shortest distance slid " << travelled << " m; mesh vs planes " << dplanes << ", ranks " << dranks
                                  << " m");
-  CHECK(travelled > 0.01);   // every sphere crossed at least one 1 cm slab of 4 ranks
-  CHECK(dplanes < 1e-12);    // three face contacts with their history = three planes
+  CHECK(travelled > 0.01);  // every sphere crossed at least one 1 cm slab of 4 ranks
+  CHECK(dplanes < 1e-12);   // three face contacts with their history = three planes
   CHECK(dranks < 1e-12);
 }

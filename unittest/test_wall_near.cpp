@@ -83,7 +83,8 @@ Pour pour(const std::string& neigh_modify, const std::string& side_walls) {
         "fix walls all wall/gran model hertz tangential history rolling_friction cdt mesh n_meshes 2 meshes "
         "floor sides");
     // a floor creeping sideways by 0.1 um per step moves the mesh nodes every step
-    if (side_walls == "moving mesh") script.push_back("fix creep all move/mesh mesh floor linear 0.005 0. 0.");
+    if (side_walls == "moving mesh")
+      script.push_back("fix creep all move/mesh mesh floor linear 0.005 0. 0.");
   } else if (side_walls == "planes") {
     script.push_back("fix xw1 all " + model + "xplane -0.006");
     script.push_back("fix xw2 all " + model + "xplane 0.006");

@@ -365,12 +365,13 @@ void Update::report() {
   MPI_Allreduce(mine, tmin, kNumTimers + 1, MPI_DOUBLE, MPI_MIN, e.world);
   MPI_Allreduce(mine, tsum, kNumTimers + 1, MPI_DOUBLE, MPI_SUM, e.world);
   MPI_Allreduce(mine, tmax, kNumTimers + 1, MPI_DOUBLE, MPI_MAX, e.world);
-  e.logger->print("Section |  min time  |  avg time  |  max time  |%varavg| %total\n"
-                  "---------------------------------------------------------------\n");
+  e.logger->print(
+      "Section |  min time  |  avg time  |  max time  |%varavg| %total\n"
+      "---------------------------------------------------------------\n");
   for (int k = 0; k <= kNumTimers; ++k) {
     const double avg = tsum[k] / e.nprocs;
-    std::snprintf(line, sizeof line, "%-7s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", names[k], tmin[k], avg,
-                  tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
+    std::snprintf(line, sizeof line, "%-7s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", names[k], tmin[k],
+                  avg, tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
                   run_wall_time > 0 ? 100.0 * avg / run_wall_time : 0.0);
     e.logger->print(line);
   }

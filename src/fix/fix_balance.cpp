@@ -100,7 +100,7 @@ class FixBalance : public Fix {
  private:
   long long every_ = 0;
   WeightSettings weight_;  // weight time|neigh FACTOR (none: particle count)
-  double mark_ = 0.0;    // pair + neighbour time of this rank at the last balancing
+  double mark_ = 0.0;      // pair + neighbour time of this rank at the last balancing
   double thresh_ = 1.0;
   ShiftSettings settings_;
   BalanceResult last_;

@@ -60,7 +60,8 @@ constexpr int kRestartFormat = 2;
 const char* kUsage =
     "fix ID group clog-detect outlet REGION timeout T [arch REGION] [arch_layer DZ] "
     "[action halt|delete|kick|none] [kick VX VY VZ] [still REGION V] [stop_height H] [stop_empty N] "
-    "[final_action yes|no] [height_region REGION|NULL] [quantile Q] [remove yes|no] [file F.csv|NULL] [every N]";
+    "[final_action yes|no] [height_region REGION|NULL] [quantile Q] [remove yes|no] [file F.csv|NULL] [every "
+    "N]";
 
 std::string num(double v) {
   char buf[40];
@@ -93,7 +94,7 @@ class FixClogDetect : public Fix {
     double t_start = 0, t_end = 0, t_clog = 0;
     long long bodies = 0;
     double mass = 0, fill = 0;
-    long long arch = 0;  // bodies deleted or kicked at the clog that ended it
+    long long arch = 0;                  // bodies deleted or kicked at the clog that ended it
     std::vector<long long> bodies_type;  // per atom type 1..ntypes
     std::vector<double> mass_type;
   };
@@ -128,14 +129,14 @@ class FixClogDetect : public Fix {
   // settings
   std::string outlet_id_, arch_id_, height_id_, file_, still_id_;
   double timeout_ = -1.0;
-  double arch_layer_ = -1.0;  // < 0: every body in the arch region
-  double still_speed_ = -1.0; // < 0: no rest condition
+  double arch_layer_ = -1.0;   // < 0: every body in the arch region
+  double still_speed_ = -1.0;  // < 0: no rest condition
   Action action_ = Action::Halt;
   Vec3 kick_{0, 0, 0};
   bool kick_given_ = false, action_given_ = false;
   double stop_height_ = 0.0;
   bool stop_given_ = false;
-  int stop_empty_ = 0;  // end after this many empty avalanches in a row (0: never)
+  int stop_empty_ = 0;         // end after this many empty avalanches in a row (0: never)
   bool final_action_ = false;  // act on the arch also at the clog that ends the discharge
   double quantile_ = 0.99;
   bool remove_ = true;
@@ -200,14 +201,17 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
     } else if (w == "arch_layer") {
       arch_layer_ = parse_double(value(1), what + " arch_layer");
       if (!(arch_layer_ >= 0.0))
-        throw InputError(what + ": arch_layer must be a height >= 0 (m) above the lowest body of the arch "
-                         "region, got '" + args[k + 1] + "'");
+        throw InputError(what +
+                         ": arch_layer must be a height >= 0 (m) above the lowest body of the arch "
+                         "region, got '" +
+                         args[k + 1] + "'");
     } else if (w == "still") {
       value(2);  // checks that the region and the speed are there
       still_id_ = args[k + 1];
       still_speed_ = parse_double(args[k + 2], what + " still");
       if (!(still_speed_ > 0.0))
-        throw InputError(what + ": still needs a region and a positive speed (m/s), got '" + args[k + 2] + "'");
+        throw InputError(what + ": still needs a region and a positive speed (m/s), got '" + args[k + 2] +
+                         "'");
       used = 2;
     } else if (w == "action") {
       const std::string& a = value(1);
@@ -255,9 +259,9 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
       if (n < 1) throw InputError(what + ": every needs a positive number of steps");
       every_ = static_cast<int>(n);
     } else {
-      const std::string hint =
-          did_you_mean(w, {"outlet", "timeout", "arch", "arch_layer", "action", "kick", "still", "stop_height",
-                           "stop_empty", "final_action", "height_region", "quantile", "remove", "file", "every"});
+      const std::string hint = did_you_mean(
+          w, {"outlet", "timeout", "arch", "arch_layer", "action", "kick", "still", "stop_height",
+              "stop_empty", "final_action", "height_region", "quantile", "remove", "file", "every"});
       throw InputError(what + ": unknown keyword '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
                        "; usage: " + kUsage);
     }
@@ -275,7 +279,8 @@ FixClogDetect::FixClogDetect(Engine& engine, const Args& args) : Fix(engine, arg
     throw InputError(what + ": action " + (action_ == Action::Delete ? "delete" : "kick") +
                      " acts on the bodies in the arch region: give arch REGION");
   if (final_action_ && action_ != Action::Delete && action_ != Action::Kick)
-    throw InputError(what + ": final_action yes acts on the arch at the last clog: use it with action delete or kick");
+    throw InputError(
+        what + ": final_action yes acts on the arch at the last clog: use it with action delete or kick");
   if (arch_layer_ >= 0.0 && arch_id_.empty())
     throw InputError(what + ": arch_layer selects bodies of the arch region: give arch REGION");
   engine.domain->region_or_error(outlet_id_, what + " outlet");
@@ -479,7 +484,8 @@ void FixClogDetect::declare_clog(double now) {
   last_fill_ = a.fill;
   // stop_empty: the last N avalanches (this one included) passed nothing (the
   // flow does not restart, e.g. only stagnant zones are left beside the outlet)
-  bool empty_run = stop_empty_ > 0 && log_.size() + 1 >= static_cast<std::size_t>(stop_empty_) && a.bodies == 0;
+  bool empty_run =
+      stop_empty_ > 0 && log_.size() + 1 >= static_cast<std::size_t>(stop_empty_) && a.bodies == 0;
   for (std::size_t k = log_.size() + 1 - (empty_run ? stop_empty_ : 1); empty_run && k < log_.size(); ++k)
     empty_run = log_[k].bodies == 0;
   const bool below = stop_given_ && a.fill < stop_height_;
@@ -655,7 +661,8 @@ void FixClogDetect::rewrite_file() {
       for (int t = 1; t <= ntypes_; ++t)
         std::fprintf(f, " %d", t);
       std::fprintf(f, " (bodies_tK, mass_tK: bodies of atom type K)\n");
-      std::fprintf(f, "avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height,arch_removed");
+      std::fprintf(f,
+                   "avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height,arch_removed");
       for (int t = 1; t <= ntypes_; ++t)
         std::fprintf(f, ",bodies_t%d,mass_t%d", t, t);
       std::fprintf(f, "\n");
@@ -681,9 +688,9 @@ void FixClogDetect::write_row(const Avalanche& a, std::size_t index) {
   if (!csv_) return;
   const double duration = a.t_end - a.t_start;
   const double rate = duration > 0.0 ? a.mass / duration : 0.0;
-  std::fprintf(csv_, "%zu,%s,%s,%s,%s,%lld,%s,%s,%s,%lld", index, num(a.t_start).c_str(), num(a.t_end).c_str(),
-               num(a.t_clog).c_str(), num(duration).c_str(), a.bodies, num(a.mass).c_str(), num(rate).c_str(),
-               num(a.fill).c_str(), a.arch);
+  std::fprintf(csv_, "%zu,%s,%s,%s,%s,%lld,%s,%s,%s,%lld", index, num(a.t_start).c_str(),
+               num(a.t_end).c_str(), num(a.t_clog).c_str(), num(duration).c_str(), a.bodies,
+               num(a.mass).c_str(), num(rate).c_str(), num(a.fill).c_str(), a.arch);
   for (int t = 0; t < ntypes_; ++t)
     std::fprintf(csv_, ",%lld,%s", a.bodies_type[t], num(a.mass_type[t]).c_str());
   std::fprintf(csv_, "\n");

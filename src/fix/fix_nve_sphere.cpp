@@ -36,10 +36,11 @@ class FixNveSphere : public Fix {
     MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, engine_.world);
     if (all == 0) return;
     noted_ = true;
-    engine_.logger->print("INFO: fix " + id + " (nve/sphere): " + std::to_string(all) +
-                          " particles of its group are spheres of clumps; fix multisphere integrates them and "
-                          "nve/sphere leaves them alone (LIGGGHTS 3.8 integrates them a second time; see "
-                          "doc/liggghts_compatibility.md)\n");
+    engine_.logger->print(
+        "INFO: fix " + id + " (nve/sphere): " + std::to_string(all) +
+        " particles of its group are spheres of clumps; fix multisphere integrates them and "
+        "nve/sphere leaves them alone (LIGGGHTS 3.8 integrates them a second time; see "
+        "doc/liggghts_compatibility.md)\n");
   }
 
   // Operations in LIGGGHTS' order (dtf / m, then (dtf / 0.4) / (r^2 m)), so

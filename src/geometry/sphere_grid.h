@@ -91,7 +91,7 @@ class SphereGrid {
   }
 
  private:
-  static constexpr long long kMargin = 2;      // dense cells beyond each box face
+  static constexpr long long kMargin = 2;     // dense cells beyond each box face
   static constexpr double kMaxDense = 8.0e6;  // largest dense table (cells)
   /// Position of cell c in the dense table, -1 when outside it (or no table).
   long long dense_index(const std::array<long long, 3>& c) const {
@@ -118,8 +118,8 @@ class SphereGrid {
   const Domain& dom_;
   double rmax_, cell_;
   long long n_[3] = {0, 0, 0};  // dense table size per dimension
-  std::vector<int> head_;        // first sphere of each dense cell, -1: none
-  std::vector<int> next_;        // next sphere in the same dense cell
+  std::vector<int> head_;       // first sphere of each dense cell, -1: none
+  std::vector<int> next_;       // next sphere in the same dense cell
   std::vector<Vec3> centres_;
   std::vector<double> radii_;
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
