@@ -32,29 +32,54 @@ std::string read(const fs::path& p) {
 const std::map<std::string, std::string> kAliases = {
     {"communicate", "comm_modify"},
     {"clog-detect", "clog_detect"},
+    {"clog/detect", "clog_detect"},
     {"region-phi", "region_phi"},
     {"region/phi", "region_phi"},
     {"particledistribution/discrete/massbased", "particledistribution/discrete"},
     {"particledistribution/discrete/numberbased", "particledistribution/discrete"}};
 
+// The Syntax section of a page (up to the next "## " heading).
+std::string syntax_section(const std::string& text) {
+  const auto at = text.find("\n## Syntax");
+  if (at == std::string::npos) return "";
+  const auto end = text.find("\n## ", at + 1);
+  return text.substr(at, end == std::string::npos ? std::string::npos : end - at);
+}
+
+// Each style's own page: it exists, its title names the style (after `kind`,
+// e.g. "fix ") and its Syntax section shows the name the style is registered
+// under; a page shared with other spellings (kAliases) names them.
 template <class Registry>
-void check_pages(const std::string& folder) {
+void check_pages(const std::string& folder, const std::string& kind) {
   for (const auto& name : Registry::instance().names()) {
     INFO(folder << " style or command '" << name << "'");
     std::string page = name;
     auto alias = kAliases.find(name);
     if (alias != kAliases.end()) page = alias->second;
-    CHECK(fs::exists(kDoc / folder / page_name(page)));
+    const fs::path path = kDoc / folder / page_name(page);
+    REQUIRE(fs::exists(path));
+    const std::string text = read(path);
+    const std::string title = text.substr(0, text.find('\n'));
+    INFO("page " << path.filename().string() << ", title '" << title << "'");
+    CHECK(title.rfind("# " + kind, 0) == 0);
+    const std::string syntax = syntax_section(text);
+    CHECK_FALSE(syntax.empty());
+    if (alias == kAliases.end()) {
+      CHECK(title.find(kind + name) != std::string::npos);
+      CHECK(syntax.find(name) != std::string::npos);
+    } else {
+      CHECK(text.find(name) != std::string::npos);  // another spelling, named on the page
+    }
   }
 }
 
 }  // namespace
 
-TEST_CASE("every command and style has a doc page") {
-  check_pages<granary::CommandRegistry>("commands");
-  check_pages<granary::FixRegistry>("fixes");
-  check_pages<granary::ComputeRegistry>("computes");
-  check_pages<granary::PairRegistry>("pairs");
+TEST_CASE("every command and style has its own doc page, titled and with its syntax") {
+  check_pages<granary::CommandRegistry>("commands", "");
+  check_pages<granary::FixRegistry>("fixes", "fix ");
+  check_pages<granary::ComputeRegistry>("computes", "compute ");
+  check_pages<granary::PairRegistry>("pairs", "pair_style ");
 }
 
 TEST_CASE("region and dump styles are described on their command pages") {

@@ -146,12 +146,7 @@ void Update::setup() {
   // history (pair and per-particle fields marked as history) is not advanced.
   {
     ContactHistory* history = e.force->contact_history();
-    std::vector<double> saved_pair;
-    std::vector<std::uint8_t> saved_touch;
-    if (history) {
-      saved_pair = history->values_;
-      saved_touch = history->touch_;
-    }
+    if (history) history->hold();
     // Per-particle history fields (wall contacts) are mostly zero: only the
     // rows of particles with history are kept, and restored over a cleared field.
     struct SavedRows {
@@ -176,10 +171,7 @@ void Update::setup() {
     in_setup_forces = true;
     compute_forces();
     in_setup_forces = false;
-    if (history) {
-      history->values_.swap(saved_pair);
-      history->touch_.swap(saved_touch);
-    }
+    if (history) history->put_back();
     std::size_t k = 0;
     for (auto& field : e.particles->extras) {
       if (!field.history) continue;
@@ -333,7 +325,7 @@ void Update::run(std::int64_t n, bool pre, bool post) {
   forces_current = true;
   // Keep contact history keyed by particle ids between runs (particles may be
   // added, deleted or moved before the next run rebuilds the lists).
-  if (e.force->pair && e.force->pair->history()) e.force->pair->history()->save(*e.neighbor, *e.particles);
+  if (ContactHistory* history = e.force->contact_history()) history->save(*e.neighbor, *e.particles);
   if (post) report();
 }
 

@@ -153,6 +153,18 @@ int ContactHistory::unpack_particle(tagint tag, const double* buf) {
   return m;
 }
 
+void ContactHistory::hold() {
+  held_values_ = values_;
+  held_touch_ = touch_;
+}
+
+void ContactHistory::put_back() {
+  values_.swap(held_values_);
+  touch_.swap(held_touch_);
+  held_values_.clear();
+  held_touch_.clear();
+}
+
 void ContactHistory::forget_particle(tagint tag) {
   row_of_.erase(tag);
 }

@@ -33,6 +33,12 @@ class ContactHistory {
   std::vector<double> values_;
   std::vector<std::uint8_t> touch_;
 
+  /// At run setup the forces are computed once without advancing the history:
+  /// hold() sets a copy of the list-aligned values and flags aside, put_back()
+  /// makes it current again.
+  void hold();
+  void put_back();
+
   /// Save touched entries of the current list into the keyed store.
   void save(const Neighbor& list, const Particles& particles);
   /// Size the aligned arrays to the new list and fill them from the store.
@@ -65,6 +71,8 @@ class ContactHistory {
   void clear_store();
 
   int nvalues_ = 0;
+  std::vector<double> held_values_;  // hold() .. put_back()
+  std::vector<std::uint8_t> held_touch_;
   std::vector<double> swap_signs_;
   std::vector<Row> rows_;
   std::vector<tagint> partner_;
