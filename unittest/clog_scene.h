@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
+
 namespace clog_scene {
 
 constexpr double kGrainDiameter = 0.0027;  // [m]; floor spheres: 0.002 m
@@ -33,10 +35,7 @@ inline std::vector<std::string> materials() {
   return {
       "neighbor 0.0005 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 1.e6 1.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.3 0.3 0.3 0.3",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.6 0.6 0.6 0.6",
+      granary::test::materials(2, 1.e6, 0.45, 0.3, 0.6),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 5e-5",

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
+
 namespace insert_stream_scene {
 
 /// Box, materials, pair style, timestep and the insertion face read from `face_stl`.
@@ -19,10 +21,7 @@ inline std::vector<std::string> box(const std::string& face_stl) {
       "create_box 1 box",
       "neighbor 0.001 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+      granary::test::materials(1, 5.e6, 0.45, 0.5, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 1e-5",

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "script_engine.h"
+
 namespace restart_scene {
 
 // Settings, materials, walls and integrator: what a restart script re-defines.
@@ -13,10 +15,7 @@ inline std::vector<std::string> physics(const std::string& newton = "off") {
       "neighbor 0.0005 bin",
       "neigh_modify delay 0",
       "newton " + newton,
-      "fix m1 all property/global youngsModulus peratomtype 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.9",
-      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+      granary::test::materials(1, 5.e6, 0.45, 0.9, 0.5),
       "fix m5 all property/global coefficientRollingFriction peratomtypepair 1 0.1",
       "pair_style gran model hertz tangential history rolling_friction cdt",
       "pair_coeff * *",

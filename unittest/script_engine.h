@@ -4,6 +4,8 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <charconv>
 #include <string>
 #include <vector>
 
@@ -14,19 +16,54 @@
 
 namespace granary::test {
 
+/// Execute script lines in order on an engine (an element may hold several
+/// lines, separated by newlines, e.g. materials()).
+inline void run(granary::Engine& e, const std::vector<std::string>& lines) {
+  for (const auto& l : lines) {
+    std::size_t start = 0;
+    while (start <= l.size()) {
+      const std::size_t end = std::min(l.find('\n', start), l.size());
+      if (end > start || l.empty()) e.input->one(l.substr(start, end - start));
+      if (l.empty()) break;
+      start = end + 1;
+    }
+  }
+}
+
 struct ScriptEngine {
   granary::Engine e;
   explicit ScriptEngine(MPI_Comm comm = MPI_COMM_SELF) : e(comm) { e.logger->set_screen(false); }
-  /// Execute one script line.
-  void cmd(const std::string& line) { e.input->one(line); }
-  /// Execute script lines in order.
-  void cmds(const std::vector<std::string>& lines) {
-    for (const auto& l : lines)
-      cmd(l);
-  }
+  /// Execute one script line (or several, separated by newlines).
+  void cmd(const std::string& line) { run(e, {line}); }
+  /// Execute script lines in order (see run()).
+  void cmds(const std::vector<std::string>& lines) { run(e, lines); }
   void lines(const std::vector<std::string>& script) { cmds(script); }
   const granary::Particles& p() const { return *e.particles; }
 };
+
+/// The material lines most scenes need, as one string of four script lines:
+/// fix m1..m4 property/global with one Young's modulus Y, Poisson ratio nu,
+/// restitution e and friction mu for all `ntypes` types and pairs of types
+/// (LIGGGHTS' property names; numbers written so that they read back exactly).
+inline std::string materials(int ntypes, double Y, double nu, double e, double mu) {
+  auto num = [](double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+  };
+  auto repeat = [&](double v, int n) {
+    std::string out;
+    for (int k = 0; k < n; ++k)
+      out += " " + num(v);
+    return out;
+  };
+  const std::string n = std::to_string(ntypes);
+  return "fix m1 all property/global youngsModulus peratomtype" + repeat(Y, ntypes) +
+         "\nfix m2 all property/global poissonsRatio peratomtype" + repeat(nu, ntypes) +
+         "\nfix m3 all property/global coefficientRestitution peratomtypepair " + n +
+         repeat(e, ntypes * ntypes) + "\nfix m4 all property/global coefficientFriction peratomtypepair " +
+         n + repeat(mu, ntypes * ntypes);
+}
 
 }  // namespace granary::test
 

@@ -262,10 +262,7 @@ std::vector<std::string> sjkr_script(bool wall, double speed) {
     lines.insert(
         lines.end(),
         {"region box block -0.01 0.01 -0.01 0.01 -0.001 0.03 units box", "create_box 2 box",
-         "neighbor 0.0005 bin", "fix m1 all property/global youngsModulus peratomtype 5e7 5e7",
-         "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3",
-         "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.8 0.8 0.8 0.8",
-         "fix m4 all property/global coefficientFriction peratomtypepair 2 0.3 0.3 0.3 0.3",
+         "neighbor 0.0005 bin", granary::test::materials(2, 5e7, 0.3, 0.8, 0.3),
          "fix m6 all property/global cohesionEnergyDensity peratomtypepair 2 2e5 2e5 2e5 2e5",
          "pair_style gran model hertz tangential history cohesion sjkr", "pair_coeff * *", "timestep 1e-6",
          "create_atoms 1 single 0 0 0.0025 units box", "set atom 1 diameter 0.005 density 2500",
@@ -276,10 +273,7 @@ std::vector<std::string> sjkr_script(bool wall, double speed) {
     lines.insert(
         lines.end(),
         {"region box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box", "create_box 1 box",
-         "neighbor 0.0005 bin", "fix m1 all property/global youngsModulus peratomtype 5e7",
-         "fix m2 all property/global poissonsRatio peratomtype 0.3",
-         "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.8",
-         "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
+         "neighbor 0.0005 bin", granary::test::materials(1, 5e7, 0.3, 0.8, 0.3),
          "fix m6 all property/global cohesionEnergyDensity peratomtypepair 1 2e5",
          "pair_style gran model hertz tangential history cohesion sjkr", "pair_coeff * *", "timestep 1e-6",
          "create_atoms 1 single 0 0 0.0025 units box", "create_atoms 1 single 0.0005 0 -0.0015 units box",

@@ -26,6 +26,7 @@
 #include "core/update.h"
 #include "fix/fix_multisphere.h"
 #include "core/modify.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -52,10 +53,7 @@ void setup(Engine& e) {
       "create_box 2 box",
       "neighbor 0.001 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      granary::test::materials(2, 5.e6, 0.45, 0.5, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 1e-5",
@@ -66,8 +64,7 @@ void setup(Engine& e) {
       "fix dumb all particletemplate/multisphere 15485867 atom_type 2 density constant 2500 nspheres 2 "
       "ntry 1000000 spheres -0.001 0 0 0.001 0.001 0 0 0.001 type 2",
   };
-  for (const auto& l : lines)
-    e.input->one(l);
+  granary::test::run(e, lines);
 }
 
 vtkSmartPointer<vtkPolyData> read_vtp(const std::string& file) {

@@ -26,6 +26,7 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -48,10 +49,7 @@ void setup_bed(granary::Engine& e) {
       "region box block 0 0.02 0 0.02 0 0.03 units box",
       "create_box 1 box",
       "neighbor 0.0005 bin",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.7",
-      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+      granary::test::materials(1, 5.e6, 0.45, 0.7, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 1e-5",
@@ -63,8 +61,7 @@ void setup_bed(granary::Engine& e) {
       "fix zwall all wall/gran model hertz tangential history primitive type 1 zplane 0.0",
       "fix integr all nve/sphere",
   };
-  for (const auto& l : lines)
-    e.input->one(l);
+  granary::test::run(e, lines);
 }
 
 vtkSmartPointer<vtkXMLDataElement> read_xml(const std::string& file) {

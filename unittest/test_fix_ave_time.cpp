@@ -30,14 +30,9 @@ struct Sim : granary::test::ScriptEngine {
   double var(const std::string& formula) { return e.input->variables().evaluate(formula); }
 };
 
-const std::vector<std::string> kMaterials = {
-    "fix m1 all property/global youngsModulus peratomtype 5.e6",
-    "fix m2 all property/global poissonsRatio peratomtype 0.45",
-    "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-    "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
-    "pair_style gran model hertz tangential history",
-    "pair_coeff * *",
-    "timestep 1e-3"};
+const std::vector<std::string> kMaterials = {granary::test::materials(1, 5.e6, 0.45, 0.5, 0.5),
+                                             "pair_style gran model hertz tangential history",
+                                             "pair_coeff * *", "timestep 1e-3"};
 
 // One sphere moving at vx = 2 m/s in an empty box (no gravity), dt = 1e-3 s.
 void setup(Sim& s) {

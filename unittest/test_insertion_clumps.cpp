@@ -37,6 +37,7 @@
 #include "fix/fix_particledistribution_discrete.h"
 #include "core/modify.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 using granary::Engine;
 using granary::Vec3;
@@ -176,8 +177,7 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
           "[insert][multisphere]") {
   Engine e(MPI_COMM_WORLD);
   e.logger->set_screen(false);
-  for (const auto& l : scene())
-    e.input->one(l);
+  granary::test::run(e, scene());
   const double phi = 0.25;
   e.input->one("fix pdd all particledistribution/discrete 32452843 1 cyl 1.0");
   e.input->one(
@@ -241,8 +241,7 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
 TEST_CASE("insert/pack tops up a region holding clumps to the volume fraction", "[insert][multisphere]") {
   Engine e(MPI_COMM_WORLD);
   e.logger->set_screen(false);
-  for (const auto& l : scene())
-    e.input->one(l);
+  granary::test::run(e, scene());
   e.input->one("fix pdd all particledistribution/discrete 32452843 1 cyl 1.0");
   const std::string common =
       " distributiontemplate pdd maxattempt 1000 insert_every once overlapcheck yes all_in yes "
@@ -269,8 +268,7 @@ TEST_CASE("insert/pack of cylinder clumps and glass spheres by volume fractions"
       SECTION(mode + ", phi " + std::to_string(phi)) {
         Engine e(MPI_COMM_WORLD);
         e.logger->set_screen(false);
-        for (const auto& l : scene())
-          e.input->one(l);
+        granary::test::run(e, scene());
         e.input->one("fix pdd all particledistribution/discrete 32452843 2 cyl " + std::to_string(1.0 - phi) +
                      " glass " + std::to_string(phi) + " fractions volume");
         e.input->one(

@@ -140,10 +140,7 @@ std::vector<std::string> scene() {
           "create_box 1 reg",
           "neighbor 0.004 bin",
           "neigh_modify delay 0",
-          "fix m1 all property/global youngsModulus peratomtype 1.e7",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+          granary::test::materials(1, 1.e7, 0.45, 0.3, 0.5),
           "fix m5 all property/global characteristicVelocity scalar 2.",
           "pair_style gran model hertz tangential history",
           "pair_coeff * *",
@@ -285,8 +282,7 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
   // ---- Granary, from LIGGGHTS' state at step 1
   granary::Engine e(MPI_COMM_SELF);
   e.logger->set_screen(false);
-  for (const auto& line : scene())
-    e.input->one(line);
+  granary::test::run(e, scene());
   e.input->one(template_line(dir + "/stone1.multisphere"));
   e.input->one("fix integr all multisphere");
   e.input->one("compute ke all ke/multisphere");

@@ -50,10 +50,7 @@ std::vector<std::string> scene(double mu_r = 0.1, const std::string& rolling = "
       "create_box 2 box",
       "neighbor 0.001 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      granary::test::materials(2, 5.e6, 0.45, 0.5, 0.5),
       "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 " + std::to_string(mu_r) +
           " " + std::to_string(mu_r) + " " + std::to_string(mu_r) + " " + std::to_string(mu_r),
       "pair_style gran model hertz tangential history " + rolling,

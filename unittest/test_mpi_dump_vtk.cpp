@@ -32,6 +32,7 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -74,10 +75,7 @@ void setup_bed(granary::Engine& e, bool spread = true) {
       "create_box 2 box",
       "neighbor 0.0005 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.7 0.7 0.7 0.7",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      granary::test::materials(2, 5.e6, 0.45, 0.7, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 1e-5",
@@ -93,8 +91,7 @@ void setup_bed(granary::Engine& e, bool spread = true) {
       "compute pa all property/atom vx radius",
       "variable vz2 atom vz*2",
   };
-  for (const auto& l : lines)
-    e.input->one(l);
+  granary::test::run(e, lines);
 }
 
 // Particle state gathered on every rank: id -> values.

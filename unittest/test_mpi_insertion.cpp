@@ -24,6 +24,7 @@
 #include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -68,10 +69,7 @@ Result run_scene(MPI_Comm comm) {
       "create_box 2 box",
       "neighbor 0.0006 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.3 0.3 0.3 0.3",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      granary::test::materials(2, 5.e6, 0.45, 0.3, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 2e-5",
@@ -87,8 +85,7 @@ Result run_scene(MPI_Comm comm) {
       "overlapcheck yes vel constant 0 0 -0.5 region bed volumefraction_region 0.3",
       "run 1",
   };
-  for (const auto& line : setup)
-    e.input->one(line);
+  granary::test::run(e, setup);
   Result r;
   r.packed = snapshot(e);
   const std::vector<std::string> more = {
@@ -100,8 +97,7 @@ Result run_scene(MPI_Comm comm) {
       "insert_every 25 overlapcheck yes vel constant 0 0 -0.5 region top",
       "run 52",
   };
-  for (const auto& line : more)
-    e.input->one(line);
+  granary::test::run(e, more);
   r.settled = snapshot(e);
   long long local[2] = {0, 0}, all[2];
   if (auto* h = e.force->pair->history()) {

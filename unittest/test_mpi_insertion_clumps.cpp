@@ -25,6 +25,7 @@
 #include "fix/fix_multisphere.h"
 #include "core/modify.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -75,8 +76,7 @@ std::vector<std::string> scene() {
 Snapshot insert(MPI_Comm comm) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  for (const auto& l : scene())
-    e.input->one(l);
+  granary::test::run(e, scene());
   Snapshot s;
   // a rank keeps current only the clumps it owns sub-spheres of: synchronise first
   auto* ms = granary::FixMultisphere::find(*e.modify);

@@ -23,6 +23,7 @@
 #include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -45,10 +46,7 @@ std::vector<std::string> bed_script(const std::string& newton, int steps) {
       "create_box 2 box",
       "neighbor 0.0006 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.7 0.7 0.7 0.7",
-      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5",
+      granary::test::materials(2, 5.e6, 0.45, 0.7, 0.5),
       "fix m5 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
       "pair_style gran model hertz tangential history rolling_friction cdt",
       "pair_coeff * *",
@@ -77,8 +75,7 @@ std::vector<std::string> bed_script(const std::string& newton, int steps) {
 Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  for (const auto& line : bed_script(newton, steps))
-    e.input->one(line);
+  granary::test::run(e, bed_script(newton, steps));
   Snapshot s;
   const auto& p = *e.particles;
   // gather positions by id

@@ -19,6 +19,7 @@
 #include "core/logger.h"
 #include "mesh_files.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 using granary::Vec3;
 
@@ -106,8 +107,7 @@ Snapshot run_box(MPI_Comm comm, const std::string& file) {
            "run 1200",
        })
     script.push_back(l);
-  for (const auto& l : script)
-    e.input->one(l);
+  granary::test::run(e, script);
   Snapshot s;
   const auto& p = *e.particles;
   std::vector<double> mine;
@@ -207,8 +207,7 @@ Channel run_channel(MPI_Comm comm, bool mesh) {
   }
   script.push_back("fix integr all nve/sphere");
   script.push_back("run 2500");
-  for (const auto& l : script)
-    e.input->one(l);
+  granary::test::run(e, script);
   Channel c;
   const auto& p = *e.particles;
   std::vector<double> mine;

@@ -30,6 +30,7 @@
 #include "core/force.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -55,10 +56,7 @@ std::vector<std::string> scene(const std::string& newton) {
       "create_box 1 box",
       "neighbor 0.001 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.6",
-      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+      granary::test::materials(1, 5.e6, 0.45, 0.6, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 1e-5",
@@ -98,8 +96,7 @@ std::vector<std::string> scene(const std::string& newton) {
 Snapshot run_scene(MPI_Comm comm, const std::string& newton) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  for (const auto& line : scene(newton))
-    e.input->one(line);
+  granary::test::run(e, scene(newton));
   Snapshot s;
   // 6000 steps in 12 runs; sphere-sphere contacts are counted at the end of each
   auto touching = [&]() {

@@ -34,6 +34,7 @@
 #include "fix/fix_multisphere.h"
 #include "core/modify.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -41,10 +42,7 @@ std::vector<std::string> physics() {
   return {
       "neighbor 0.001 bin",
       "neigh_modify delay 0",
-      "fix m1 all property/global youngsModulus peratomtype 5.e6",
-      "fix m2 all property/global poissonsRatio peratomtype 0.45",
-      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.8",
-      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+      granary::test::materials(1, 5.e6, 0.45, 0.8, 0.5),
       "pair_style gran model hertz tangential history",
       "pair_coeff * *",
       "timestep 1e-5",
@@ -144,8 +142,7 @@ TEST_CASE("clumps migrating between ranks many times keep the 1-rank physics") {
   {
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    for (const auto& l : scene())
-      e.input->one(l);
+    granary::test::run(e, scene());
     e.input->one("run 0");
     ke0 = e.compute_value("ke", 0) + e.compute_value("rot", 0);
     e.input->one("run 4000");
@@ -155,8 +152,7 @@ TEST_CASE("clumps migrating between ranks many times keep the 1-rank physics") {
   {
     granary::Engine e(MPI_COMM_WORLD);
     e.logger->set_screen(false);
-    for (const auto& l : scene())
-      e.input->one(l);
+    granary::test::run(e, scene());
     e.input->one("run 4000");
     e.input->one("write_restart " + file);
     fetched_first = snapshot(e, MPI_COMM_WORLD).fetched;
@@ -169,8 +165,7 @@ TEST_CASE("clumps migrating between ranks many times keep the 1-rank physics") {
     e.input->one("atom_style granular");
     e.input->one("atom_modify map array");
     e.input->one("read_restart " + file);
-    for (const auto& l : physics())
-      e.input->one(l);
+    granary::test::run(e, physics());
     e.input->one("run 4000");
     restarted = snapshot(e, MPI_COMM_WORLD);
   }

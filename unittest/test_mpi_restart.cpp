@@ -13,6 +13,7 @@
 #include "core/logger.h"
 #include "particles/particles.h"
 #include "restart_scene.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -65,32 +66,28 @@ TEST_CASE("a restart written on N ranks continues on 1 and on N ranks") {
   {
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::fresh())
-      e.input->one(l);
+    granary::test::run(e, restart_scene::fresh());
     e.input->one("run 1200");
     straight = gather(e, MPI_COMM_SELF);
   }
   {
     granary::Engine e(MPI_COMM_WORLD);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::fresh())
-      e.input->one(l);
+    granary::test::run(e, restart_scene::fresh());
     e.input->one("run 600");
     e.input->one("write_restart " + file);
   }
   {
     granary::Engine e(MPI_COMM_WORLD);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::restarted(file))
-      e.input->one(l);
+    granary::test::run(e, restart_scene::restarted(file));
     e.input->one("run 600");
     on_world = gather(e, MPI_COMM_WORLD);
   }
   {
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    for (const auto& l : restart_scene::restarted(file))
-      e.input->one(l);
+    granary::test::run(e, restart_scene::restarted(file));
     e.input->one("run 600");
     on_self = gather(e, MPI_COMM_SELF);
   }

@@ -302,11 +302,7 @@ TEST_CASE("multisphere: a restarted run continues the clumps bit for bit", "[mul
   // A spinning, falling clump bouncing on the floor next to a free sphere:
   // 2000 steps straight against 1000 + write_restart + read_restart + 1000.
   auto physics = [](Sim& s) {
-    s.cmds({"neighbor 0.001 bin", "neigh_modify delay 0",
-            "fix m1 all property/global youngsModulus peratomtype 5.e6",
-            "fix m2 all property/global poissonsRatio peratomtype 0.45",
-            "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-            "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+    s.cmds({"neighbor 0.001 bin", "neigh_modify delay 0", granary::test::materials(1, 5.e6, 0.45, 0.5, 0.5),
             "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
             "fix g all gravity 9.81 vector 0 0 -1",
             "fix floor all wall/gran model hertz tangential history primitive type 1 zplane -0.05",

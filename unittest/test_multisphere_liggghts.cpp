@@ -44,6 +44,7 @@
 #include "fix/fix_multisphere.h"
 #include "fix/fix_particletemplate_multisphere.h"
 #include "core/modify.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -106,10 +107,7 @@ std::vector<std::string> scene() {
           "create_box 1 reg",
           "neighbor 0.0005 bin",
           "neigh_modify delay 0",
-          "fix m1 all property/global youngsModulus peratomtype 5.e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.5",
+          granary::test::materials(1, 5.e6, 0.45, 0.5, 0.5),
           "pair_style gran model hertz tangential history",
           "pair_coeff * *",
           "timestep 0.000002",
@@ -127,8 +125,7 @@ std::vector<std::string> scene() {
 TEST_CASE("multisphere: a spinning clump dropped on a plane follows LIGGGHTS", "[multisphere][liggghts]") {
   granary::Engine e(MPI_COMM_SELF);
   e.logger->set_screen(false);
-  for (const auto& line : scene())
-    e.input->one(line);
+  granary::test::run(e, scene());
   auto* tmpl = dynamic_cast<granary::FixParticleTemplateMultisphere*>(e.modify->find_fix("pts1"));
   REQUIRE(tmpl);
   // LIGGGHTS' template mass: 1.658718e-05 kg (its own Monte Carlo estimate)

@@ -21,6 +21,7 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "particles/particles.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -59,8 +60,7 @@ Rebound impact(double incidence_deg, const std::string& tangential) {
       "fix integr all nve/sphere",
       "run 1500",
   };
-  for (const auto& line : script)
-    e.input->one(line);
+  granary::test::run(e, script);
   const auto& p = *e.particles;
   REQUIRE(p.nlocal == 1);
   REQUIRE(p.v[0][2] > 0.0);  // it has rebounded

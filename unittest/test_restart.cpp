@@ -14,6 +14,7 @@
 #include "domain/domain.h"
 #include "particles/particles.h"
 #include "restart_scene.h"
+#include "script_engine.h"
 
 namespace {
 
@@ -39,8 +40,7 @@ State state_of(granary::Engine& e) {
 }
 
 void run_lines(granary::Engine& e, const std::vector<std::string>& lines) {
-  for (const auto& l : lines)
-    e.input->one(l);
+  granary::test::run(e, lines);
 }
 
 std::string read_file(const std::string& path) {
