@@ -278,11 +278,9 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
 }
 
 void cmd_create_atoms(Engine& e, const Args& a) {
-  e.update->particles_changed();
   const char* usage =
       "create_atoms TYPE single X Y Z | random N SEED REGION | box | region REGION [keywords]";
-  if (a.size() < 2) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
-  require_box(e, "create_atoms");
+  begin(e, a, 2, "create_atoms", usage);
   const int type = parse_type(e, a[0], "create_atoms type");
   const std::string& style = a[1];
   if (style == "single") {

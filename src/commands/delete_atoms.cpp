@@ -28,12 +28,10 @@ namespace {
 using namespace particle_commands;
 
 void cmd_delete_atoms(Engine& e, const Args& a) {
-  e.update->particles_changed();
   const char* usage =
       "delete_atoms group GROUP | region REGION | porosity REGION FRACTION SEED  [compress yes|no] [mol "
       "yes|no]";
-  if (a.size() < 2) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
-  require_box(e, "delete_atoms");
+  begin(e, a, 2, "delete_atoms", usage);
   Particles& p = *e.particles;
   const std::string& style = a[0];
   std::size_t first = 2;

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/engine.h"
+#include "core/update.h"
 #include "core/error.h"
 #include "core/input.h"
 #include "core/variable.h"
@@ -20,6 +21,12 @@ void require_box(Engine& e, const std::string& cmd) {
   if (!e.domain->box_exist) {
     throw InputError(cmd + " needs the simulation box; use create_box (or read_restart) first");
   }
+}
+
+void begin(Engine& e, const Args& a, std::size_t min_args, const std::string& cmd, const char* usage) {
+  e.update->particles_changed();
+  if (a.size() < min_args) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
+  require_box(e, cmd);
 }
 
 /// Next free particle id: largest id anywhere + 1 (collective).

@@ -23,6 +23,10 @@ namespace particle_commands {
 
 /// InputError unless the simulation box exists.
 void require_box(Engine& e, const std::string& cmd);
+/// The start of a command that changes particles: tells Update that particles
+/// changed, then InputError with the usage unless there are at least
+/// `min_args` arguments, and unless the box exists.
+void begin(Engine& e, const Args& a, std::size_t min_args, const std::string& cmd, const char* usage);
 /// The next free particle id (collective).
 tagint next_id(Engine& e);
 /// Sum over the ranks.

@@ -81,12 +81,10 @@ class Selection {
 };
 
 void cmd_set(Engine& e, const Args& a) {
-  e.update->particles_changed();
   const char* usage =
       "set atom|type|group|region ID keyword value ...  (keywords: type, type/fraction, diameter, density, "
       "mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, omega, image)";
-  if (a.size() < 4) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
-  require_box(e, "set");
+  begin(e, a, 4, "set", usage);
   const Selection sel(e, a[0], a[1], "set");
   Particles& p = *e.particles;
 

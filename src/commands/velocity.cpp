@@ -24,12 +24,10 @@ namespace {
 using namespace particle_commands;
 
 void cmd_velocity(Engine& e, const Args& a) {
-  e.update->particles_changed();
   const char* usage =
       "velocity GROUP set VX VY VZ | setAngular WX WY WZ | ramp vx|vy|vz VLO VHI x|y|z CLO CHI | "
       "zero linear|angular  [sum yes|no] [units box|lattice]";
-  if (a.size() < 2) throw InputError(std::string("wrong number of arguments; usage: ") + usage);
-  require_box(e, "velocity");
+  begin(e, a, 2, "velocity", usage);
   const int igroup = e.groups->find_or_error(a[0], "velocity");
   const int bit = e.groups->bitmask(igroup);
   const std::string& style = a[1];
