@@ -3,7 +3,11 @@
 #include <mpi.h>
 
 #include <catch2/catch.hpp>
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +18,7 @@
 #include "core/input.h"
 #include "core/logger.h"
 #include "core/modify.h"
+#include "core/variable.h"
 #include "particles/particles.h"
 
 using Catch::Matchers::Contains;
@@ -216,6 +221,54 @@ TEST_CASE("compute property/atom gives per-atom vectors and arrays", "[compute]"
   }
   CHECK_THROWS_WITH(s.cmd("compute bad all property/atom radiuss"), Contains("radius"));
   CHECK_THROWS_AS(s.cmd("compute bad all property/atom"), InputError);
+}
+
+// One table of per-particle properties (core/atom_properties.h) behind
+// compute property/atom, atom-style variables and dump custom: each name gives
+// the same values through all three, the scaled and unwrapped positions and
+// the image flags included.
+TEST_CASE("per-atom property names mean the same in property/atom, variables and dumps", "[compute]") {
+  Sim s;
+  setup(s);
+  s.cmds({"set atom 3 image 1 -2 0", "compute pa all property/atom xs xu ix iy body vz",
+          "variable xs atom xs", "variable xu atom xu", "variable ix atom ix", "variable iy atom iy",
+          "variable b atom body", "variable vz atom vz"});
+  const char* names[] = {"xs", "xu", "ix", "iy", "b", "vz"};
+  const auto& p = *s.e.particles;
+  for (int c = 0; c < 6; ++c) {
+    std::vector<double> from_compute, from_variable;
+    s.e.compute_peratom("pa", c + 1, from_compute);
+    s.e.input->variables().compute_atom(names[c], from_variable);
+    INFO("property " << names[c]);
+    REQUIRE(from_variable.size() == static_cast<std::size_t>(p.nlocal));
+    for (int i = 0; i < p.nlocal; ++i)
+      CHECK(from_compute[i] == from_variable[i]);
+  }
+  std::vector<double> xs, xu, ix, iy, body;
+  s.e.compute_peratom("pa", 1, xs);
+  s.e.compute_peratom("pa", 2, xu);
+  s.e.compute_peratom("pa", 3, ix);
+  s.e.compute_peratom("pa", 4, iy);
+  s.e.compute_peratom("pa", 5, body);
+  for (int i = 0; i < p.nlocal; ++i) {
+    const auto& ref = kParticles[p.id[i] - 1];
+    CHECK(xs[i] == Approx(ref.x[0] / 10.0));  // box 0..10
+    CHECK(body[i] == -1.0);
+    const bool moved = p.id[i] == 3;
+    CHECK(ix[i] == (moved ? 1.0 : 0.0));
+    CHECK(iy[i] == (moved ? -2.0 : 0.0));
+    CHECK(xu[i] == Approx(ref.x[0] + (moved ? 10.0 : 0.0)));
+  }
+  // the dump writes the same numbers (x unwrapped of particle 3)
+  const std::string file = "atom_properties_" + std::to_string(::getpid()) + ".txt";
+  s.cmd("write_dump all custom " + file + " id xu ix modify sort id precision 17");
+  std::ifstream in(file);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.rfind("3 ", 0) == 0) last = line;
+  std::remove(file.c_str());
+  CHECK(last == "3 15 1");
+  CHECK_THROWS_WITH(s.cmd("compute bad all property/atom xuu"), Contains("xu"));
 }
 
 TEST_CASE("compute count/region and reduce/region", "[compute]") {

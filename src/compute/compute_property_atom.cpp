@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "compute/compute.h"
+#include "core/atom_properties.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -15,23 +16,17 @@ namespace granary {
 namespace {
 
 const char* kUsage =
-    "compute ID group-ID property/atom name ...  (id type mass radius diameter density x y z xu yu zu "
-    "ix iy iz vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz)";
+    "compute ID group-ID property/atom name ...  (id type body mass radius diameter density x y z xs ys zs "
+    "xu yu zu ix iy iz vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz)";
 
 class ComputePropertyAtom : public Compute {
  public:
   ComputePropertyAtom(Engine& engine, const Args& args) : Compute(engine, args) {
     require_args(args, 4, 10000, kUsage);
     names_.assign(args.begin() + 3, args.end());
-    std::vector<double> probe;
     for (const auto& name : names_) {
-      if (own(name) >= 0) continue;
-      if (!engine.atom_vector(name, probe)) {
-        const std::vector<std::string> known = {
-            "id", "type", "mass", "radius", "diameter", "density", "x",   "y",   "z",
-            "xu", "yu",   "zu",   "ix",     "iy",       "iz",      "vx",  "vy",  "vz",
-            "fx", "fy",   "fz",   "omegax", "omegay",   "omegaz",  "tqx", "tqy", "tqz"};
-        const std::string hint = did_you_mean(name, known);
+      if (!find_atom_property(name)) {
+        const std::string hint = did_you_mean(name, atom_property_names());
         throw InputError("unknown property '" + name + "' in compute " + id + " property/atom" +
                          (hint.empty() ? "" : "; " + hint) + "; usage: " + kUsage);
       }
@@ -51,31 +46,10 @@ class ComputePropertyAtom : public Compute {
   }
 
  private:
-  /// Properties computed here rather than by the engine: unwrapped positions and image flags.
-  static int own(const std::string& name) {
-    static const std::vector<std::string> mine = {"xu", "yu", "zu", "ix", "iy", "iz"};
-    const auto it = std::find(mine.begin(), mine.end(), name);
-    return it == mine.end() ? -1 : static_cast<int>(it - mine.begin());
-  }
-
   void fill(const std::string& name, std::vector<double>& out) {
     const Particles& p = *engine_.particles;
-    const int n = p.nlocal;
-    const int k = own(name);
-    if (k < 0) {
-      engine_.atom_vector(name, out);
-    } else {
-      out.assign(n, 0.0);
-      const Domain& dom = *engine_.domain;
-      const int d = k % 3;
-      for (int i = 0; i < n; ++i) {
-        int img[3];
-        Particles::image_unpack(p.image[i], img[0], img[1], img[2]);
-        out[i] = k < 3 ? p.x[i][d] + img[d] * dom.prd[d] : static_cast<double>(img[d]);
-      }
-    }
-    out.resize(n);
-    for (int i = 0; i < n; ++i)
+    engine_.atom_vector(name, out);
+    for (int i = 0; i < p.nlocal; ++i)
       if (!(p.mask[i] & groupbit)) out[i] = 0.0;
   }
 

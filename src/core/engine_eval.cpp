@@ -3,6 +3,8 @@
 
 #include "compute/compute.h"
 #include "core/engine.h"
+
+#include "core/atom_properties.h"
 #include "core/error.h"
 #include "core/update.h"
 #include "domain/domain.h"
@@ -101,47 +103,16 @@ double Engine::group_function(const std::string& name, const Args& args) {
 }
 
 bool Engine::atom_vector(const std::string& name, std::vector<double>& out) {
-  const Particles& p = *particles;
-  const int n = p.nlocal;
+  const AtomProperty* prop = find_atom_property(name);
+  if (!prop) {
+    out.clear();
+    return false;
+  }
+  const int n = particles->nlocal;
   out.resize(n);
-  auto vec = [&](const std::vector<Vec3>& a, int d) {
-    for (int i = 0; i < n; ++i)
-      out[i] = a[i][d];
-  };
-  static const char* comps[] = {"x", "y", "z"};
-  for (int d = 0; d < 3; ++d) {
-    const std::string c = comps[d];
-    if (name == c) return vec(p.x, d), true;
-    if (name == "v" + c) return vec(p.v, d), true;
-    if (name == "f" + c) return vec(p.f, d), true;
-    if (name == "omega" + c) return vec(p.omega, d), true;
-    if (name == "tq" + c) return vec(p.torque, d), true;
-  }
-  if (name == "mass") return out.assign(p.rmass.begin(), p.rmass.begin() + n), true;
-  if (name == "radius") return out.assign(p.radius.begin(), p.radius.begin() + n), true;
-  if (name == "diameter") {
-    for (int i = 0; i < n; ++i)
-      out[i] = 2.0 * p.radius[i];
-    return true;
-  }
-  if (name == "density") return out.assign(p.density.begin(), p.density.begin() + n), true;
-  if (name == "type") {
-    for (int i = 0; i < n; ++i)
-      out[i] = p.type[i];
-    return true;
-  }
-  if (name == "id") {
-    for (int i = 0; i < n; ++i)
-      out[i] = static_cast<double>(p.id[i]);
-    return true;
-  }
-  if (name == "mol" || name == "body") {
-    for (int i = 0; i < n; ++i)
-      out[i] = static_cast<double>(p.body[i]);
-    return true;
-  }
-  out.clear();
-  return false;
+  for (int i = 0; i < n; ++i)
+    out[i] = prop->value(*this, i);
+  return true;
 }
 
 void Engine::compute_peratom(const std::string& id, int col, std::vector<double>& out) {

@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "compute/compute.h"
+#include "core/atom_properties.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -28,86 +29,6 @@ namespace granary {
 namespace {
 
 // Built-in per-particle fields.
-enum CoreField : int {
-  kId,
-  kType,
-  kBody,
-  kMass,
-  kDensity,
-  kRadius,
-  kDiameter,
-  kX,
-  kY,
-  kZ,
-  kXs,
-  kYs,
-  kZs,
-  kXu,
-  kYu,
-  kZu,
-  kIx,
-  kIy,
-  kIz,
-  kVx,
-  kVy,
-  kVz,
-  kFx,
-  kFy,
-  kFz,
-  kOmegax,
-  kOmegay,
-  kOmegaz,
-  kTqx,
-  kTqy,
-  kTqz,
-  kNumCore
-};
-
-struct CoreName {
-  const char* name;
-  int field;
-};
-
-const CoreName kCoreNames[] = {
-    {"id", kId},
-    {"type", kType},
-    {"body", kBody},
-    {"mol", kBody},
-    {"id_multisphere", kBody},
-    {"mass", kMass},
-    {"density", kDensity},
-    {"radius", kRadius},
-    {"diameter", kDiameter},
-    {"x", kX},
-    {"y", kY},
-    {"z", kZ},
-    {"xs", kXs},
-    {"ys", kYs},
-    {"zs", kZs},
-    {"xu", kXu},
-    {"yu", kYu},
-    {"zu", kZu},
-    {"ix", kIx},
-    {"iy", kIy},
-    {"iz", kIz},
-    {"vx", kVx},
-    {"vy", kVy},
-    {"vz", kVz},
-    {"fx", kFx},
-    {"fy", kFy},
-    {"fz", kFz},
-    {"omegax", kOmegax},
-    {"omegay", kOmegay},
-    {"omegaz", kOmegaz},
-    {"tqx", kTqx},
-    {"tqy", kTqy},
-    {"tqz", kTqz},
-};
-
-bool core_is_integer(int f) {
-  return f == kId || f == kType || f == kBody || f == kIx || f == kIy || f == kIz;
-}
-
 // "c_ID[3]" -> ref "ID", col "3"; col "" when there is no bracket.
 void split_ref(const std::string& word, std::string& ref, std::string& col) {
   const std::string body = word.substr(2);
@@ -131,16 +52,9 @@ DumpFields::DumpFields(Engine& engine, const Args& words, const std::string& wha
   for (const auto& w : words) {
     DumpField f;
     f.name = w;
-    bool found = false;
-    for (const auto& c : kCoreNames) {
-      if (w == c.name) {
-        f.core = c.field;
-        f.integer = core_is_integer(c.field);
-        found = true;
-        break;
-      }
-    }
-    if (found) {
+    if (const AtomProperty* prop = find_atom_property(w)) {
+      f.property = prop;
+      f.integer = prop->integer;
       fields.push_back(f);
       continue;
     }
@@ -180,10 +94,7 @@ DumpFields::DumpFields(Engine& engine, const Args& words, const std::string& wha
       fields.push_back(f);
       continue;
     }
-    std::vector<std::string> known;
-    for (const auto& c : kCoreNames)
-      known.push_back(c.name);
-    const std::string hint = did_you_mean(w, known);
+    const std::string hint = did_you_mean(w, atom_property_names());
     throw InputError(
         what_ + ": unknown field '" + w + "'" + (hint.empty() ? "" : "; " + hint) +
         " (fields: id type x y z vx vy vz fx fy fz omegax omegay omegaz tqx tqy tqz"
@@ -243,101 +154,10 @@ void DumpFields::select(int groupbit, const std::string& region, std::vector<int
   }
 }
 
-void DumpFields::core_column(int which, const std::vector<int>& sel, int stride, double* out) const {
-  const Particles& p = *engine_.particles;
-  const Domain& d = *engine_.domain;
-  const std::size_t n = sel.size();
-  auto put = [&](auto value) {
-    for (std::size_t k = 0; k < n; ++k)
-      out[k * stride] = value(sel[k]);
-  };
-  auto image = [&](int i, int dim) {
-    int im[3];
-    Particles::image_unpack(p.image[i], im[0], im[1], im[2]);
-    return im[dim];
-  };
-  switch (which) {
-    case kId:
-      put([&](int i) { return static_cast<double>(p.id[i]); });
-      break;
-    case kType:
-      put([&](int i) { return static_cast<double>(p.type[i]); });
-      break;
-    case kBody:
-      put([&](int i) { return static_cast<double>(p.body[i]); });
-      break;
-    case kMass:
-      put([&](int i) { return p.rmass[i]; });
-      break;
-    case kDensity:
-      put([&](int i) { return p.density[i]; });
-      break;
-    case kRadius:
-      put([&](int i) { return p.radius[i]; });
-      break;
-    case kDiameter:
-      put([&](int i) { return 2.0 * p.radius[i]; });
-      break;
-    case kX:
-    case kY:
-    case kZ: {
-      const int dim = which - kX;
-      put([&](int i) { return p.x[i][dim]; });
-      break;
-    }
-    case kXs:
-    case kYs:
-    case kZs: {
-      const int dim = which - kXs;
-      const double lo = d.boxlo[dim], len = d.prd[dim] > 0 ? d.prd[dim] : 1.0;
-      put([&](int i) { return (p.x[i][dim] - lo) / len; });
-      break;
-    }
-    case kXu:
-    case kYu:
-    case kZu: {
-      const int dim = which - kXu;
-      put([&](int i) { return p.x[i][dim] + image(i, dim) * d.prd[dim]; });
-      break;
-    }
-    case kIx:
-    case kIy:
-    case kIz: {
-      const int dim = which - kIx;
-      put([&](int i) { return static_cast<double>(image(i, dim)); });
-      break;
-    }
-    case kVx:
-    case kVy:
-    case kVz: {
-      const int dim = which - kVx;
-      put([&](int i) { return p.v[i][dim]; });
-      break;
-    }
-    case kFx:
-    case kFy:
-    case kFz: {
-      const int dim = which - kFx;
-      put([&](int i) { return p.f[i][dim]; });
-      break;
-    }
-    case kOmegax:
-    case kOmegay:
-    case kOmegaz: {
-      const int dim = which - kOmegax;
-      put([&](int i) { return p.omega[i][dim]; });
-      break;
-    }
-    case kTqx:
-    case kTqy:
-    case kTqz: {
-      const int dim = which - kTqx;
-      put([&](int i) { return p.torque[i][dim]; });
-      break;
-    }
-    default:
-      break;
-  }
+void DumpFields::property_column(const AtomProperty& prop, const std::vector<int>& sel, int stride,
+                                 double* out) const {
+  for (std::size_t k = 0; k < sel.size(); ++k)
+    out[k * stride] = prop.value(engine_, sel[k]);
 }
 
 void DumpFields::pack(const std::vector<int>& sel, bool with_id, std::vector<double>& out) {
@@ -346,7 +166,7 @@ void DumpFields::pack(const std::vector<int>& sel, bool with_id, std::vector<dou
   for (int c = 0; c < ncols(); ++c) {
     const DumpField& f = fields[c];
     if (f.source == DumpField::kCore) {
-      core_column(f.core, sel, stride, out.data() + c);
+      property_column(*f.property, sel, stride, out.data() + c);
       continue;
     }
     if (f.source == DumpField::kCompute)
@@ -359,7 +179,7 @@ void DumpFields::pack(const std::vector<int>& sel, bool with_id, std::vector<dou
     for (std::size_t k = 0; k < sel.size(); ++k)
       out[k * stride + c] = scratch_[sel[k]];
   }
-  if (with_id) core_column(kId, sel, stride, out.data() + ncols());
+  if (with_id) property_column(*find_atom_property("id"), sel, stride, out.data() + ncols());
 }
 
 // -------------------------------------------------------------------- dumpio

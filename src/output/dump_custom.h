@@ -17,15 +17,17 @@
 
 namespace granary {
 
+struct AtomProperty;
+
 /// One output column of a custom-style dump.
 struct DumpField {
   enum Source { kCore, kCompute, kFix, kVariable };
   std::string name;  // as written in the command: "vx", "c_stress[2]", "v_ke"
   Source source = kCore;
-  int core = -1;         // kCore: index into the table of built-in fields
-  std::string ref;       // compute, fix or variable name
-  int col = 0;           // c_/f_: 0 = per-atom vector, i >= 1 = column i
-  bool integer = false;  // an integer quantity (id, type, image flags, body)
+  const AtomProperty* property = nullptr;  // kCore: the per-particle property (core/atom_properties.h)
+  std::string ref;                         // compute, fix or variable name
+  int col = 0;                             // c_/f_: 0 = per-atom vector, i >= 1 = column i
+  bool integer = false;                    // an integer quantity (id, type, image flags, body)
 };
 
 /// The field list of a custom-style dump.
@@ -50,7 +52,7 @@ class DumpFields {
   std::vector<DumpField> fields;
 
  private:
-  void core_column(int which, const std::vector<int>& sel, int stride, double* out) const;
+  void property_column(const AtomProperty& prop, const std::vector<int>& sel, int stride, double* out) const;
   Engine& engine_;
   std::string what_;
   std::vector<double> scratch_;

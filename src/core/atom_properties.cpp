@@ -1,0 +1,110 @@
+#include "core/atom_properties.h"
+
+#include "core/engine.h"
+#include "domain/domain.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+
+int image_flag(const Particles& p, int i, int dim) {
+  int im[3];
+  Particles::image_unpack(p.image[i], im[0], im[1], im[2]);
+  return im[dim];
+}
+
+// x, y, z of a vector field: three properties from one accessor
+template <int D>
+double x_of(const Engine& e, int i) {
+  return e.particles->x[i][D];
+}
+template <int D>
+double xs_of(const Engine& e, int i) {
+  const Domain& d = *e.domain;
+  const double len = d.prd[D] > 0 ? d.prd[D] : 1.0;
+  return (e.particles->x[i][D] - d.boxlo[D]) / len;
+}
+template <int D>
+double xu_of(const Engine& e, int i) {
+  return e.particles->x[i][D] + image_flag(*e.particles, i, D) * e.domain->prd[D];
+}
+template <int D>
+double image_of(const Engine& e, int i) {
+  return static_cast<double>(image_flag(*e.particles, i, D));
+}
+template <int D>
+double v_of(const Engine& e, int i) {
+  return e.particles->v[i][D];
+}
+template <int D>
+double f_of(const Engine& e, int i) {
+  return e.particles->f[i][D];
+}
+template <int D>
+double omega_of(const Engine& e, int i) {
+  return e.particles->omega[i][D];
+}
+template <int D>
+double torque_of(const Engine& e, int i) {
+  return e.particles->torque[i][D];
+}
+double body_of(const Engine& e, int i) {
+  return static_cast<double>(e.particles->body[i]);
+}
+
+}  // namespace
+
+const std::vector<AtomProperty>& atom_properties() {
+  static const std::vector<AtomProperty> table = {
+      {"id", true, [](const Engine& e, int i) { return static_cast<double>(e.particles->id[i]); }},
+      {"type", true, [](const Engine& e, int i) { return static_cast<double>(e.particles->type[i]); }},
+      {"body", true, body_of},
+      {"mol", true, body_of},
+      {"id_multisphere", true, body_of},
+      {"mass", false, [](const Engine& e, int i) { return e.particles->rmass[i]; }},
+      {"density", false, [](const Engine& e, int i) { return e.particles->density[i]; }},
+      {"radius", false, [](const Engine& e, int i) { return e.particles->radius[i]; }},
+      {"diameter", false, [](const Engine& e, int i) { return 2.0 * e.particles->radius[i]; }},
+      {"x", false, x_of<0>},
+      {"y", false, x_of<1>},
+      {"z", false, x_of<2>},
+      {"xs", false, xs_of<0>},
+      {"ys", false, xs_of<1>},
+      {"zs", false, xs_of<2>},
+      {"xu", false, xu_of<0>},
+      {"yu", false, xu_of<1>},
+      {"zu", false, xu_of<2>},
+      {"ix", true, image_of<0>},
+      {"iy", true, image_of<1>},
+      {"iz", true, image_of<2>},
+      {"vx", false, v_of<0>},
+      {"vy", false, v_of<1>},
+      {"vz", false, v_of<2>},
+      {"fx", false, f_of<0>},
+      {"fy", false, f_of<1>},
+      {"fz", false, f_of<2>},
+      {"omegax", false, omega_of<0>},
+      {"omegay", false, omega_of<1>},
+      {"omegaz", false, omega_of<2>},
+      {"tqx", false, torque_of<0>},
+      {"tqy", false, torque_of<1>},
+      {"tqz", false, torque_of<2>},
+  };
+  return table;
+}
+
+const AtomProperty* find_atom_property(const std::string& name) {
+  for (const AtomProperty& a : atom_properties())
+    if (name == a.name) return &a;
+  return nullptr;
+}
+
+std::vector<std::string> atom_property_names() {
+  std::vector<std::string> names;
+  for (const AtomProperty& a : atom_properties())
+    names.push_back(a.name);
+  return names;
+}
+
+}  // namespace granary
