@@ -127,7 +127,7 @@ def load_case(d, keep_first):
             if len(m) > 1:
                 window[m[1:]] = np.diff(t[m])
                 window[m[0]] = window[m[1]]
-        per_av = {k: [] for k in ("phi", "k_te", "k_re", "theta")}
+        per_av = {k: [] for k in ("phi", "k_te", "k_re", "theta", "sphere_share")}
         for i in np.where(keep & (av["bodies"] > 0))[0]:
             c, t0, t1 = av["cycle"][i], av["t_start"][i], av["t_end"][i]
             rows = (box["cycle"] == c) & (t - window >= t0 - 1e-9) & (t <= t1 + 1e-9) & (box["n_c"] > 0)
@@ -137,6 +137,8 @@ def load_case(d, keep_first):
             per_av["k_te"].append((box["ke_c"][rows] + box["ke_s"][rows]).mean())
             per_av["k_re"].append((box["erot_c"][rows] + box["erot_s"][rows]).mean())
             per_av["theta"].append(np.degrees(box["theta"][rows]).mean())
+            # the spheres' share of the solid volume in the box
+            per_av["sphere_share"].append((box["phi_s"][rows] / box["phi"][rows]).mean())
         out["box"] = {k: np.array(v) for k, v in per_av.items()}
     return out
 
@@ -177,6 +179,9 @@ def analyse(a):
                 mm, hh = mean_ci(v)
                 row[f"box_{k}"] = mm
                 row[f"box_{k}_ci95"] = hh
+        # the spheres' (type 2) share of the discharged mass
+        if "mass_t2" in c["types"] and np.sum(S) > 0:
+            row["discharge_sphere_mass_share"] = float(np.sum(c["types"]["mass_t2"]) / np.sum(S))
         row["complete"] = bool(row["n"] >= a.complete)
         summary["cases"][name] = row
     summary["complete_at"] = a.complete
@@ -328,6 +333,15 @@ def write_outputs(a, cases, summary):
                      f"{row.get('box_k_te_ratio', float('nan')):.3f} ± {row.get('box_k_te_ratio_ci95', float('nan')):.3f} | "
                      f"{row.get('box_k_re_ratio', float('nan')):.3f} ± {row.get('box_k_re_ratio_ci95', float('nan')):.3f} | "
                      f"{row['box_theta']:.2f} ± {row['box_theta_ci95']:.2f} |")
+    lines += ["", "| case | phi (filled) | spheres' share of the solids in the box | spheres' share of the discharged mass |",
+              "|---|---:|---:|---:|"]
+    for n, row in sorted(summary["cases"].items(), key=lambda kv: (kv[1]["nres"], kv[1]["r"] if kv[1]["phi"] else 0,
+                                                                    kv[1]["phi"])):
+        if row["phi"] == 0 or "box_sphere_share" not in row:
+            continue
+        lines.append(f"| {n}{'' if row['complete'] else ' (in progress)'} | {row['phi']:g} | "
+                     f"{row['box_sphere_share']:.4f} ± {row['box_sphere_share_ci95']:.4f} | "
+                     f"{row.get('discharge_sphere_mass_share', float('nan')):.4f} |")
     lines += ["", "| r | phi at the minimum | <S>/<S0> there | 95 % CI | p (below phi = 0) | p (below the last phi) |",
               "|---|---:|---:|---|---:|---:|"]
     for r, m in summary["minimum"].items():

@@ -161,8 +161,9 @@ void ContactHistory::hold() {
 void ContactHistory::put_back() {
   values_.swap(held_values_);
   touch_.swap(held_touch_);
-  held_values_.clear();
-  held_touch_.clear();
+  // free the set-aside copy (clear() would keep its memory for the whole run)
+  std::vector<double>().swap(held_values_);
+  std::vector<std::uint8_t>().swap(held_touch_);
 }
 
 void ContactHistory::forget_particle(tagint tag) {

@@ -22,8 +22,9 @@ PHIS = [0.0, 0.01, 0.02, 0.03, 0.05, 0.075, 0.1]
 M_BODY = 2.0e-5  # kg per body
 
 
-def write_case(root, name, sizes, box=None, cycles=4):
-    """avalanches.csv (and box.csv) of one case in the format of tools/silo_study.py."""
+def write_case(root, name, sizes, box=None, cycles=4, sphere_share=0.0):
+    """avalanches.csv (and box.csv) of one case in the format of tools/silo_study.py;
+    `sphere_share` of the box's solid volume and of each avalanche's mass are spheres (type 2)."""
     d = os.path.join(root, name)
     os.makedirs(d)
     n = len(sizes)
@@ -33,13 +34,16 @@ def write_case(root, name, sizes, box=None, cycles=4):
         c, k = i // per, i % per + 1
         bodies = int(round(s / M_BODY))
         dur = 0.005 * bodies + 0.01
+        m2 = sphere_share * bodies * M_BODY
         rows.append([c, k, t, t + dur, t + dur + 0.03, dur, bodies, bodies * M_BODY, 0.0, 0.04, 3, bodies,
-                     bodies * M_BODY, 0, 0.0])
+                     bodies * M_BODY - m2, 0, m2])
         if box:
             for j in range(1, 4):  # three box rows inside the avalanche
                 tj = t + dur * j / 3
                 phi_t, kte, kre, theta = box
-                box_rows.append([c, 1000 * i + j, tj, phi_t, phi_t, 0.0, kte, kre, 30, 0.0, 0.0, 0, theta, 0])
+                phi_s = sphere_share * phi_t
+                box_rows.append([c, 1000 * i + j, tj, phi_t, phi_t - phi_s, phi_s, kte, kre, 30, 0.0, 0.0, 0, theta,
+                                 0])
         t += dur + 0.05
     with open(os.path.join(d, "avalanches.csv"), "w") as f:
         f.write("# generated\ncycle,avalanche,t_start,t_end,t_clog,duration,bodies,mass,flow_rate,fill_height,"
@@ -74,7 +78,21 @@ class HiddenMinimum(unittest.TestCase):
             for phi in PHIS:
                 name = "r0_phi0" if phi == 0 else f"r3.2_phi{phi:g}"
                 sizes = rng.exponential(ratio[phi] * 40 * M_BODY, 150) + M_BODY
-                write_case(data, name, sizes, box=(0.51 + 0.4 * phi, 1e-6 * kte[phi], 2e-7 * kte[phi], theta[phi]))
+                # the spheres reach the box at a third of the filled fraction, the discharge at half
+                write_case(data, name, sizes, box=(0.51 + 0.4 * phi, 1e-6 * kte[phi], 2e-7 * kte[phi], theta[phi]),
+                           sphere_share=phi / 3)
+                if phi:  # the discharge: a mass share of phi / 2 instead
+                    path = os.path.join(data, name, "avalanches.csv")
+                    with open(path) as f:
+                        text = f.read().splitlines()
+                    out = text[:2]
+                    for line in text[2:]:
+                        v = [float(x) for x in line.split(",")]
+                        v[14] = v[7] * phi / 2
+                        v[12] = v[7] - v[14]
+                        out.append(",".join(f"{x:.10g}" for x in v))
+                    with open(path, "w") as f:
+                        f.write("\n".join(out) + "\n")
             s = analyse(data, os.path.join(tmp, "out"))
             m = s["minimum"]["3.2"]
             self.assertEqual(m["phi_min"], 0.03)
@@ -95,6 +113,14 @@ class HiddenMinimum(unittest.TestCase):
             th = {n: c["box_theta"] for n, c in s["cases"].items()}
             self.assertEqual(max(th, key=th.get), "r3.2_phi0.03")
             self.assertAlmostEqual(s["cases"]["r3.2_phi0.03"]["box_phi"], 0.51 + 0.4 * 0.03, places=6)
+            # the composition where it was put: box a third, discharge half of the filled fraction
+            for name, c in s["cases"].items():
+                phi = c["phi"]
+                self.assertAlmostEqual(c["box_sphere_share"], phi / 3, places=9, msg=name)
+                if phi:
+                    self.assertAlmostEqual(c["discharge_sphere_mass_share"], phi / 2, places=9, msg=name)
+            with open(os.path.join(tmp, "out", "summary.md")) as f:
+                self.assertIn("| r3.2_phi0.03 | 0.03 | 0.0100 ± 0.0000 | 0.0150 |", f.read())
             for f in ("mean_avalanche.png", "distributions.png", "box.png", "summary.md"):
                 self.assertGreater(os.path.getsize(os.path.join(tmp, "out", f)), 1000, f)
 
