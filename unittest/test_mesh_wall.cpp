@@ -224,6 +224,39 @@ TEST_CASE("mesh/surface reads ASCII and binary STL and applies scale, move, rota
   CHECK((mc.normal(0) - Vec3(0, 0, 1)).norm() < 1e-15);
 }
 
+TEST_CASE("mesh/surface refuses a binary STL cut inside a triangle or with bytes after its triangles",
+          "[mesh]") {
+  const std::vector<Triangle> two = {{Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0)},
+                                     {Vec3(1, 0, 0), Vec3(1, 1, 0.5), Vec3(0, 1, 0)}};
+  const std::string whole = path("whole.stl"), cut = path("cut.stl"), longer = path("long.stl");
+  mesh_files::write_binary(whole, two);
+  REQUIRE(std::filesystem::file_size(whole) == 84 + 2 * 50);
+  mesh_files::write_binary(cut, two);
+  std::filesystem::resize_file(cut, 84 + 50 + 30);  // inside the second triangle
+  mesh_files::write_binary(longer, two);
+  {
+    std::ofstream out(longer, std::ios::binary | std::ios::app);
+    out << "extra";
+  }
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmd("fix ok all mesh/surface file " + whole + " type 1");
+  CHECK(mesh_fix(s, "ok").mesh.ntri() == 2);
+  auto error_of = [&](const std::string& line) {
+    try {
+      s.cmd(line);
+    } catch (const granary::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string e1 = error_of("fix a all mesh/surface file " + cut + " type 1");
+  CHECK_THAT(e1, Catch::Contains(cut) && Catch::Contains("is cut") && Catch::Contains("2 triangles") &&
+                     Catch::Contains("triangle 2 ends at byte 164 instead of 184"));
+  const std::string e2 = error_of("fix b all mesh/surface file " + longer + " type 1");
+  CHECK_THAT(e2, Catch::Contains(longer) && Catch::Contains("5 bytes after the 2 triangles"));
+}
+
 TEST_CASE("mesh/surface refuses missing, malformed, empty and degenerate files with the file name",
           "[mesh]") {
   ScriptEngine s;

@@ -42,6 +42,45 @@ void collect_error(vtkObject*, unsigned long, void* client, void* call) {
   if (text->empty() && call) *text = static_cast<const char*>(call);
 }
 
+// A binary STL is an 80-byte header, a 32-bit little-endian triangle count N
+// and N records of 50 bytes: its size must be 84 + 50 N. A file cut inside its
+// last triangle would otherwise load with one triangle fewer and no message
+// (a hole in the wall). An ASCII STL (starting with "solid", with "facet" or
+// "endsolid" in its first kilobyte) is left to the reader. Returns "" or what
+// is wrong.
+std::string check_binary_size(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::size_t first = head.find_first_not_of(" \t\r\n");
+  const bool ascii = first != std::string::npos && head.compare(first, 5, "solid") == 0 &&
+                     (head.find("facet") != std::string::npos || head.find("endsolid") != std::string::npos);
+  if (ascii) return "";
+  std::error_code ec;
+  const auto size = static_cast<unsigned long long>(std::filesystem::file_size(file, ec));
+  if (ec) return "";
+  if (size < 84) {
+    return "binary STL file '" + file + "' has " + std::to_string(size) +
+           " bytes, fewer than the 84 of its header and triangle count; the file is cut or not an STL";
+  }
+  const auto* b = reinterpret_cast<const unsigned char*>(head.data() + 80);
+  const unsigned long long n =
+      b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<unsigned long long>(b[3]) << 24);
+  const unsigned long long expect = 84 + 50 * n;
+  if (size == expect) return "";
+  if (size < expect) {
+    const unsigned long long whole = (size - 84) / 50;
+    return "binary STL file '" + file + "' is cut: its header announces " + std::to_string(n) +
+           " triangles (" + std::to_string(expect) + " bytes) but the file has " + std::to_string(size) +
+           " bytes, so triangle " + std::to_string(whole + 1) + " ends at byte " + std::to_string(size) +
+           " instead of " + std::to_string(84 + 50 * (whole + 1)) + "; write the file again";
+  }
+  return "binary STL file '" + file + "' has " + std::to_string(size - expect) + " bytes after the " +
+         std::to_string(n) + " triangles its header announces (" + std::to_string(expect) +
+         " bytes); the triangle count or the file is wrong";
+}
+
 // Rank 0: read the triangle corners of an STL file (ASCII or binary); returns
 // "" or what is wrong, with the way to fix it.
 std::string read_stl(const std::string& file, std::vector<Vec3>& corners) {
@@ -50,6 +89,7 @@ std::string read_stl(const std::string& file, std::vector<Vec3>& corners) {
   if (!fs::exists(file, ec)) return "STL file '" + file + "' does not exist; check the name and directory";
   if (!fs::is_regular_file(file, ec)) return "'" + file + "' is not a regular file";
   if (!std::ifstream(file, std::ios::binary)) return "cannot open STL file '" + file + "' for reading";
+  if (std::string why = check_binary_size(file); !why.empty()) return why;
   std::string vtk_error;
   auto observer = vtkSmartPointer<vtkCallbackCommand>::New();
   observer->SetCallback(collect_error);
