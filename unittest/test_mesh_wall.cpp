@@ -76,6 +76,16 @@ granary::FixMeshSurface& mesh_fix(ScriptEngine& s, const std::string& id) {
 
 const std::string kWallModel = "wall/gran model hertz tangential history rolling_friction cdt ";
 
+/// The message of the InputError a script line raises, or "no error".
+std::string error_of(ScriptEngine& s, const std::string& line) {
+  try {
+    s.cmd(line);
+  } catch (const granary::InputError& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
 }  // namespace
 
 TEST_CASE("a sphere sliding and rolling over a floor of 72 triangles moves as on a zplane wall", "[mesh]") {
@@ -242,18 +252,10 @@ TEST_CASE("mesh/surface refuses a binary STL cut inside a triangle or with bytes
   s.cmds(scene());
   s.cmd("fix ok all mesh/surface file " + whole + " type 1");
   CHECK(mesh_fix(s, "ok").mesh.ntri() == 2);
-  auto error_of = [&](const std::string& line) {
-    try {
-      s.cmd(line);
-    } catch (const granary::InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  const std::string e1 = error_of("fix a all mesh/surface file " + cut + " type 1");
+  const std::string e1 = error_of(s, "fix a all mesh/surface file " + cut + " type 1");
   CHECK_THAT(e1, Catch::Contains(cut) && Catch::Contains("is cut") && Catch::Contains("2 triangles") &&
                      Catch::Contains("triangle 2 ends at byte 164 instead of 184"));
-  const std::string e2 = error_of("fix b all mesh/surface file " + longer + " type 1");
+  const std::string e2 = error_of(s, "fix b all mesh/surface file " + longer + " type 1");
   CHECK_THAT(e2, Catch::Contains(longer) && Catch::Contains("5 bytes after the 2 triangles"));
 }
 
@@ -261,28 +263,20 @@ TEST_CASE("mesh/surface refuses missing, malformed, empty and degenerate files w
           "[mesh]") {
   ScriptEngine s;
   s.cmds(scene());
-  auto error_of = [&](const std::string& line) {
-    try {
-      s.cmd(line);
-    } catch (const granary::InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   const std::string missing = path("nothere.stl");
-  CHECK_THAT(error_of("fix a all mesh/surface file " + missing + " type 1"), Catch::Contains(missing));
+  CHECK_THAT(error_of(s, "fix a all mesh/surface file " + missing + " type 1"), Catch::Contains(missing));
   { std::ofstream(path("bad.stl")) << "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 zero\n"; }
-  CHECK_THAT(error_of("fix a all mesh/surface file " + path("bad.stl") + " type 1"),
+  CHECK_THAT(error_of(s, "fix a all mesh/surface file " + path("bad.stl") + " type 1"),
              Catch::Contains(path("bad.stl")));
   { std::ofstream(path("empty.stl")) << "solid x\nendsolid x\n"; }
-  CHECK_THAT(error_of("fix a all mesh/surface file " + path("empty.stl") + " type 1"),
+  CHECK_THAT(error_of(s, "fix a all mesh/surface file " + path("empty.stl") + " type 1"),
              Catch::Contains(path("empty.stl")));
   mesh_files::write_ascii(path("degenerate.stl"), {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)}});
-  const std::string deg = error_of("fix a all mesh/surface file " + path("degenerate.stl") + " type 1");
+  const std::string deg = error_of(s, "fix a all mesh/surface file " + path("degenerate.stl") + " type 1");
   CHECK_THAT(deg, Catch::Contains(path("degenerate.stl")) && Catch::Contains("degenerate"));
-  CHECK_THAT(error_of("fix a all mesh/surface file " + floor_file() + " type 1 wiggle 3"),
+  CHECK_THAT(error_of(s, "fix a all mesh/surface file " + floor_file() + " type 1 wiggle 3"),
              Catch::Contains("unknown keyword 'wiggle'"));
-  CHECK_THAT(error_of("fix a all mesh/surface file " + floor_file()), Catch::Contains("type"));
+  CHECK_THAT(error_of(s, "fix a all mesh/surface file " + floor_file()), Catch::Contains("type"));
   CHECK(s.e.modify->find_fix("a") == nullptr);
 }
 
