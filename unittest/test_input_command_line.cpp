@@ -113,6 +113,18 @@ TEST_CASE("errors: location, include chain, non-zero exit", "[input][cli]") {
   r = s.run("-in no_such_file.in -log none");
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Contains("ERROR: cannot open input script 'no_such_file.in'"));
+
+  // a directory opens and reads nothing: refused, not an empty script that exits 0
+  REQUIRE(std::system(("mkdir '" + s.dir + "/scripts'").c_str()) == 0);
+  r = s.run("-in scripts -log none");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("ERROR: 'scripts' is a directory, not an input script"));
+  s.write("in.dir", "print before\ninclude scripts\nprint never\n");
+  r = s.run("-in in.dir -log none");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err,
+             Catch::StartsWith("ERROR: in.dir:2: include: 'scripts' is a directory, not an input script"));
+  CHECK_THAT(r.out, !Catch::Contains("never"));
 }
 
 TEST_CASE("command line: -help and unknown options", "[input][cli]") {

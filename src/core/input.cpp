@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -487,10 +488,16 @@ bool Input::open_source(Source& src, const std::string& path) {
   int ok = 0;
   std::unique_ptr<std::ifstream> f;
   if (engine_.rank == 0) {
-    f = std::make_unique<std::ifstream>(path);
-    ok = f->is_open() ? 1 : 0;
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+      ok = 2;  // opens, reads nothing: the script would end at once without a word
+    } else {
+      f = std::make_unique<std::ifstream>(path);
+      ok = f->is_open() ? 1 : 0;
+    }
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, engine_.world);
+  if (ok == 2) throw InputError("'" + path + "' is a directory, not an input script; give a script file");
   if (!ok) return false;
   src.file = std::move(f);
   src.in = src.file.get();
