@@ -94,6 +94,13 @@ TEST_CASE("the script is read from standard input without -in", "[input][cli]") 
   CHECK(r.status == 4);
   CHECK_THAT(r.out, Catch::Contains("answer 42\n"));
   CHECK_THAT(r.out, !Catch::Contains("never"));
+
+  // a NUL byte inside a line: refused with the place, not a line cut short
+  s.write("in.nul", std::string("print first\nprint se") + '\0' + "cond\nprint never\n");
+  r = s.run("-in in.nul -log none");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::StartsWith("ERROR: in.nul:2: the line holds a NUL byte at column 9"));
+  CHECK_THAT(r.out, Catch::Contains("first") && !Catch::Contains("never"));
 }
 
 TEST_CASE("errors: location, include chain, non-zero exit", "[input][cli]") {

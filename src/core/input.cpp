@@ -532,6 +532,11 @@ void Input::echo(const std::string& text) {
 }
 
 void Input::execute(const std::string& line, bool with_echo) {
+  if (const auto nul = line.find('\0'); nul != std::string::npos) {
+    // everything after it would be cut off or misread without a word
+    throw InputError("the line holds a NUL byte at column " + std::to_string(nul + 1) +
+                     " (binary data or a damaged script); remove it");
+  }
   if (with_echo) echo(line);
   const std::string text = script::strip_comment(line);
   if (text.find_first_not_of(" \t\r\n\v\f") == std::string::npos) return;
