@@ -199,6 +199,11 @@ TEST_CASE("region input errors", "[region]") {
   CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 1 side up"), Contains("in or out"));
   CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 1 sid in"), Contains("unknown keyword"));
   CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 1 side"), Contains("needs a value"));
+  // a number missing before a keyword: the count, not "unknown keyword 'box'"
+  CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0 units box"),
+                    Contains("needs 6 numbers after the style name but has 5 before 'units'"));
+  CHECK_THROWS_WITH(s.cmd("region s sphere 0 0 0 side out"),
+                    Contains("needs 4 numbers after the style name but has 3 before 'side'"));
   CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 one 0 1"), Contains("one"));
   CHECK_THROWS_WITH(s.cmd("region c cylinder w 0 0 1 0 1"), Contains("x, y or z"));
   CHECK_THROWS_WITH(s.cmd("region c cylinder z 0 0 -1 0 1"), Contains("positive"));

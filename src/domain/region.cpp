@@ -28,6 +28,15 @@ Region::Region(Engine& engine, const Args& args, std::size_t nshape) : engine_(e
                      " arguments after the style name, got " + std::to_string(args.size() - 2) +
                      "; see doc/commands/region.md");
   }
+  // a keyword among the shape's numbers: the shape is short of numbers (the
+  // keyword's value would otherwise be reported as an unknown keyword)
+  for (std::size_t k = 2; k < 2 + nshape; ++k) {
+    if (args[k] == "side" || args[k] == "units") {
+      throw InputError("region " + id + " (" + style + ") needs " + std::to_string(nshape) +
+                       " numbers after the style name but has " + std::to_string(k - 2) + " before '" +
+                       args[k] + "'; see doc/commands/region.md");
+    }
+  }
   bool lattice = false;
   for (std::size_t k = 2 + nshape; k < args.size(); k += 2) {
     const std::string& key = args[k];
