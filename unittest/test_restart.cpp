@@ -1,5 +1,7 @@
 // Restart files: continuation, and bad files that must change nothing.
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -173,12 +175,19 @@ TEST_CASE("bad restart files give a clear error and change nothing") {
   std::string wrong_version = good;
   wrong_version[16] = 99;
   std::string not_restart = "this is a text file, not a restart\n";
+  std::string other_order = good;  // the byte-order mark as the other byte order writes it
+  std::reverse(other_order.begin() + 20, other_order.begin() + 24);
+  std::string flipped_mark = good;  // a damaged mark: neither order
+  flipped_mark[21] ^= 0x10;
   const std::vector<Case> cases = {
       {"truncated.restart", good.substr(0, good.size() - 100), "truncated"},
       {"corrupted.restart", corrupted, "corrupted"},
       {"version.restart", wrong_version, "format version 99"},
       {"text.restart", not_restart, "not a Granary restart file"},
       {"header_only.restart", good.substr(0, 40), "truncated"},
+      {"cut_in_header.restart", good.substr(0, 20), "truncated: 20 bytes, fewer than the 32 of its header"},
+      {"other_order.restart", other_order, "other byte order"},
+      {"flipped_mark.restart", flipped_mark, "corrupted: its byte-order mark is 0x"},
   };
   for (const auto& c : cases) {
     write_file(c.name, c.bytes);
@@ -194,6 +203,10 @@ TEST_CASE("bad restart files give a clear error and change nothing") {
   granary::Engine e(MPI_COMM_SELF);
   e.logger->set_screen(false);
   CHECK_THROWS_WITH(e.input->one("read_restart no_such_file.restart"), Catch::Contains("cannot open"));
+  std::filesystem::create_directories("dir.restart");
+  CHECK_THROWS_WITH(e.input->one("read_restart dir.restart"),
+                    Catch::Contains("'dir.restart' is a directory, not a restart file"));
+  std::filesystem::remove("dir.restart");
   // the good file still reads after all that
   e.input->one("read_restart good.restart");
   CHECK(e.domain->box_exist);

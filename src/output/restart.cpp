@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -304,23 +305,38 @@ struct FileSections {
 
 // Rank 0: read and validate the whole file; returns an error message or "".
 std::string load(const std::string& file, FileSections& out) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    return "'" + file + "' is a directory, not a restart file; give the restart file's name";
   std::ifstream in(file, std::ios::binary);
   if (!in) return "cannot open restart file '" + file + "'; check the name and that it exists";
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t head = 16 + 4 * 4;
-  if (bytes.size() < head || std::memcmp(bytes.data(), kMagic, 16) != 0) {
+  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 16) != 0) {
     return "'" + file + "' is not a Granary restart file (its header does not start with " +
            std::string(kMagic) + ")";
+  }
+  if (bytes.size() < head) {
+    return "restart file '" + file + "' is truncated: " + std::to_string(bytes.size()) +
+           " bytes, fewer than the " + std::to_string(head) + " of its header";
   }
   std::uint32_t version, order, nsections, table_crc;
   std::memcpy(&version, bytes.data() + 16, 4);
   std::memcpy(&order, bytes.data() + 20, 4);
   std::memcpy(&nsections, bytes.data() + 24, 4);
   std::memcpy(&table_crc, bytes.data() + 28, 4);
-  if (order != kByteOrder) {
+  const std::uint32_t swapped = ((kByteOrder & 0xffu) << 24) | ((kByteOrder & 0xff00u) << 8) |
+                                ((kByteOrder >> 8) & 0xff00u) | (kByteOrder >> 24);
+  if (order == swapped) {
     return "restart file '" + file +
            "' was written on a machine with the other byte order; "
            "convert it there with write_dump or rewrite it on a machine like this one";
+  }
+  if (order != kByteOrder) {
+    char mark[16];
+    std::snprintf(mark, sizeof mark, "0x%08x", order);
+    return "restart file '" + file + "' is corrupted: its byte-order mark is " + mark +
+           ", neither this machine's byte order nor the other one";
   }
   if (version != kVersion) {
     return "restart file '" + file + "' has format version " + std::to_string(version) +
