@@ -179,6 +179,18 @@ TEST_CASE("insert/pack with all_in keeps whole spheres inside a cylinder", "[ins
   CHECK(std::fabs(vol / vregion - 0.25) <= 2.0 * sphere_volume(0.005) / vregion);
 }
 
+TEST_CASE("insert/pack refuses a particle count no machine holds, with the estimate", "[insert]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
+          "region ins block -0.05 0.05 -0.05 0.05 0.0 0.1 units box",
+          "fix ins1 all insert/pack seed 4711 distributiontemplate pdd1 insert_every once region ins "
+          "particles_in_region 1000000000000"});
+  CHECK_THROWS_WITH(s.cmd("run 1"),
+                    Catch::Contains("fix ins1 insert/pack: 1e+12 particles would need about"));
+  CHECK(gather(s.e).empty());
+}
+
 TEST_CASE("insert/pack counts the particles already in the region", "[insert]") {
   Sim s;
   s.cmds(kBox);

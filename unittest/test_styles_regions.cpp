@@ -287,6 +287,11 @@ TEST_CASE("create_atoms region, single and errors", "[particles]") {
   CHECK_THROWS_WITH(s.cmd("create_atoms 1 singel 0.5 0.5 0.5"), Contains("single"));
   CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 10 0 NULL"), Contains("seed"));
   CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 10 5 nowhere"), Contains("nowhere"));
+  // a count no machine holds: refused with the estimate before anything is allocated
+  const int before = s.e.particles->nlocal;
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 1000000000000 5 NULL"),
+                    Contains("1e+12 particles would need about") && Contains("GB on this machine"));
+  CHECK(s.e.particles->nlocal == before);
 }
 
 TEST_CASE("create_atoms random respects the region and the overlap distance", "[particles]") {

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/logger.h"
 #include "core/registry.h"
+#include "core/resources.h"
 #include "core/update.h"
 #include "domain/domain.h"
 #include "domain/region.h"
@@ -87,6 +88,7 @@ void create_random(Engine& e, int type, const Args& a) {
   const long long seed = parse_int(a[3], "create_atoms random seed");
   if (n < 0) throw InputError("create_atoms random needs a count >= 0");
   if (seed <= 0) throw InputError("create_atoms random needs a positive seed");
+  check_particle_memory(e, static_cast<double>(n), "create_atoms random");
   Domain& dom = *e.domain;
   const Region* region = a[4] == "NULL" ? nullptr : dom.region_or_error(a[4], "create_atoms random");
   double overlap = 0.0;

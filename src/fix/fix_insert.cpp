@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/logger.h"
 #include "core/registry.h"
+#include "core/resources.h"
 #include "core/update.h"
 #include "domain/domain.h"
 #include "geometry/sphere_grid.h"
@@ -439,6 +440,8 @@ FixInsert::Result FixInsert::insert(long long n) {
   Particles& p = *e.particles;
   Region& reg = region();
   FixParticleDistributionDiscrete& d = dist();
+  // each template is at least one sphere: refuse what cannot fit before drawing
+  check_particle_memory(e, static_cast<double>(n), "fix " + id + " " + style);
 
   auto batch = d.draw_batch(n, exact_);
 
