@@ -4,7 +4,6 @@
 
 #include <mpi.h>
 
-#include <algorithm>
 #include <charconv>
 #include <string>
 #include <vector>
@@ -20,13 +19,12 @@ namespace granary::test {
 /// lines, separated by newlines, e.g. materials()).
 inline void run(granary::Engine& e, const std::vector<std::string>& lines) {
   for (const auto& l : lines) {
-    std::size_t start = 0;
-    while (start <= l.size()) {
-      const std::size_t end = std::min(l.find('\n', start), l.size());
-      if (end > start || l.empty()) e.input->one(l.substr(start, end - start));
-      if (l.empty()) break;
+    std::size_t start = 0, end;
+    do {
+      end = l.find('\n', start);
+      e.input->one(l.substr(start, end == std::string::npos ? std::string::npos : end - start));
       start = end + 1;
-    }
+    } while (end != std::string::npos);
   }
 }
 

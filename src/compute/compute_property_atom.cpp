@@ -1,14 +1,12 @@
 // compute ID group property/atom name1 name2 ...: per-atom values of particle
 // properties. One name gives a per-atom vector, several a per-atom array with
 // one column per name (c_ID[1], c_ID[2], ...). Particles outside the group get 0.
-#include <algorithm>
 
 #include "compute/compute.h"
 #include "core/atom_properties.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
-#include "domain/domain.h"
 #include "particles/particles.h"
 
 namespace granary {

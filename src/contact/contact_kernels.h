@@ -54,13 +54,10 @@ struct Kernel {
   static constexpr RollingModel rolling(const ModelSpec&) { return R; }
   static constexpr CohesionModel cohesion(const ModelSpec&) { return C; }
   static constexpr bool limit_force(const ModelSpec&) { return Limit; }
-  static constexpr int shear_offset(const ModelSpec&) { return T == TangentialModel::History ? 0 : -1; }
-  static constexpr int rolling_offset(const ModelSpec&) {
-    return R == RollingModel::Epsd2 ? (T == TangentialModel::History ? 3 : 0) : -1;
-  }
-  static constexpr int history_size(const ModelSpec&) {
-    return (T == TangentialModel::History ? 3 : 0) + (R == RollingModel::Epsd2 ? 3 : 0);
-  }
+  static constexpr HistoryLayout kLayout = history_layout_of(T, R);
+  static constexpr int shear_offset(const ModelSpec&) { return kLayout.shear; }
+  static constexpr int rolling_offset(const ModelSpec&) { return kLayout.rolling; }
+  static constexpr int history_size(const ModelSpec&) { return kLayout.size; }
 };
 
 /// Sub-model slots read from the spec at run time.
@@ -71,13 +68,9 @@ struct RuntimeKernel {
   static RollingModel rolling(const ModelSpec& s) { return s.rolling; }
   static CohesionModel cohesion(const ModelSpec& s) { return s.cohesion; }
   static bool limit_force(const ModelSpec& s) { return s.limit_force; }
-  static int shear_offset(const ModelSpec& s) { return s.tangential == TangentialModel::History ? 0 : -1; }
-  static int rolling_offset(const ModelSpec& s) {
-    return s.rolling == RollingModel::Epsd2 ? (s.tangential == TangentialModel::History ? 3 : 0) : -1;
-  }
-  static int history_size(const ModelSpec& s) {
-    return (s.tangential == TangentialModel::History ? 3 : 0) + (s.rolling == RollingModel::Epsd2 ? 3 : 0);
-  }
+  static int shear_offset(const ModelSpec& s) { return history_layout(s).shear; }
+  static int rolling_offset(const ModelSpec& s) { return history_layout(s).rolling; }
+  static int history_size(const ModelSpec& s) { return history_layout(s).size; }
 };
 
 /// PairMaterial with one value per lane.

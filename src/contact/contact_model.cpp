@@ -12,20 +12,7 @@
 namespace granary::contact {
 
 // ---------------------------------------------------------------------------
-// History layout: [shear x,y,z if tangential history][rolling torque x,y,z if epsd2]
-
-HistoryLayout history_layout(const ModelSpec& spec) {
-  HistoryLayout layout;
-  if (spec.tangential == TangentialModel::History) {
-    layout.shear = layout.size;
-    layout.size += 3;
-  }
-  if (spec.rolling == RollingModel::Epsd2) {
-    layout.rolling = layout.size;
-    layout.size += 3;
-  }
-  return layout;
-}
+// History (layout: history_layout_of in contact_model.h)
 
 int history_size(const ModelSpec& spec) {
   return history_layout(spec).size;

@@ -65,7 +65,24 @@ struct HistoryLayout {
   int rolling = -1;  ///< epsd2 rolling spring torque acting on i [N m], 3 doubles
   int size = 0;      ///< total number of doubles (== history_size)
 };
-HistoryLayout history_layout(const ModelSpec&);
+/// The layout for a tangential and a rolling sub-model: [shear x,y,z if
+/// tangential history][rolling torque x,y,z if epsd2]. The one definition, used
+/// by history_layout() and by the kernels (compile-time for the compiled ones).
+constexpr HistoryLayout history_layout_of(TangentialModel t, RollingModel r) {
+  HistoryLayout layout;
+  if (t == TangentialModel::History) {
+    layout.shear = layout.size;
+    layout.size += 3;
+  }
+  if (r == RollingModel::Epsd2) {
+    layout.rolling = layout.size;
+    layout.size += 3;
+  }
+  return layout;
+}
+inline HistoryLayout history_layout(const ModelSpec& spec) {
+  return history_layout_of(spec.tangential, spec.rolling);
+}
 
 /// Sign applied to each history value when the roles of i and j are swapped
 /// (-1 for the shear displacement and the rolling torque), used when history

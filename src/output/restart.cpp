@@ -325,9 +325,7 @@ std::string load(const std::string& file, FileSections& out) {
   std::memcpy(&order, bytes.data() + 20, 4);
   std::memcpy(&nsections, bytes.data() + 24, 4);
   std::memcpy(&table_crc, bytes.data() + 28, 4);
-  const std::uint32_t swapped = ((kByteOrder & 0xffu) << 24) | ((kByteOrder & 0xff00u) << 8) |
-                                ((kByteOrder >> 8) & 0xff00u) | (kByteOrder >> 24);
-  if (order == swapped) {
+  if (order == __builtin_bswap32(kByteOrder)) {
     return "restart file '" + file +
            "' was written on a machine with the other byte order; "
            "convert it there with write_dump or rewrite it on a machine like this one";
