@@ -405,6 +405,133 @@ TEST_CASE("an error in an included file shows the include chain", "[errors][cli]
   CHECK_THAT(p.output, !Contains("not reached"));
 }
 
+// ---------------------------------------------------------------- the default timestep check
+
+namespace {
+int count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+    ++n;
+  return n;
+}
+}  // namespace
+
+// Without fix check/timestep/gran every run compares its timestep with the
+// smallest Rayleigh time of the particles (1.2244e-4 s for these beads): 3e-5 s
+// is 24.5 % of it, above 20 %, and warns once for that timestep however many
+// runs follow; a new timestep above the limit warns again; 2.4e-5 s (19.6 %)
+// does not warn.
+TEST_CASE("every run warns once when its timestep is above 20% of the Rayleigh time", "[errors]") {
+  const std::string log = "test_errors_default_rayleigh.log";
+  const std::string warning = "of the smallest Rayleigh time of the particles";
+  Sim s;
+  s.cmd("log " + log);
+  s.lines(granular_setup());
+  s.lines({"create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
+           "fix integr all nve/sphere", "timestep 2.4e-5", "run 10"});
+  CHECK(count(read_text(log), warning) == 0);
+  s.lines({"timestep 3e-5", "run 10", "run 10"});
+  std::string text = read_text(log);
+  CHECK(count(text, warning) == 1);
+  char expected[160];
+  std::snprintf(expected, sizeof expected, "WARNING: step 10: timestep 3e-05 s is 24.5%% %s, %g s",
+                warning.c_str(), rayleigh_time());
+  CHECK_THAT(text, Contains(expected));
+  CHECK(3e-5 / rayleigh_time() == Approx(0.245).epsilon(0.01));
+  s.lines({"timestep 3.1e-5", "run 10", "log none"});
+  text = read_text(log);
+  std::remove(log.c_str());
+  CHECK(count(text, warning) == 2);
+  CHECK(s.e.update->ntimestep == 40);  // warnings do not stop runs
+}
+
+// The Hertz time of an impact shrinks as v^(-1/5): with dt = 2.4e-5 s (19.6 % of
+// the Rayleigh time, no warning) a bead at 150 m/s has t_H = 1.128e-4 s, so dt
+// is 21 % of it and the run warns; at 100 m/s (t_H = 1.22e-4 s, 19.7 %) it does not.
+TEST_CASE("every run warns when its timestep is above 20% of the Hertz time at the highest speed",
+          "[errors]") {
+  for (const double v : {100.0, 150.0}) {
+    INFO("v = " << v << " m/s, dt/t_H = " << 2.4e-5 / hertz_time(v));
+    const std::string log = "test_errors_default_hertz.log";
+    Sim s;
+    s.cmd("log " + log);
+    s.lines(granular_setup("m m m", "0 1 0 1 0 1"));
+    s.lines({"create_atoms 1 single 0.5 0.5 0.5 units box", "set type 1 diameter 0.002 density 2500",
+             "velocity all set " + num(v) + " 0 0", "fix integr all nve/sphere", "timestep 2.4e-5", "run 10",
+             "log none"});
+    const std::string text = read_text(log);
+    std::remove(log.c_str());
+    CHECK(count(text, "Rayleigh time") == 0);
+    if (v < 120) {
+      CHECK(2.4e-5 / hertz_time(v) < 0.2);
+      CHECK(count(text, "of the Hertz time") == 0);
+    } else {
+      CHECK(2.4e-5 / hertz_time(v) > 0.2);
+      char expected[128];
+      std::snprintf(expected, sizeof expected,
+                    "of the Hertz time of an impact at 150 m/s, the highest speed seen, %g s", hertz_time(v));
+      CHECK_THAT(text, Contains(expected));
+    }
+  }
+}
+
+// A timestep of 0.95 Rayleigh times (the case that once passed without a
+// word): beads driven at 10 m/s onto a floor wall, a contact the timestep
+// cannot resolve, leave the fixed box (thrown back out through its top, at
+// about half their speed). The run warns at its start; with lost ignore
+// the loss is explained by a warning, with lost error the error names the
+// timestep as the cause.
+TEST_CASE("particles lost with a dangerous timestep: the warning and the error name the timestep",
+          "[errors]") {
+  const double dt = 0.95 * rayleigh_time();
+  for (const std::string mode : {"ignore", "error"}) {
+    INFO("lost " << mode);
+    const std::string log = "test_errors_lost_timestep.log";
+    Sim s;
+    s.cmd("log " + log);
+    s.lines(granular_setup("f f f", "0 0.01 0 0.01 0 0.01"));
+    s.lines({"create_atoms 1 single 0.0025 0.0025 0.006 units box",
+             "create_atoms 1 single 0.0075 0.0025 0.006 units box",
+             "create_atoms 1 single 0.0025 0.0075 0.006 units box",
+             "create_atoms 1 single 0.0075 0.0075 0.006 units box", "set type 1 diameter 0.002 density 2500",
+             "velocity all set 0 0 -10",
+             "fix floor all wall/gran model hertz tangential history primitive type 1 zplane 0.003",
+             "fix integr all nve/sphere", "timestep " + num(dt), "thermo_modify lost " + mode});
+    std::string msg;
+    if (mode == "ignore")
+      s.cmd("run 100");
+    else
+      msg = run_error(s, "run 100");
+    s.cmd("log none");
+    const std::string text = read_text(log);
+    std::remove(log.c_str());
+    CHECK_THAT(text,
+               Contains("WARNING: step 0: timestep") && Contains("is 95% of the smallest Rayleigh time"));
+    if (mode == "ignore") {
+      CHECK(s.e.particles->natoms < 4);  // lost
+      CHECK(count(text, "(thermo_modify lost ignore): the timestep") == 1);
+      CHECK_THAT(text, Contains("95% of the Rayleigh time") && Contains("reduce the timestep"));
+    } else {
+      INFO(msg);
+      CHECK_THAT(msg, Contains("left the box through a fixed boundary") && Contains("the timestep") &&
+                          Contains("95% of the Rayleigh time") && Contains("pass through walls"));
+    }
+  }
+}
+
+// With a safe timestep (10 % of the Rayleigh time) a bead shot at 200 m/s moves
+// 2.4 mm per step, more than its radius: the loss names the speed.
+TEST_CASE("particles lost at a speed that crosses a radius per step: the error names the speed", "[errors]") {
+  Sim s;
+  s.lines(granular_setup("f f f"));
+  s.lines({"create_atoms 1 single 0.005 0.005 0.005 units box", "set type 1 diameter 0.002 density 2500",
+           "velocity all set 200 0 0", "fix integr all nve/sphere", "timestep 1.2e-5"});
+  const std::string msg = run_error(s, "run 10");
+  INFO(msg);
+  CHECK_THAT(msg, Contains("the fastest particle seen (200 m/s) moves 0.0024 m in one step, more than the "
+                           "smallest radius 0.001 m"));
+}
+
 // The lost-particle set-up above, run by the program: the RunError ends it.
 TEST_CASE("the program stops with an error when a run fails", "[errors][cli]") {
   const std::string main = "test_errors_run.in";

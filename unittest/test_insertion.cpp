@@ -191,6 +191,28 @@ TEST_CASE("insert/pack refuses a particle count no machine holds, with the estim
   CHECK(gather(s.e).empty());
 }
 
+// Particles inserted during a run are checked against the timestep too: the
+// box starts empty (nothing to check at setup); the 5 mm beads (Y = 5 MPa,
+// nu = 0.45) have a Rayleigh time of 6.3e-4 s, shorter than dt = 1e-3 s, so the
+// run stops once they appear.
+TEST_CASE("inserted particles whose Rayleigh time is below the timestep stop the run", "[insert]") {
+  const double r = 0.005, rho = 2500, Y = 5e6, nu = 0.45, pi = 3.14159265358979323846;
+  const double t_rayleigh = pi * r * std::sqrt(rho / (Y / (2 * (1 + nu)))) / (0.1631 * nu + 0.8766);
+  REQUIRE(t_rayleigh == Approx(6.3e-4).epsilon(0.01));
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"timestep 1e-3", "fix pdd1 all particledistribution/discrete 32452843 1 pts1 1.0",
+          "region ins block -0.05 0.05 -0.05 0.05 0.0 0.1 units box",
+          "fix ins1 all insert/pack seed 4711 distributiontemplate pdd1 insert_every once region ins "
+          "particles_in_region 10"});
+  char expected[128];
+  std::snprintf(expected, sizeof expected, "timestep 0.001 s is longer than the Rayleigh time %g s",
+                t_rayleigh);
+  CHECK_THROWS_AS(s.cmd("run 10"), granary::RunError);
+  s.cmd("timestep 1e-3");  // the same timestep: the check is made again at the next run's setup
+  CHECK_THROWS_WITH(s.cmd("run 10"), Catch::Contains(expected));
+}
+
 TEST_CASE("insert/pack counts the particles already in the region", "[insert]") {
   Sim s;
   s.cmds(kBox);

@@ -207,7 +207,11 @@ void Comm::exchange(ContactHistory* history) {
                     static_cast<long long>(p.id[i]), p.x[i][0], p.x[i][1], p.x[i][2], p.v[i][0], p.v[i][1],
                     p.v[i][2]);
       first_lost = buf;
+      lost_vmax = 0.0;
+      lost_rmin = p.radius[i];
     }
+    lost_vmax = std::max(lost_vmax, p.v[i].norm());
+    lost_rmin = std::min(lost_rmin, p.radius[i]);
     ++nlost;
     engine_.delete_particle(i);  // slot i now holds another particle: look at it next
   }

@@ -42,6 +42,8 @@ class Comm {
   long long migrated_contacts = 0;   // contact-history entries that travelled with them
   int nlost = 0;                     // particles this rank removed at the last exchange (outside 'f' bounds)
   std::string first_lost;            // description of the first of them
+  double lost_vmax = 0.0;            // the highest speed and the smallest radius among them
+  double lost_rmin = 0.0;
 
   void processors_command(const Args& args);
   void modify_command(const Args& args);  // comm_modify / communicate

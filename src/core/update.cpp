@@ -73,6 +73,7 @@ void Update::reneighbor(bool save_history) {
   e.comm->setup(e.neighbor->cutneighmax);
   e.comm->exchange(history);
   check_lost();
+  timestep_guard_.check();
   e.neighbor->sort_particles(ntimestep);
   e.particles->map_clear();
   e.comm->borders();
@@ -88,7 +89,16 @@ void Update::check_lost() {
   MPI_Allreduce(&local, &total, 1, MPI_INT, MPI_SUM, e.world);
   if (total == 0) return;
   e.particles->natoms -= total;
-  if (e.thermo->lost == Thermo::Lost::Ignore) return;
+  // the timestep or a speed may explain the loss (collective)
+  const std::string why = timestep_guard_.explain_loss();
+  if (e.thermo->lost == Thermo::Lost::Ignore) {
+    if (!why.empty() && !loss_explained_) {
+      loss_explained_ = true;
+      e.logger->warning(std::to_string(total) + " particle(s) left the box at step " +
+                        std::to_string(ntimestep) + " (thermo_modify lost ignore): " + why);
+    }
+    return;
+  }
   // the lowest rank that lost one describes it
   int who = local > 0 ? e.rank : e.nprocs, first = 0;
   MPI_Allreduce(&who, &first, 1, MPI_INT, MPI_MIN, e.world);
@@ -99,12 +109,13 @@ void Update::check_lost() {
                           " particle(s) left the box through a fixed boundary at step " +
                           std::to_string(ntimestep) + " (first: " + text + ")";
   if (e.thermo->lost == Thermo::Lost::Warn) {
-    e.logger->warning(msg);
+    e.logger->warning(why.empty() ? msg : msg + "; " + why);
     return;
   }
-  throw RunError(msg +
-                 "; contain them with walls, use shrink-wrapped boundaries (boundary m m m), "
-                 "or accept the loss with thermo_modify lost ignore");
+  throw RunError(msg + (why.empty()
+                            ? "; contain them with walls, use shrink-wrapped boundaries (boundary m m m), "
+                              "or accept the loss with thermo_modify lost ignore"
+                            : "; " + why));
 }
 
 void Update::compute_forces() {
@@ -141,6 +152,8 @@ void Update::setup() {
   if (e.force->pair) e.force->pair->init();
   e.neighbor->init();
   e.modify->init();
+  loss_explained_ = false;
+  timestep_guard_.start_run();
   reneighbor(false);
   // Forces at the start of a run are those of the current state: contact
   // history (pair and per-particle fields marked as history) is not advanced.

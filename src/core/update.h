@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <string>
 
+#include "core/timestep_guard.h"
 #include "core/utils.h"
 
 namespace granary {
@@ -78,7 +79,9 @@ class Update {
   void report();
   void use_restart_forces();
   Engine& engine_;
+  TimestepGuard timestep_guard_{engine_};
   bool bounds_set_ = false;
+  bool loss_explained_ = false;  // this run's lost particles were explained (thermo_modify lost ignore)
 };
 
 }  // namespace granary

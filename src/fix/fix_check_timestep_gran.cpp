@@ -62,10 +62,8 @@ class FixCheckTimestepGran : public Fix {
     if (!pair)
       throw InputError(
           "fix check/timestep/gran needs a granular pair style (pair_style gran or hertz/rolling)");
-    const MaterialTable& mat = pair->materials();
     const Particles& p = *engine_.particles;
     const double dt = engine_.update->dt;
-    const double t_rayleigh = min_rayleigh_time(engine_, mat);
     // Hertz time of each particle's impact at the largest speed vmax (LIGGGHTS
     // 3.8's estimate: the particle's own mass and radius, the effective
     // modulus Y* of its type with itself, the impact speed vmax)
@@ -74,20 +72,10 @@ class FixCheckTimestepGran : public Fix {
       vmax_local = std::max(vmax_local, p.v[i].norm());
     MPI_Allreduce(&vmax_local, &vmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
     vmax = std::max(vmax, vmax_user_);
-    double th_local = 1e300, t_hertz = 1e300;
-    if (vmax > 0) {
-      for (int i = 0; i < p.nlocal; ++i) {
-        if (!(p.mask[i] & groupbit)) continue;
-        const int t = p.type[i];
-        const double m = p.rmass[i], r = p.radius[i];
-        const double y_eff = mat(t, t).Y_eff;
-        const double th = 2.87 * std::pow(m * m / (r * y_eff * y_eff * vmax), 0.2);
-        th_local = std::min(th_local, th);
-      }
-    }
-    MPI_Allreduce(&th_local, &t_hertz, 1, MPI_DOUBLE, MPI_MIN, engine_.world);
-    ratio_rayleigh_ = t_rayleigh < 1e300 ? dt / t_rayleigh : 0.0;
-    ratio_hertz_ = t_hertz < 1e300 ? dt / t_hertz : 0.0;
+    const ContactTimes times = pair->contact_times(vmax, groupbit);
+    const double t_rayleigh = times.rayleigh, t_hertz = times.hertz;
+    ratio_rayleigh_ = std::isfinite(t_rayleigh) ? dt / t_rayleigh : 0.0;
+    ratio_hertz_ = std::isfinite(t_hertz) ? dt / t_hertz : 0.0;
     // two particles approach each other by at most 2 vmax dt per step
     const double skin = engine_.neighbor->skin;
     ratio_skin_ = skin > 0 ? 2.0 * vmax * dt / skin : 0.0;

@@ -97,20 +97,29 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   }
 }
 
-double min_rayleigh_time(Engine& engine, const MaterialTable& materials) {
+ContactTimes contact_times(Engine& engine, const MaterialTable& materials, double vmax, int groupbit) {
   const Particles& p = *engine.particles;
-  double tmin = std::numeric_limits<double>::max();
+  // Hertz time is smallest where q = m^2 / (r Y*^2) is: one power at the end
+  double local[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   for (int i = 0; i < p.nlocal; ++i) {
     const int t = p.type[i];
     if (t < 1 || t > materials.ntypes()) continue;
     const double Y = materials.youngs(t), nu = materials.poisson(t);
     const double G = Y / (2.0 * (1.0 + nu));
-    const double tr = M_PI * p.radius[i] * std::sqrt(p.density[i] / G) / (0.1631 * nu + 0.8766);
-    tmin = std::min(tmin, tr);
+    const double r = p.radius[i];
+    local[0] = std::min(local[0], M_PI * r * std::sqrt(p.density[i] / G) / (0.1631 * nu + 0.8766));
+    if (p.mask[i] & groupbit) {
+      const double y_eff = materials(t, t).Y_eff, m = p.rmass[i];
+      local[1] = std::min(local[1], m * m / (r * y_eff * y_eff));
+    }
   }
-  double all = tmin;
-  MPI_Allreduce(&tmin, &all, 1, MPI_DOUBLE, MPI_MIN, engine.world);
-  return all;
+  double all[2];
+  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_MIN, engine.world);
+  ContactTimes times;
+  if (all[0] < std::numeric_limits<double>::max()) times.rayleigh = all[0];
+  if (vmax > 0 && all[1] < std::numeric_limits<double>::max())
+    times.hertz = 2.87 * std::pow(all[1] / vmax, 0.2);
+  return times;
 }
 
 }  // namespace granary

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "contact/contact_model.h"
+#include "pair/pair.h"
 
 namespace granary {
 
@@ -28,8 +29,11 @@ class MaterialTable {
   std::vector<double> youngs_, poisson_;
 };
 
-/// Smallest Rayleigh time pi r sqrt(rho/G) / (0.1631 nu + 0.8766) over the owned
-/// particles (collective), with G = Y / (2 (1 + nu)) of each particle's type.
-double min_rayleigh_time(Engine& engine, const MaterialTable& materials);
+/// Contact time scales over the owned particles (collective). Rayleigh time
+/// pi r sqrt(rho/G) / (0.1631 nu + 0.8766) with G = Y / (2 (1 + nu)) of each
+/// particle's type (all particles); Hertz time of an impact at speed vmax,
+/// 2.87 (m^2 / (r Y*^2 vmax))^(1/5) with the particle's own mass and radius and
+/// Y* of its type with itself (LIGGGHTS 3.8's estimate; particles of groupbit).
+ContactTimes contact_times(Engine& engine, const MaterialTable& materials, double vmax, int groupbit);
 
 }  // namespace granary

@@ -1,6 +1,7 @@
 // Base class of pair styles (particle-particle contacts).
 #pragma once
 
+#include <limits>
 #include <string>
 
 #include "core/utils.h"
@@ -9,6 +10,12 @@ namespace granary {
 
 class Engine;
 class ContactHistory;
+
+/// Time scales a timestep must resolve (seconds; infinite where nothing sets one).
+struct ContactTimes {
+  double rayleigh = std::numeric_limits<double>::infinity();  ///< smallest Rayleigh time
+  double hertz = std::numeric_limits<double>::infinity();     ///< smallest Hertz time at the given speed
+};
 
 class Pair {
  public:
@@ -28,6 +35,11 @@ class Pair {
   virtual void history_swap_signs(double* signs) const {}
   /// Contact history aligned with the neighbour list, or nullptr.
   virtual ContactHistory* history() { return nullptr; }
+  /// Contact time scales of the owned particles (collective): the smallest
+  /// Rayleigh time, and the smallest Hertz time of an impact at speed vmax
+  /// among the particles of groupbit. A style without material stiffness
+  /// returns infinite times.
+  virtual ContactTimes contact_times(double vmax, int groupbit) { return {}; }
 
   std::string style;
 

@@ -89,19 +89,6 @@ void PairGranular::init() {
   if (!signs.empty()) history_swap_signs(signs.data());
   if (history_.nvalues() != history_size()) history_.configure(history_size(), signs);
   take_restart_history();
-
-  // A timestep longer than the Rayleigh time cannot resolve a contact.
-  const double tr = min_rayleigh_time(engine_, materials_);
-  const double dt = engine_.update->dt;
-  if (tr > 0 && std::isfinite(tr) && tr < 1e300 && dt > tr) {
-    char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "timestep %g s is longer than the Rayleigh time %g s of the stiffest particle; "
-                  "contacts cannot be resolved. Use a timestep below %g s (20%% of the Rayleigh time) "
-                  "or a smaller Young's modulus",
-                  dt, tr, 0.2 * tr);
-    throw InputError(buf);
-  }
 }
 
 // Contact history read by read_restart waits in Force until the pair style

@@ -24,6 +24,9 @@ class PairGranular : public Pair {
   int history_size() const override { return contact::history_size(spec_); }
   void history_swap_signs(double* signs) const override { contact::history_swap_signs(spec_, signs); }
   ContactHistory* history() override { return history_size() > 0 ? &history_ : nullptr; }
+  ContactTimes contact_times(double vmax, int groupbit) override {
+    return granary::contact_times(engine_, materials_, vmax, groupbit);
+  }
 
   const contact::ModelSpec& spec() const { return spec_; }
   const MaterialTable& materials() const { return materials_; }
