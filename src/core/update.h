@@ -25,6 +25,10 @@ class Update {
   bool running = false;
   bool first_run = true;
   bool halt_requested = false;  // set by fixes to end the current run early
+  /// SIGTERM or SIGUSR1 received by some rank (agreed on by all at the start
+  /// of a step; 0: none): the run ends after that step and the program stops
+  /// (core/stop_signal.h).
+  int stop_signal = 0;
 
   /// Time increment for contact-history integration: dt during steps, 0 in the
   /// force pass at run setup (forces of the current state, history unchanged).
@@ -77,8 +81,11 @@ class Update {
   void check_lost();
   void report();
   void use_restart_forces();
+  [[noreturn]] void stop_after_signal();
   Engine& engine_;
   bool bounds_set_ = false;
+  std::string stop_restart_;      // restart file written when a signal stopped the run
+  std::int64_t command_end_ = 0;  // last step of the current run command
 };
 
 }  // namespace granary
