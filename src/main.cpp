@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/input.h"
 #include "core/logger.h"
+#include "core/stop_signal.h"
 #include "core/style_list.h"
 #include "core/variable.h"
 
@@ -182,6 +183,9 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  // SIGTERM / SIGUSR1 (a batch system's time limit): finish the step, write a
+  // restart, flush the files and exit with kStopStatus (doc/clusters.md)
+  granary::install_stop_handlers();
   int status = 0;
   {
     std::unique_ptr<granary::Engine> engine;
@@ -189,6 +193,13 @@ int main(int argc, char** argv) {
       engine = std::make_unique<granary::Engine>(MPI_COMM_WORLD);
       run(*engine, opt);
       status = engine->input->quit_status();
+    } catch (const granary::StopRequested& e) {
+      // Raised on every rank together at the end of the step where all agreed to stop.
+      if (engine && engine->logger) {
+        engine->logger->print(std::string(e.what()) + "\n");
+        engine->logger->flush();
+      }
+      status = granary::kStopStatus;
     } catch (const granary::InputError& e) {
       // Raised the same way on every rank (commands see the same input), so
       // every rank can stop cleanly.

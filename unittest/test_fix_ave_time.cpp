@@ -139,7 +139,7 @@ TEST_CASE("fix ave/time: errors", "[fix][ave/time]") {
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 c_x[0]"), Contains(">= 1"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s format %d"), Contains("format"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s file /nonexistent/dir/x.dat"),
-                    Contains("cannot open"));
+                    Contains("cannot write '/nonexistent/dir/x.dat': No such file or directory"));
   // references are checked at the run
   s.cmd("fix e all ave/time 1 1 10 c_nothere");
   CHECK_THROWS_WITH(s.cmd("run 1"), Contains("nothere"));

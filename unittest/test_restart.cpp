@@ -92,6 +92,38 @@ TEST_CASE("a restarted run continues bit for bit on one rank") {
   CHECK(differing == 0);  // identical to the bit
 }
 
+// A restart written in the middle of a run (restart N, or the stop of a run by
+// SIGTERM) stores the forces of that step, even in the first run after the
+// particles were created, so the continuation matches the run itself.
+TEST_CASE("a restart written during the first run continues bit for bit on one rank") {
+  State straight, restarted;
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::fresh());
+    e.input->one("restart 700 during.*.restart");
+    e.input->one("run 2000");
+    straight = state_of(e);
+  }
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::restarted("during.1400.restart"));
+    e.input->one("run 2000 upto");
+    restarted = state_of(e);
+  }
+  REQUIRE(straight.particles.size() > 400);
+  REQUIRE(restarted.particles.size() == straight.particles.size());
+  CHECK(restarted.step == straight.step);
+  int differing = 0;
+  for (const auto& kv : straight.particles) {
+    const auto& other = restarted.particles.at(kv.first);
+    for (std::size_t k = 0; k < kv.second.size(); ++k)
+      differing += kv.second[k] != other[k];
+  }
+  CHECK(differing == 0);  // identical to the bit
+}
+
 // A script that changes particles between runs (here delete_atoms) and then
 // writes a restart: the forces in memory are those of the old particle set.
 // The uninterrupted script recomputes forces at the next run's setup; the

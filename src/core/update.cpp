@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/logger.h"
 #include "core/registry.h"
+#include "core/stop_signal.h"
 #include "domain/domain.h"
 #include "core/modify.h"
 #include "neighbor/contact_history.h"
@@ -270,7 +271,7 @@ std::int64_t Update::count_global() const {
 
 bool Update::step_observed() const {
   const Engine& e = engine_;
-  if (!running || ntimestep == laststep || halt_requested) return true;
+  if (!running || ntimestep == laststep || halt_requested || stop_signal != 0) return true;
   if (e.thermo->every > 0 && ntimestep % e.thermo->every == 0) return true;
   if (ntimestep == e.output->next) return true;
   return e.modify->end_of_step_due(ntimestep);
@@ -281,6 +282,9 @@ void Update::step_loop(std::int64_t n) {
   Modify& modify = *e.modify;
   for (std::int64_t k = 0; k < n; ++k) {
     ++ntimestep;
+    // a batch system's signal (possibly seen by some ranks only): all ranks
+    // agree at the start of the step and stop together at its end
+    if (stop_signal == 0) stop_signal = e.nprocs > 1 ? stop_signal_agreed(e.world) : stop_signal_received();
     {
       Timer t(timers[kModify]);
       modify.initial_integrate();
@@ -304,8 +308,12 @@ void Update::step_loop(std::int64_t n) {
     const bool thermo_due = last || (e.thermo->every > 0 && ntimestep % e.thermo->every == 0);
     // Fixes that halt a run decide collectively, so every rank leaves together
     // (with a thermo line for the step where it stopped).
-    if (thermo_due || halt_requested) e.thermo->line();
+    if (thermo_due || halt_requested || stop_signal != 0) e.thermo->line();
     if (ntimestep == e.output->next) e.output->write(ntimestep);
+    if (stop_signal != 0) {
+      stop_restart_ = e.output->write_restart_now(ntimestep);
+      break;
+    }
     if (halt_requested) break;
     if (ntimestep % 64 == 0) e.thermo->progress();
   }
@@ -323,8 +331,13 @@ void Update::run(std::int64_t n, bool pre, bool post) {
   bounds_set_ = false;
   running = true;
   halt_requested = false;
+  stop_signal = 0;
   if (pre || first_run) setup();
   first_run = false;
+  // from here on the forces in memory are those of the current particles, so
+  // restart files written during the run (restart N, a stop by a signal) store
+  // them and the continuation starts from them, as the run itself goes on
+  forces_current = true;
   // the time split covers the loop only, not setup
   std::fill(std::begin(timers), std::end(timers), 0.0);
   if (!e.modify->has_integrator() && n > 0) {
@@ -340,6 +353,26 @@ void Update::run(std::int64_t n, bool pre, bool post) {
   // added, deleted or moved before the next run rebuilds the lists).
   if (ContactHistory* history = e.force->contact_history()) history->save(*e.neighbor, *e.particles);
   if (post) report();
+  if (stop_signal != 0) stop_after_signal();
+}
+
+void Update::stop_after_signal() {
+  const std::string& restart_file = stop_restart_;
+  // the end of the whole `run` command (several chunks with `run ... every`)
+  const std::int64_t end = std::max(laststep, command_end_);
+  std::string msg = "Run stopped by " + signal_name(stop_signal) + " at step " + std::to_string(ntimestep) +
+                    " (the run was to end at step " + std::to_string(end) + "). ";
+  if (!restart_file.empty()) {
+    msg += "Restart file '" + restart_file + "' written at step " + std::to_string(ntimestep) +
+           ": to continue, read it with 'read_restart " + restart_file +
+           "' in place of the set-up and run the remaining steps (e.g. 'run " + std::to_string(end) +
+           " upto').";
+  } else {
+    msg +=
+        "No restart file was written: the script has no restart command (add e.g. 'restart 10000 "
+        "restart.*' before the run to be able to continue).";
+  }
+  throw StopRequested(msg);
 }
 
 void Update::report() {
@@ -422,6 +455,7 @@ void Update::run_command(const Args& args) {
   }
   if (upto) n -= ntimestep;
   if (n < 0) throw InputError("run upto a step that has already passed");
+  command_end_ = ntimestep + n;
   if (start >= 0 || stop >= 0) {
     beginstep = start >= 0 ? start : ntimestep;
     endstep = stop >= 0 ? stop : ntimestep + n;

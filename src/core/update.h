@@ -26,6 +26,10 @@ class Update {
   bool running = false;
   bool first_run = true;
   bool halt_requested = false;  // set by fixes to end the current run early
+  /// SIGTERM or SIGUSR1 received by some rank (agreed on by all at the start
+  /// of a step; 0: none): the run ends after that step and the program stops
+  /// (core/stop_signal.h).
+  int stop_signal = 0;
 
   /// Time increment for contact-history integration: dt during steps, 0 in the
   /// force pass at run setup (forces of the current state, history unchanged).
@@ -78,10 +82,13 @@ class Update {
   void check_lost();
   void report();
   void use_restart_forces();
+  [[noreturn]] void stop_after_signal();
   Engine& engine_;
   TimestepGuard timestep_guard_{engine_};
   bool bounds_set_ = false;
   bool loss_explained_ = false;  // this run's lost particles were explained (thermo_modify lost ignore)
+  std::string stop_restart_;      // restart file written when a signal stopped the run
+  std::int64_t command_end_ = 0;  // last step of the current run command
 };
 
 }  // namespace granary

@@ -17,12 +17,15 @@
 //   format F                    C format of each value in the file (default " %g")
 // Outputs: one value -> global scalar f_ID; several -> global vector f_ID[i].
 // Before the first output the outputs are 0.
+#include <mpi.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <deque>
 #include <sstream>
 
+#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -135,18 +138,29 @@ class FixAveTime : public Fix {
     nevery = 1;  // sampling steps are tracked here (nvalid_)
     restart_global = true;
 
-    if (!file_.empty() && engine.rank == 0) {
-      fp_ = std::fopen(file_.c_str(), "w");
-      if (!fp_) throw InputError("fix ave/time cannot open file '" + file_ + "' for writing");
-      if (title1_.empty()) title1_ = "# Time-averaged data for fix " + id;
-      if (title2_.empty()) {
-        title2_ = "# TimeStep";
-        for (const Value& v : values_)
-          title2_ += " " + v.text;
+    if (!file_.empty()) {
+      std::string err;
+      if (engine.rank == 0) {
+        if (title1_.empty()) title1_ = "# Time-averaged data for fix " + id;
+        if (title2_.empty()) {
+          title2_ = "# TimeStep";
+          for (const Value& v : values_)
+            title2_ += " " + v.text;
+        }
+        // the header replaces the file as a whole (a temporary file, renamed);
+        // each output line is then appended and flushed
+        std::string header = title1_ + "\n" + title2_ + "\n";
+        if (!title3_.empty()) header += title3_ + "\n";
+        err = replace_file(file_, header);
+        if (err.empty()) fp_ = std::fopen(file_.c_str(), "a");
+        if (err.empty() && !fp_) err = "cannot open '" + file_ + "' for writing";
       }
-      std::fprintf(fp_, "%s\n%s\n", title1_.c_str(), title2_.c_str());
-      if (!title3_.empty()) std::fprintf(fp_, "%s\n", title3_.c_str());
-      std::fflush(fp_);
+      int ok = err.empty() ? 1 : 0;
+      MPI_Bcast(&ok, 1, MPI_INT, 0, engine.world);  // rank 0 writes; every rank stops together
+      if (!ok) {
+        throw InputError("fix ave/time: " + (err.empty() ? "cannot write '" + file_ + "'" : err) +
+                         "; check that the directory exists and is writable");
+      }
     }
     nvalid_ = next_valid();
   }

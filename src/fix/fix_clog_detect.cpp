@@ -34,6 +34,7 @@
 #include <sstream>
 
 #include "comm/collectives.h"
+#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
@@ -650,9 +651,7 @@ void FixClogDetect::rewrite_file() {
     if (csv_) std::fclose(csv_);
     csv_ = nullptr;
     // the whole log to a temporary name, then renamed: never half-written
-    const std::string tmp = file_ + ".tmp";
-    std::FILE* f = std::fopen(tmp.c_str(), "w");
-    if (f) {
+    const std::string err = replace_file(file_, [&](std::FILE* f) {
       std::fprintf(f, "# Granary fix clog-detect %s: one row per avalanche through region %s\n", id.c_str(),
                    outlet_id_.c_str());
       std::fprintf(f, "# units: SI (times s, masses kg, heights m, flow_rate kg/s)\n");
@@ -670,15 +669,9 @@ void FixClogDetect::rewrite_file() {
       for (std::size_t k = 0; k < log_.size(); ++k)
         write_row(log_[k], k + 1);
       csv_ = nullptr;
-      ok = std::fflush(f) == 0 && !std::ferror(f);
-      ok = (std::fclose(f) == 0) && ok;
-      if (ok) ok = std::rename(tmp.c_str(), file_.c_str()) == 0;
-      if (!ok) std::remove(tmp.c_str());
-      if (ok) csv_ = std::fopen(file_.c_str(), "a");
-      ok = ok && csv_ != nullptr;
-    } else {
-      ok = 0;
-    }
+    });
+    if (err.empty()) csv_ = std::fopen(file_.c_str(), "a");
+    ok = err.empty() && csv_ != nullptr;
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, e.world);
   if (!ok) throw InputError(label() + ": cannot write the avalanche file '" + file_ + "'; check the path");

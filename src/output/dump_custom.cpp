@@ -12,6 +12,7 @@
 
 #include "compute/compute.h"
 #include "core/atom_properties.h"
+#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -512,20 +513,18 @@ void DumpCustom::write() {
   std::string err;
   if (engine_.rank == 0) {
     const std::string file = dumpio::expand(filename, engine_.update->ntimestep, pad_);
-    std::FILE* fp = fp_;
     if (multifile_) {
-      fp = std::fopen(file.c_str(), "w");
+      // one file per frame: written under a temporary name, then renamed
       units_written_ = false;
-    } else if (!fp_) {
-      fp = fp_ = std::fopen(file.c_str(), append_ ? "a" : "w");
-    }
-    if (!fp) {
-      err = dumpio::open_error(file);
+      err = replace_file(file, [&](std::FILE* fp) { write_frame(fp, all, nrows, stride); });
     } else {
-      write_frame(fp, all, nrows, stride);
-      const bool bad = std::ferror(fp) != 0;
-      const int closed = multifile_ ? std::fclose(fp) : std::fflush(fp);
-      if (bad || closed != 0) err = dumpio::open_error(file);
+      if (!fp_) fp_ = std::fopen(file.c_str(), append_ ? "a" : "w");
+      if (!fp_) {
+        err = dumpio::open_error(file);
+      } else {
+        write_frame(fp_, all, nrows, stride);
+        if (std::ferror(fp_) != 0 || std::fflush(fp_) != 0) err = dumpio::open_error(file);
+      }
     }
   }
   err = dumpio::first_error(engine_.world, err);

@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <type_traits>
 
+#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -38,7 +39,6 @@ namespace granary {
 using vtkio::byte_order;
 using vtkio::extension;
 using vtkio::strip_extension;
-using vtkio::write_text;
 using vtkio::xml_escape;
 
 namespace {
@@ -57,14 +57,6 @@ const Triple kTriples[] = {
     {"tqx", "tqy", "tqz", "tq"},    {"ix", "iy", "iz", "image"}, {"xu", "yu", "zu", "x_unwrapped"},
     {"xs", "ys", "zs", "x_scaled"},
 };
-
-// Try to create (truncate) a file so that a failure names the file and the reason.
-std::string probe(const std::string& file) {
-  std::FILE* fp = std::fopen(file.c_str(), "wb");
-  if (!fp) return dumpio::open_error(file);
-  std::fclose(fp);
-  return "";
-}
 
 }  // namespace
 
@@ -235,22 +227,24 @@ std::string DumpCustomVTK::write_xml(const std::string& frame, const std::vector
   const std::string file =
       parallel ? strip_extension(frame) + "_" + std::to_string(engine_.rank) + (poly ? ".vtp" : ".vtu")
                : frame;
-  if (std::string e = probe(file); !e.empty()) return e;
-  int ok = 0;
-  if (poly) {
-    auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-    vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
-    w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, ncols, arrays_, time, step));
-    w->SetFileName(file.c_str());
-    ok = w->Write();
-  } else {
-    auto w = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-    vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
-    w->SetInputData(build_dataset<vtkUnstructuredGrid>(rows, nrows, ncols, arrays_, time, step));
-    w->SetFileName(file.c_str());
-    ok = w->Write();
-  }
-  return ok ? "" : "VTK could not write '" + file + "'";
+  // written under a temporary name, then renamed: a frame is complete or absent
+  return replace_file_by_name(file, [&](const std::string& temp) -> std::string {
+    int ok = 0;
+    if (poly) {
+      auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+      vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
+      w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, ncols, arrays_, time, step));
+      w->SetFileName(temp.c_str());
+      ok = w->Write();
+    } else {
+      auto w = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
+      vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
+      w->SetInputData(build_dataset<vtkUnstructuredGrid>(rows, nrows, ncols, arrays_, time, step));
+      w->SetFileName(temp.c_str());
+      ok = w->Write();
+    }
+    return ok ? "" : "VTK could not write '" + file + "'";
+  });
 }
 
 std::string DumpCustomVTK::write_index(const std::string& frame, const std::string& index) {
@@ -277,23 +271,24 @@ std::string DumpCustomVTK::write_index(const std::string& frame, const std::stri
             xml_escape(piece_stem + "_" + std::to_string(r) + (poly ? ".vtp" : ".vtu")) + "\"/>\n";
   }
   text += "  </" + type + ">\n</VTKFile>\n";
-  return write_text(index, text);
+  return replace_file(index, text);
 }
 
 std::string DumpCustomVTK::write_legacy(const std::string& frame, const std::vector<double>& rows,
                                         std::int64_t nrows) {
-  if (std::string e = probe(frame); !e.empty()) return e;
-  auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
-  w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
-  if (options_.binary)
-    w->SetFileTypeToBinary();
-  else
-    w->SetFileTypeToASCII();
-  w->SetHeader(("Granary dump " + id + ", step " + std::to_string(engine_.update->ntimestep)).c_str());
-  w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, fields_.ncols(), arrays_, engine_.update->time(),
-                                             engine_.update->ntimestep));
-  w->SetFileName(frame.c_str());
-  return w->Write() ? "" : "VTK could not write '" + frame + "'";
+  return replace_file_by_name(frame, [&](const std::string& temp) -> std::string {
+    auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
+    w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
+    if (options_.binary)
+      w->SetFileTypeToBinary();
+    else
+      w->SetFileTypeToASCII();
+    w->SetHeader(("Granary dump " + id + ", step " + std::to_string(engine_.update->ntimestep)).c_str());
+    w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, fields_.ncols(), arrays_, engine_.update->time(),
+                                               engine_.update->ntimestep));
+    w->SetFileName(temp.c_str());
+    return w->Write() ? "" : "VTK could not write '" + frame + "'";
+  });
 }
 
 void DumpCustomVTK::write() {

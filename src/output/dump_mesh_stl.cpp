@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -75,34 +76,22 @@ class DumpMeshSTL : public Dump {
   }
 
   std::string write_frame(const std::string& file) const {
-    const std::string tmp = file + ".tmp";
-    std::FILE* fp = std::fopen(tmp.c_str(), "w");
-    if (!fp) return dumpio::open_error(file);
-    for (const FixMeshSurface* m : meshes()) {
-      const TriMesh& mesh = m->mesh;
-      std::fprintf(fp, "solid %s\n", m->id.c_str());
-      for (int t = 0; t < mesh.ntri(); ++t) {
-        const Vec3& n = mesh.normal(t);
-        std::fprintf(fp, "  facet normal %.17g %.17g %.17g\n    outer loop\n", n[0], n[1], n[2]);
-        for (int c = 0; c < 3; ++c) {
-          const Vec3& p = mesh.corner(t, c);
-          std::fprintf(fp, "      vertex %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    return replace_file(file, [&](std::FILE* fp) {
+      for (const FixMeshSurface* m : meshes()) {
+        const TriMesh& mesh = m->mesh;
+        std::fprintf(fp, "solid %s\n", m->id.c_str());
+        for (int t = 0; t < mesh.ntri(); ++t) {
+          const Vec3& n = mesh.normal(t);
+          std::fprintf(fp, "  facet normal %.17g %.17g %.17g\n    outer loop\n", n[0], n[1], n[2]);
+          for (int c = 0; c < 3; ++c) {
+            const Vec3& p = mesh.corner(t, c);
+            std::fprintf(fp, "      vertex %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+          }
+          std::fprintf(fp, "    endloop\n  endfacet\n");
         }
-        std::fprintf(fp, "    endloop\n  endfacet\n");
+        std::fprintf(fp, "endsolid %s\n", m->id.c_str());
       }
-      std::fprintf(fp, "endsolid %s\n", m->id.c_str());
-    }
-    const bool ok = std::ferror(fp) == 0;
-    if (std::fclose(fp) != 0 || !ok) {
-      std::remove(tmp.c_str());
-      return dumpio::open_error(file);
-    }
-    if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-      const std::string e = dumpio::open_error(file);
-      std::remove(tmp.c_str());
-      return e;
-    }
-    return "";
+    });
   }
 
   std::vector<std::string> mesh_ids_;

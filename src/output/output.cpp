@@ -146,15 +146,22 @@ void Output::write(std::int64_t step) {
       d->last_step = step;
     }
   }
-  if (restart_every > 0 && step % restart_every == 0) {
-    std::string file = restart_file1;
-    if (!restart_file2.empty()) {
-      file = restart_toggle ? restart_file2 : restart_file1;
-      restart_toggle = !restart_toggle;
-    }
-    write_restart(engine_, expand_step(file, step));
-  }
+  if (restart_every > 0 && step % restart_every == 0) write_restart_now(step);
   schedule(step);
+}
+
+std::string Output::write_restart_now(std::int64_t step) {
+  if (restart_every <= 0) return "";
+  if (restart_step == step) return restart_last;
+  std::string file = restart_file1;
+  if (!restart_file2.empty()) {
+    file = restart_toggle ? restart_file2 : restart_file1;
+    restart_toggle = !restart_toggle;
+  }
+  restart_last = expand_step(file, step);
+  write_restart(engine_, restart_last);
+  restart_step = step;
+  return restart_last;
 }
 
 void cmd_dump(Engine& e, const Args& a) {

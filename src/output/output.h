@@ -30,6 +30,10 @@ class Output {
   void setup();
   /// End of a step: dumps and restarts that are due.
   void write(std::int64_t step);
+  /// The restart file of the `restart` command for `step` (its next name),
+  /// unless already written at that step (collective). Returns the file's
+  /// name, or "" when the script has no restart command.
+  std::string write_restart_now(std::int64_t step);
   /// Steps at which something is due (cheap check in the run loop).
   std::int64_t next = -1;
 
@@ -37,6 +41,8 @@ class Output {
   int restart_every = 0;
   std::string restart_file1, restart_file2;
   bool restart_toggle = false;
+  std::int64_t restart_step = -1;  // step of the last file written by `restart`
+  std::string restart_last;        // and its name
 
  private:
   void schedule(std::int64_t step);

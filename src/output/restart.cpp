@@ -28,6 +28,7 @@
 
 #include "comm/collectives.h"
 #include "comm/comm.h"
+#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
@@ -432,23 +433,13 @@ void write_restart(Engine& e, const std::string& file) {
     put<std::uint32_t>(header, kByteOrder);
     put<std::uint32_t>(header, static_cast<std::uint32_t>(sections.size()));
     put<std::uint32_t>(header, crc32(table.data(), table.size()));
-    const std::string tmp = file + ".tmp";
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    bool ok = f != nullptr;
-    if (ok) {
-      ok = std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
-           std::fwrite(table.data(), 1, table.size(), f) == table.size();
+    problem = replace_file(file, [&](std::FILE* f) {
+      std::fwrite(header.data(), 1, header.size(), f);
+      std::fwrite(table.data(), 1, table.size(), f);
       for (const auto& s : sections)
-        ok = ok && std::fwrite(s.second.data(), 1, s.second.size(), f) == s.second.size();
-      ok = (std::fclose(f) == 0) && ok;
-    }
-    if (!ok) {
-      std::remove(tmp.c_str());
-      problem = "cannot write restart file '" + file + "' (disk full or directory not writable?)";
-    } else if (std::rename(tmp.c_str(), file.c_str()) != 0) {
-      std::remove(tmp.c_str());
-      problem = "cannot rename '" + tmp + "' to '" + file + "'";
-    }
+        std::fwrite(s.second.data(), 1, s.second.size(), f);
+    });
+    if (!problem.empty()) problem = "restart file: " + problem;
   }
   agree(e, problem);
   e.logger->print("Wrote restart file " + file + " at step " + std::to_string(e.update->ntimestep) + "\n");

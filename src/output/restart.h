@@ -2,8 +2,8 @@
 //
 // Binary, versioned and self-describing: a header (magic, format version,
 // byte-order mark), a table of named sections with their sizes and CRC-32
-// checksums, then the sections. Rank 0 writes to FILE.tmp and renames it, so a
-// crash never leaves a half-written restart. A file written on N ranks reads
+// checksums, then the sections. Rank 0 writes to a temporary file and renames
+// it (core/atomic_file.h), so a crash never leaves a half-written restart. A file written on N ranks reads
 // on any number of ranks. See doc/restart_format.md.
 #pragma once
 

@@ -48,16 +48,15 @@ inline void add_time_step(vtkDataObject* ds, double time, std::int64_t step) {
 inline std::string write_polydata_frame(vtkPolyData* ds, const std::string& frame, double time,
                                         std::int64_t step, const WriteOptions& options, PvdCollection& pvd) {
   add_time_step(ds, time, step);
-  // create the file first so that a failure names the file and the reason
-  if (std::FILE* fp = std::fopen(frame.c_str(), "wb"))
-    std::fclose(fp);
-  else
-    return dumpio::open_error(frame);
-  auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-  configure_writer(w.Get(), options.binary, options.compressor);
-  w->SetInputData(ds);
-  w->SetFileName(frame.c_str());
-  if (!w->Write()) return "VTK could not write '" + frame + "'";
+  // written under a temporary name, then renamed: a frame is complete or absent
+  const std::string err = replace_file_by_name(frame, [&](const std::string& temp) -> std::string {
+    auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+    configure_writer(w.Get(), options.binary, options.compressor);
+    w->SetInputData(ds);
+    w->SetFileName(temp.c_str());
+    return w->Write() ? "" : "VTK could not write '" + frame + "'";
+  });
+  if (!err.empty()) return err;
   if (!pvd.path.empty()) return pvd.add(frame, time);
   return "";
 }

@@ -1,7 +1,7 @@
 // Small helpers shared by the VTK dump styles: file-name handling, XML text,
 // and the ParaView .pvd collection that lists every frame with its simulated
-// time (rewritten through a temporary file and a rename after each frame, so
-// it is always complete).
+// time (rewritten as a whole after each frame, see core/atomic_file.h, so it
+// is always complete).
 #pragma once
 
 #include <cerrno>
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/utils.h"
 
@@ -67,16 +68,6 @@ inline std::string exact_text(double value) {
     if (std::strtod(buf, nullptr) == value) break;
   }
   return buf;
-}
-
-/// Write `text` to `file`; returns "" or "cannot write 'file': reason".
-inline std::string write_text(const std::string& file, const std::string& text) {
-  auto fail = [&] { return "cannot write '" + file + "': " + std::strerror(errno); };
-  std::FILE* fp = std::fopen(file.c_str(), "w");
-  if (!fp) return fail();
-  const bool ok = std::fwrite(text.data(), 1, text.size(), fp) == text.size();
-  if (std::fclose(fp) != 0 || !ok) return fail();
-  return "";
 }
 
 /// The .pvd name of a dump file pattern: '*' removed, extension replaced by
@@ -158,7 +149,7 @@ class PvdCollection {
   void clear() { entries_.clear(); }
 
   /// List `frame` at simulated `time` (a frame already listed moves to the
-  /// end with the new time) and rewrite the file: NAME.tmp, then renamed.
+  /// end with the new time) and rewrite the file (a temporary file, renamed).
   /// Returns "" or an error message.
   std::string add(const std::string& frame, double time) {
     namespace fs = std::filesystem;
@@ -179,12 +170,7 @@ class PvdCollection {
     }
     text += "  </Collection>\n</VTKFile>\n";
 
-    const std::string tmp = path + ".tmp";
-    if (std::string e = write_text(tmp, text); !e.empty()) return e;
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-      return "cannot rename '" + tmp + "' to '" + path + "': " + std::strerror(errno);
-    }
-    return "";
+    return replace_file(path, text);
   }
 
  private:
