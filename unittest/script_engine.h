@@ -39,6 +39,33 @@ struct ScriptEngine {
   const granary::Particles& p() const { return *e.particles; }
 };
 
+/// Position and velocity of particle `id`, wherever it lives (collective).
+/// Returns false unless exactly one rank owns it.
+inline bool particle_state(granary::Engine& e, long long id, granary::Vec3& x, granary::Vec3& v) {
+  double local[7] = {0, 0, 0, 0, 0, 0, 0}, all[7];
+  const auto& p = *e.particles;
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (p.id[i] != id) continue;
+    for (int d = 0; d < 3; ++d) {
+      local[d] = p.x[i][d];
+      local[3 + d] = p.v[i][d];
+    }
+    local[6] = 1;
+  }
+  MPI_Allreduce(local, all, 7, MPI_DOUBLE, MPI_SUM, e.world);
+  x = granary::Vec3(all[0], all[1], all[2]);
+  v = granary::Vec3(all[3], all[4], all[5]);
+  return all[6] == 1.0;
+}
+
+/// A closed 0.4 m box around the origin for two atom types, timestep 0.1 ms:
+/// the scene of tests that follow single free particles.
+inline std::vector<std::string> free_box() {
+  return {"units si",         "atom_style granular",
+          "boundary f f f",   "region box block -0.2 0.2 -0.2 0.2 -0.2 0.2",
+          "create_box 2 box", "timestep 1e-4"};
+}
+
 /// The material lines most scenes need, as one string of four script lines:
 /// fix m1..m4 property/global with one Young's modulus Y, Poisson ratio nu,
 /// restitution e and friction mu for all `ntypes` types and pairs of types

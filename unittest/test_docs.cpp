@@ -36,7 +36,9 @@ const std::map<std::string, std::string> kAliases = {
     {"region-phi", "region_phi"},
     {"region/phi", "region_phi"},
     {"particledistribution/discrete/massbased", "particledistribution/discrete"},
-    {"particledistribution/discrete/numberbased", "particledistribution/discrete"}};
+    {"particledistribution/discrete/numberbased", "particledistribution/discrete"},
+    {"contact/atom/gran", "contact/atom"},
+    {"coord/gran", "contact/atom"}};
 
 // The Syntax section of a page (up to the next "## " heading).
 std::string syntax_section(const std::string& text) {

@@ -30,25 +30,10 @@ struct Sim : granary::test::ScriptEngine {
 
 /// Position and velocity of particle `id`, wherever it lives.
 void state(Engine& e, long long id, Vec3& x, Vec3& v) {
-  double local[7] = {0, 0, 0, 0, 0, 0, 0}, all[7];
-  const auto& p = *e.particles;
-  for (int i = 0; i < p.nlocal; ++i) {
-    if (p.id[i] != id) continue;
-    for (int d = 0; d < 3; ++d) {
-      local[d] = p.x[i][d];
-      local[3 + d] = p.v[i][d];
-    }
-    local[6] = 1;
-  }
-  MPI_Allreduce(local, all, 7, MPI_DOUBLE, MPI_SUM, e.world);
-  REQUIRE(all[6] == 1.0);
-  x = Vec3(all[0], all[1], all[2]);
-  v = Vec3(all[3], all[4], all[5]);
+  REQUIRE(granary::test::particle_state(e, id, x, v));
 }
 
-const std::vector<std::string> kBox = {"units si",         "atom_style granular",
-                                       "boundary f f f",   "region box block -0.2 0.2 -0.2 0.2 -0.2 0.2",
-                                       "create_box 2 box", "timestep 1e-4"};
+const std::vector<std::string> kBox = granary::test::free_box();
 
 }  // namespace
 

@@ -3,8 +3,6 @@
 
 #include <algorithm>
 
-#include <Eigen/Dense>
-
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -134,44 +132,9 @@ void cmd_velocity(Engine& e, const Args& a) {
       if (p.mask[i] & bit) p.v[i] -= vcm;
   } else if (a[2] == "angular") {
     const Vec3 xcm = e.groups->xcm(igroup);
-    double local[12] = {0};  // L (3), inertia tensor (9)
-    for (int i = 0; i < p.nlocal; ++i) {
-      if (!(p.mask[i] & bit)) continue;
-      int ix, iy, iz;
-      Particles::image_unpack(p.image[i], ix, iy, iz);
-      const Vec3 r = p.x[i] + Vec3(ix * dom.prd[0], iy * dom.prd[1], iz * dom.prd[2]) - xcm;
-      const double m = p.rmass[i];
-      const Vec3 L = m * r.cross(p.v[i]);
-      const Eigen::Matrix3d I = m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-      for (int d = 0; d < 3; ++d)
-        local[d] += L[d];
-      for (int q = 0; q < 9; ++q)
-        local[3 + q] += I(q / 3, q % 3);
-    }
-    double all[12];
-    MPI_Allreduce(local, all, 12, MPI_DOUBLE, MPI_SUM, e.world);
-    const Vec3 L(all[0], all[1], all[2]);
-    Eigen::Matrix3d I;
-    for (int q = 0; q < 9; ++q)
-      I(q / 3, q % 3) = all[3 + q];
-    // omega = I^-1 L, restricted to the directions with inertia (a line of particles has none along it)
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
-    const double lmax = eig.eigenvalues().maxCoeff();
-    Vec3 omega = Vec3::Zero();
-    for (int k = 0; k < 3; ++k) {
-      const double lam = eig.eigenvalues()[k];
-      if (lam > 1.0e-12 * lmax && lam > 0.0) {
-        const Vec3 ev = eig.eigenvectors().col(k);
-        omega += ev * (ev.dot(L) / lam);
-      }
-    }
-    for (int i = 0; i < p.nlocal; ++i) {
-      if (!(p.mask[i] & bit)) continue;
-      int ix, iy, iz;
-      Particles::image_unpack(p.image[i], ix, iy, iz);
-      const Vec3 r = p.x[i] + Vec3(ix * dom.prd[0], iy * dom.prd[1], iz * dom.prd[2]) - xcm;
-      p.v[i] -= omega.cross(r);
-    }
+    const Vec3 omega = e.groups->omega(igroup, xcm);
+    for (int i = 0; i < p.nlocal; ++i)
+      if (p.mask[i] & bit) p.v[i] -= omega.cross(e.groups->unwrapped(i) - xcm);
   } else {
     throw InputError("velocity zero needs linear or angular, got '" + a[2] + "'");
   }

@@ -9,6 +9,8 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/Dense>
+
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
@@ -270,17 +272,57 @@ double Groups::mass(int igroup, const Region* region) const {
   return all;
 }
 
-Vec3 Groups::xcm(int igroup, const Region* region) const {
+Vec3 Groups::unwrapped(int i) const {
   const Particles& p = *engine_.particles;
   const Domain& dom = *engine_.domain;
+  int ix, iy, iz;
+  Particles::image_unpack(p.image[i], ix, iy, iz);
+  // periodic images put back where the particle travelled
+  return p.x[i] + Vec3(ix * dom.prd[0], iy * dom.prd[1], iz * dom.prd[2]);
+}
+
+Vec3 Groups::omega(int igroup, const Vec3& xcm) const {
+  const Particles& p = *engine_.particles;
+  const int bit = bitmask(igroup);
+  double local[12] = {0};  // L (3), inertia tensor (9)
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (!(p.mask[i] & bit)) continue;
+    const Vec3 r = unwrapped(i) - xcm;
+    const double m = p.rmass[i];
+    const Vec3 L = m * r.cross(p.v[i]);
+    const Eigen::Matrix3d I = m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+    for (int d = 0; d < 3; ++d)
+      local[d] += L[d];
+    for (int q = 0; q < 9; ++q)
+      local[3 + q] += I(q / 3, q % 3);
+  }
+  double all[12];
+  MPI_Allreduce(local, all, 12, MPI_DOUBLE, MPI_SUM, engine_.world);
+  const Vec3 L(all[0], all[1], all[2]);
+  Eigen::Matrix3d I;
+  for (int q = 0; q < 9; ++q)
+    I(q / 3, q % 3) = all[3 + q];
+  // omega = I^-1 L, restricted to the directions with inertia
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+  const double lmax = eig.eigenvalues().maxCoeff();
+  Vec3 omega = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double lam = eig.eigenvalues()[k];
+    if (lam > 1.0e-12 * lmax && lam > 0.0) {
+      const Vec3 ev = eig.eigenvectors().col(k);
+      omega += ev * (ev.dot(L) / lam);
+    }
+  }
+  return omega;
+}
+
+Vec3 Groups::xcm(int igroup, const Region* region) const {
+  const Particles& p = *engine_.particles;
   const int bit = bitmask(igroup);
   double local[4] = {0, 0, 0, 0};
   for (int i = 0; i < p.nlocal; ++i) {
     if (!(p.mask[i] & bit) || (region && !region->match(p.x[i]))) continue;
-    int ix, iy, iz;
-    Particles::image_unpack(p.image[i], ix, iy, iz);
-    // unwrapped position: periodic images put back where the particle travelled
-    const Vec3 xu = p.x[i] + Vec3(ix * dom.prd[0], iy * dom.prd[1], iz * dom.prd[2]);
+    const Vec3 xu = unwrapped(i);
     const double m = p.rmass[i];
     for (int d = 0; d < 3; ++d)
       local[d] += m * xu[d];

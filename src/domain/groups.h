@@ -33,6 +33,14 @@ class Groups {
   Vec3 xcm(int igroup, const Region* region = nullptr) const;
   Vec3 vcm(int igroup, const Region* region = nullptr) const;
   void bounds(int igroup, Vec3& lo, Vec3& hi, const Region* region = nullptr) const;
+  /// Angular velocity w = I^-1 L of the rigid rotation that carries the
+  /// group's orbital angular momentum L about xcm (I, L of point masses at the
+  /// unwrapped positions; directions without inertia, e.g. along a line of
+  /// particles, get none).
+  Vec3 omega(int igroup, const Vec3& xcm) const;
+
+  /// Position of owned particle i unwrapped across periodic boundaries.
+  Vec3 unwrapped(int i) const;
 
   std::array<std::string, kMaxGroups> names;
 
