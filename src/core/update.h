@@ -86,7 +86,7 @@ class Update {
   Engine& engine_;
   TimestepGuard timestep_guard_{engine_};
   bool bounds_set_ = false;
-  bool loss_explained_ = false;  // this run's lost particles were explained (thermo_modify lost ignore)
+  bool loss_explained_ = false;   // this run's lost particles were explained (thermo_modify lost ignore)
   std::string stop_restart_;      // restart file written when a signal stopped the run
   std::int64_t command_end_ = 0;  // last step of the current run command
 };
