@@ -206,7 +206,17 @@ TEST_CASE("fix ave/histo: per-atom values binned with beyond ignore, end and ext
       (fs::temp_directory_path() / ("granary_histo_" + std::to_string(::getpid()))).string();
   s.cmds({"fix h1 all ave/histo 1 1 10 0 1 5 vx mode vector file " + base + "_1.txt",
           "fix h2 all ave/histo 1 1 10 0 1 5 v_vxa mode vector beyond end file " + base + "_2.txt",
-          "fix h3 all ave/histo 5 2 10 0 1 5 vx mode vector beyond extra file " + base + "_3.txt", "run 10"});
+          "fix h3 all ave/histo 5 2 10 0 1 5 vx mode vector beyond extra file " + base + "_3.txt",
+          // every column of a per-atom array: 12 x 3 zero forces, 0 on the
+          // boundary of the two bins: the lower one
+          "fix st all store/force",
+          "fix hf all ave/histo 1 1 10 -1 1 2 f_st mode vector file " + base + "_f.txt",
+          // overwrite: only the latest histogram stays in the file
+          "fix hw all ave/histo 5 1 5 0 1 5 vx mode vector ave running overwrite file " + base + "_w.txt",
+          "run 10"});
+  CHECK(s.e.fix_value("hf", 1) == 36.0);
+  CHECK(s.e.fix_value("hf", 3) == 0.0);
+  CHECK(s.e.fix_value("hf", 4) == 0.0);
   // ignore: 10 binned, 2 missing; min -0.2, max 1.5
   CHECK(s.e.fix_value("h1", 1) == 10.0);
   CHECK(s.e.fix_value("h1", 2) == 2.0);
@@ -227,6 +237,18 @@ TEST_CASE("fix ave/histo: per-atom values binned with beyond ignore, end and ext
       {5, {0.1, 0.3, 0.5, 0.7, 0.9}, {3, 2, 2, 2, 3}, 12, 0},
       {7, {0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0}, {1, 2, 2, 2, 2, 2, 1}, 12, 0},
   };
+  {
+    const auto f = histo_blocks(base + "_f.txt");
+    REQUIRE(f.size() == 6);  // steps 0 and 10, 2 bins each
+    CHECK(f[4] == std::vector<double>{1, -0.5, 36, 1});
+    CHECK(f[5] == std::vector<double>{2, 0.5, 0, 0});
+    const auto w = histo_blocks(base + "_w.txt");
+    REQUIRE(w.size() == 6);  // one block: step 10, the running average of steps 0, 5, 10
+    CHECK(w[0][0] == 10.0);
+    CHECK(w[0][2] == 10.0);
+    std::remove((base + "_f.txt").c_str());
+    std::remove((base + "_w.txt").c_str());
+  }
   for (int f = 0; f < 3; ++f) {
     const std::string name = base + "_" + std::to_string(f + 1) + ".txt";
     const auto all = histo_blocks(name);

@@ -259,6 +259,7 @@ class FixAveHisto : public Fix {
       stats_[2] = std::min(stats_[2], e.min);
       stats_[3] = std::max(stats_[3], e.max);
     }
+    if (!(stats_[2] <= stats_[3])) stats_[2] = stats_[3] = 0.0;  // no value sampled
     write(step);
   }
 
