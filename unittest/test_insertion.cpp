@@ -580,24 +580,28 @@ TEST_CASE("the insertion schedule moves with reset_timestep, also after read_res
     s.cmds(feed_physics());
     s.cmds({"run 30", "write_restart schedule.restart"});
     n30 = s.e.fix_value("feed", 1);
+    // a restart file written after reset_timestep (and the counter set back)
+    s.cmds({"reset_timestep 1000", "write_restart schedule_reset.restart", "reset_timestep 30"});
     s.cmd("run 11");
     n41 = s.e.fix_value("feed", 1);
   }
   REQUIRE(n41 > n30);
-  for (const bool before : {false, true}) {
-    // reset_timestep before the fix is defined again (its state waits in the
-    // restart data) or after it
+  for (const int when : {0, 1, 2}) {
+    // reset_timestep after the fix is defined again (0), before it (1: its
+    // state waits in the restart data), or before the file was written (2)
     Sim s;
-    s.cmds({"atom_style granular", "read_restart schedule.restart"});
-    if (before) s.cmd("reset_timestep 1000");
+    s.cmds({"atom_style granular",
+            std::string("read_restart ") + (when == 2 ? "schedule_reset.restart" : "schedule.restart")});
+    if (when == 1) s.cmd("reset_timestep 1000");
     s.cmds(feed_physics());
-    if (!before) s.cmds({"reset_timestep 0", "reset_timestep 1000"});
+    if (when == 0) s.cmds({"reset_timestep 0", "reset_timestep 1000"});
     s.cmd("run 10");
     CHECK(s.e.fix_value("feed", 1) == n30);
     s.cmd("run 1");
     CHECK(s.e.fix_value("feed", 1) == n41);
   }
   std::remove("schedule.restart");
+  std::remove("schedule_reset.restart");
 }
 
 TEST_CASE("insertion input errors", "[insert]") {

@@ -681,11 +681,18 @@ double FixInsert::compute_vector(int i) {
   return 0.0;
 }
 
+std::int64_t FixInsert::next_step() const {
+  if (finished_) return -1;
+  // a change of the step counter not yet seen by init moves the schedule too
+  return next_step_ >= 0 ? next_step_ + (engine_.update->ntimestep - seen_step_) : next_step_;
+}
+
 void FixInsert::pack_restart(std::string& out) const {
   std::ostringstream os;
   os.precision(17);
-  os << ninserted_ << ' ' << mass_inserted_ << ' ' << next_step_ << ' ' << (finished_ ? 1 : 0) << ' ' << gen_
-     << ' ' << engine_.update->ntimestep;
+  const std::int64_t next = finished_ ? next_step_ : next_step();
+  os << ninserted_ << ' ' << mass_inserted_ << ' ' << next << ' ' << (finished_ ? 1 : 0) << ' ' << gen_ << ' '
+     << engine_.update->ntimestep;
   out = os.str();
 }
 

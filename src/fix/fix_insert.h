@@ -65,8 +65,8 @@ class FixInsert : public Fix {
   void pack_restart(std::string& out) const override;
   void unpack_restart(const std::string& in) override;
 
-  /// Step of the next insertion (-1 when done).
-  std::int64_t next_step() const { return finished_ ? -1 : next_step_; }
+  /// Step of the next insertion (-1 when done), on the current step counter.
+  std::int64_t next_step() const;
   long long inserted() const { return ninserted_; }
   double mass_inserted() const { return mass_inserted_; }
 
