@@ -158,10 +158,6 @@ class FixAveHisto : public Fix {
     schedule_.begin(engine.update->ntimestep);
   }
 
-  ~FixAveHisto() override {
-    if (fp_) std::fclose(fp_);
-  }
-
   unsigned hooks() const override { return END_OF_STEP; }
 
   void init() override {
@@ -319,8 +315,8 @@ class FixAveHisto : public Fix {
       const std::string err = replace_file(file_, header_ + os.str());
       if (!err.empty()) throw InputError(what_ + ": " + err);
     } else if (fp_) {
-      std::fputs(os.str().c_str(), fp_);
-      std::fflush(fp_);
+      std::fputs(os.str().c_str(), fp_.get());
+      std::fflush(fp_.get());
     }
   }
 
@@ -336,7 +332,7 @@ class FixAveHisto : public Fix {
   Beyond beyond_ = IGNORE;
   bool overwrite_ = false;
   std::string file_, title1_, title2_, title3_, header_;
-  std::FILE* fp_ = nullptr;
+  OutputFile fp_;  // rank 0, with a file
 
   SamplingSchedule schedule_;
   long long noutputs_ = 0;

@@ -153,10 +153,6 @@ class FixAveTime : public Fix {
     schedule_.begin(engine.update->ntimestep);
   }
 
-  ~FixAveTime() override {
-    if (fp_) std::fclose(fp_);
-  }
-
   unsigned hooks() const override { return END_OF_STEP; }
 
   void init() override {
@@ -201,11 +197,11 @@ class FixAveTime : public Fix {
       }
     }
     if (fp_) {
-      std::fprintf(fp_, "%lld", static_cast<long long>(step));
+      std::fprintf(fp_.get(), "%lld", static_cast<long long>(step));
       for (int i = 0; i < n; ++i)
-        std::fprintf(fp_, format_.c_str(), out_[i]);
-      std::fprintf(fp_, "\n");
-      std::fflush(fp_);
+        std::fprintf(fp_.get(), format_.c_str(), out_[i]);
+      std::fprintf(fp_.get(), "\n");
+      std::fflush(fp_.get());
     }
   }
 
@@ -278,7 +274,7 @@ class FixAveTime : public Fix {
   long long start_ = 0;
   std::string format_ = " %g";
   std::string file_, title1_, title2_, title3_;
-  std::FILE* fp_ = nullptr;
+  OutputFile fp_;  // rank 0, with a file
 
   SamplingSchedule schedule_;
   long long count_ = 0;  // Nfreq averages in the running average

@@ -94,7 +94,7 @@ double sample_global(Engine& engine, const SampledValue& v) {
   return engine.input->variables().compute_equal(v.id);
 }
 
-std::FILE* start_output_file(Engine& engine, const std::string& path, const std::string& header,
+OutputFile start_output_file(Engine& engine, const std::string& path, const std::string& header,
                              bool keep_open, const std::string& what) {
   std::string err;
   std::FILE* fp = nullptr;
@@ -111,7 +111,7 @@ std::FILE* start_output_file(Engine& engine, const std::string& path, const std:
     throw InputError(what + ": " + (err.empty() ? "cannot write '" + path + "'" : err) +
                      "; check that the directory exists and is writable");
   }
-  return fp;
+  return OutputFile(fp);
 }
 
 void sample_peratom(Engine& engine, const SampledValue& v, std::vector<double>& out) {

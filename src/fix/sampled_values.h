@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,10 +43,18 @@ void check_global_value(Engine& engine, const SampledValue& v, const Fix* self, 
 /// The current value of a global input.
 double sample_global(Engine& engine, const SampledValue& v);
 
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+/// An output file that closes itself.
+using OutputFile = std::unique_ptr<std::FILE, FileCloser>;
+
 /// Start an output file on rank 0 with `header` (the file is replaced as a
 /// whole) and, with `keep_open`, open it for appending (nullptr elsewhere);
 /// every rank stops with an error naming `what` when it cannot be written.
-std::FILE* start_output_file(Engine& engine, const std::string& path, const std::string& header,
+OutputFile start_output_file(Engine& engine, const std::string& path, const std::string& header,
                              bool keep_open, const std::string& what);
 
 /// Per-atom values of the local particles (nlocal entries).
