@@ -569,6 +569,41 @@ TEST_CASE("insertion continues across a restart as without it", "[insert]") {
   CHECK(worst == 0.0);
 }
 
+TEST_CASE("the insertion schedule moves with reset_timestep, also after read_restart", "[insert][restart]") {
+  // batches every 20 steps from step 1: after 30 steps the next is due at 41,
+  // 11 steps after the restart step; after reset_timestep 1000 it is due at 1011
+  double n30 = 0.0, n41 = 0.0;
+  {
+    Sim s;
+    s.cmds({"units si", "atom_style granular", "boundary p p f",
+            "region box block 0 0.02 0 0.02 0 0.04 units box", "create_box 2 box"});
+    s.cmds(feed_physics());
+    s.cmds({"run 30", "write_restart schedule.restart"});
+    n30 = s.e.fix_value("feed", 1);
+    // a restart file written after reset_timestep (and the counter set back)
+    s.cmds({"reset_timestep 1000", "write_restart schedule_reset.restart", "reset_timestep 30"});
+    s.cmd("run 11");
+    n41 = s.e.fix_value("feed", 1);
+  }
+  REQUIRE(n41 > n30);
+  for (const int when : {0, 1, 2}) {
+    // reset_timestep after the fix is defined again (0), before it (1: its
+    // state waits in the restart data), or before the file was written (2)
+    Sim s;
+    s.cmds({"atom_style granular",
+            std::string("read_restart ") + (when == 2 ? "schedule_reset.restart" : "schedule.restart")});
+    if (when == 1) s.cmd("reset_timestep 1000");
+    s.cmds(feed_physics());
+    if (when == 0) s.cmds({"reset_timestep 0", "reset_timestep 1000"});
+    s.cmd("run 10");
+    CHECK(s.e.fix_value("feed", 1) == n30);
+    s.cmd("run 1");
+    CHECK(s.e.fix_value("feed", 1) == n41);
+  }
+  std::remove("schedule.restart");
+  std::remove("schedule_reset.restart");
+}
+
 TEST_CASE("insertion input errors", "[insert]") {
   Sim s;
   s.cmds(kBox);

@@ -28,6 +28,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -269,4 +270,69 @@ TEST_CASE("LIGGGHTS tutorial movingMeshGran: move/mesh linear then rotate, writt
     CHECK(worst < 1e-5);
   }
   std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// LIGGGHTS' insert_stream tutorial in two parts: in.insert_stream inserts 300
+// particles every 30000 steps (extrude_length 0.6 m at 2 m/s, dt 1e-5 s) from
+// step 1 and writes a restart file; in.insert_stream_reset_timestep reads it,
+// defines the insertion again and sets the step counter back (reset_timestep 0,
+// then 50000). The schedule moves with the step counter: the next insertion
+// keeps its distance from the step at which the restart was written.
+//
+// Both inputs and face.stl are copied unchanged from LIGGGHTS 3.8's
+// Tutorials_public/insert_stream to unittest/scripts/insert_stream. The test
+// shortens the first run from 100000 to 40000 steps (batches at 1 and 30001,
+// restart at 40001, next batch due at 60001) and leaves out the dumps; the
+// second part runs from step 50001 to 100000 in four runs that print the
+// particle count at 69999, 70000, 99999 and 100000. The next batch is due
+// 60001 - 40001 = 20000 steps after the restart step, that is at 50000 +
+// 20000 = 70000, and the one after it at 100000, as in the full tutorial
+// (where LIGGGHTS 3.8 also inserts at 70000 and 100000).
+//
+// LIGGGHTS 3.8 figures (stored: the test also runs where LIGGGHTS is not
+// installed), from `liggghts -in in.first -log none; liggghts -in in.second
+// -log none` on the shortened files this test writes:
+// N69999 600, N70000 900, N99999 900, N100000 1200.
+TEST_CASE(
+    "LIGGGHTS tutorial insert_stream_reset_timestep: insertion continues after read_restart and "
+    "reset_timestep",
+    "[liggghts][tutorial][restart]") {
+  namespace fs = std::filesystem;
+  const fs::path src = fs::path(GRANARY_SOURCE_DIR) / "unittest" / "scripts" / "insert_stream";
+  auto t = granary::test::temp_template("granary_tut_");
+  REQUIRE(mkdtemp(t.data()) != nullptr);
+  const fs::path dir = t.data();
+  fs::copy(src, dir, fs::copy_options::recursive);
+  fs::create_directories(dir / "post");
+
+  std::string first = read_text((dir / "in.insert_stream").string());
+  replace_line(first, "dump dmp", "");
+  replace_line(first, "run 100000", "run 40000");
+  write_text((dir / "in.first").string(), first);
+  std::string second = read_text((dir / "in.insert_stream_reset_timestep").string());
+  replace_line(second, "dump dmp", "");
+  replace_line(second, "run 50000",
+               "variable nn equal atoms\nrun 19998\nprint \"N69999 ${nn}\"\nrun 1\nprint \"N70000 "
+               "${nn}\"\nrun 29999\nprint \"N99999 ${nn}\"\nrun 1\nprint \"N100000 ${nn}\"");
+  write_text((dir / "in.second").string(), second);
+
+  const std::vector<std::string> keys = {"N69999 ", "N70000 ", "N99999 ", "N100000 "};
+  const std::vector<double> liggghts = {600, 900, 900, 1200};
+  long long n_first = 0;
+  run_granary(dir.string(), "in.first", [&](granary::test::ScriptEngine& s) { n_first = s.p().natoms; });
+  CHECK(n_first == 600);
+  // the second part with a log file, to read the printed counts back
+  write_text((dir / "in.second_logged").string(), "log granary.log\ninclude in.second\n");
+  run_granary(dir.string(), "in.second_logged",
+              [&](granary::test::ScriptEngine& s) { CHECK(s.e.fix_value("ins", 1) == 1200.0); });
+  const std::string out = read_text((dir / "granary.log").string());
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    CHECK(value_after(out, keys[k]) == liggghts[k]);
+  if (have_liggghts()) {
+    run_liggghts(dir.string(), "in.first");
+    const std::string live = run_liggghts(dir.string(), "in.second");
+    for (std::size_t k = 0; k < keys.size(); ++k)
+      CHECK(value_after(live, keys[k]) == liggghts[k]);
+  }
+  fs::remove_all(dir);
 }

@@ -25,7 +25,6 @@
 #include <deque>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -33,6 +32,7 @@
 #include "core/update.h"
 #include "core/variable.h"
 #include "fix/fix.h"
+#include "fix/sampled_values.h"
 #include "core/modify.h"
 
 namespace granary {
@@ -135,61 +135,30 @@ class FixAveTime : public Fix {
     sum_.assign(n, 0.0);
     out_.assign(n, 0.0);
     total_.assign(n, 0.0);
-    nevery = 1;  // sampling steps are tracked here (nvalid_)
+    nevery = 1;  // sampling steps are tracked here (schedule_)
     restart_global = true;
 
     if (!file_.empty()) {
-      std::string err;
-      if (engine.rank == 0) {
-        if (title1_.empty()) title1_ = "# Time-averaged data for fix " + id;
-        if (title2_.empty()) {
-          title2_ = "# TimeStep";
-          for (const Value& v : values_)
-            title2_ += " " + v.text;
-        }
-        // the header replaces the file as a whole (a temporary file, renamed);
-        // each output line is then appended and flushed
-        std::string header = title1_ + "\n" + title2_ + "\n";
-        if (!title3_.empty()) header += title3_ + "\n";
-        err = replace_file(file_, header);
-        if (err.empty()) fp_ = std::fopen(file_.c_str(), "a");
-        if (err.empty() && !fp_) err = "cannot open '" + file_ + "' for writing";
+      if (title1_.empty()) title1_ = "# Time-averaged data for fix " + id;
+      if (title2_.empty()) {
+        title2_ = "# TimeStep";
+        for (const SampledValue& v : values_)
+          title2_ += " " + v.text;
       }
-      int ok = err.empty() ? 1 : 0;
-      MPI_Bcast(&ok, 1, MPI_INT, 0, engine.world);  // rank 0 writes; every rank stops together
-      if (!ok) {
-        throw InputError("fix ave/time: " + (err.empty() ? "cannot write '" + file_ + "'" : err) +
-                         "; check that the directory exists and is writable");
-      }
+      std::string header = title1_ + "\n" + title2_ + "\n";
+      if (!title3_.empty()) header += title3_ + "\n";
+      fp_ = start_output_file(engine, file_, header, true, "fix ave/time");
     }
-    nvalid_ = next_valid();
-  }
-
-  ~FixAveTime() override {
-    if (fp_) std::fclose(fp_);
+    schedule_.set(every_, nrepeat_, nfreq_, start_);
+    schedule_.begin(engine.update->ntimestep);
   }
 
   unsigned hooks() const override { return END_OF_STEP; }
 
   void init() override {
-    for (const Value& v : values_) {
-      if (v.kind == 'c') {
-        engine_.modify->compute_or_error(v.id, "fix ave/time " + v.text);
-      } else if (v.kind == 'f') {
-        Fix* f = engine_.modify->fix_or_error(v.id, "fix ave/time " + v.text);
-        if (f == this) throw InputError("fix ave/time " + id + " cannot average its own output");
-      } else if (!engine_.input->variables().find(v.id)) {
-        throw InputError("fix ave/time: variable '" + v.id + "' does not exist");
-      } else if (engine_.input->variables().is_atom(v.id)) {
-        throw InputError("fix ave/time: variable '" + v.id +
-                         "' is atom-style; it needs an equal-style variable");
-      }
-    }
-    // a run that starts after the next sampling step (e.g. after reset_timestep) restarts the window
-    if (nvalid_ < engine_.update->ntimestep) {
-      irepeat_ = 0;
-      nvalid_ = next_valid();
-    }
+    for (const SampledValue& v : values_)
+      check_global_value(engine_, v, this, "fix ave/time " + id, "it needs an equal-style variable");
+    schedule_.catch_up(engine_.update->ntimestep);
   }
 
   // samples at the first step of a run too, like LAMMPS (when it is a sampling step)
@@ -197,27 +166,14 @@ class FixAveTime : public Fix {
 
   void end_of_step() override {
     const std::int64_t step = engine_.update->ntimestep;
-    if (step != nvalid_) return;
+    if (!schedule_.due(step)) return;
     for (std::size_t i = 0; i < values_.size(); ++i) {
-      const Value& v = values_[i];
-      double x;
-      if (v.kind == 'c')
-        x = engine_.compute_value(v.id, v.index);
-      else if (v.kind == 'f')
-        x = engine_.fix_value(v.id, v.index);
-      else
-        x = engine_.input->variables().compute_equal(v.id);
-      if (irepeat_ == 0) sum_[i] = 0.0;
+      const double x = sample_global(engine_, values_[i]);
+      if (schedule_.window_start()) sum_[i] = 0.0;
       sum_[i] += x;
     }
-    ++irepeat_;
-    if (irepeat_ < nrepeat_) {
-      nvalid_ += every_;
-      return;
-    }
+    if (!schedule_.sampled(step)) return;
     // an output step: the average of the Nrepeat samples
-    irepeat_ = 0;
-    nvalid_ = step + nfreq_ - (nrepeat_ - 1) * every_;
     const int n = static_cast<int>(values_.size());
     std::vector<double> avg(n);
     for (int i = 0; i < n; ++i)
@@ -241,11 +197,11 @@ class FixAveTime : public Fix {
       }
     }
     if (fp_) {
-      std::fprintf(fp_, "%lld", static_cast<long long>(step));
+      std::fprintf(fp_.get(), "%lld", static_cast<long long>(step));
       for (int i = 0; i < n; ++i)
-        std::fprintf(fp_, format_.c_str(), out_[i]);
-      std::fprintf(fp_, "\n");
-      std::fflush(fp_);
+        std::fprintf(fp_.get(), format_.c_str(), out_[i]);
+      std::fprintf(fp_.get(), "\n");
+      std::fflush(fp_.get());
     }
   }
 
@@ -292,15 +248,8 @@ class FixAveTime : public Fix {
 
  private:
   enum Ave { ONE, RUNNING, WINDOW };
-  struct Value {
-    char kind;       // 'c', 'f' or 'v'
-    std::string id;  // compute/fix ID or variable name
-    int index = 0;   // 0: scalar, i >= 1: element i
-    std::string text;
-  };
-
-  static Value parse_value(const std::string& w) {
-    Value v;
+  static SampledValue parse_value(const std::string& w) {
+    SampledValue v;
     v.kind = w[0];
     v.text = w;
     std::string name = w.substr(2);
@@ -309,8 +258,8 @@ class FixAveTime : public Fix {
       if (name.back() != ']' || v.kind == 'v')
         throw InputError("fix ave/time value '" + w +
                          "' is malformed; use c_ID, c_ID[i], f_ID, f_ID[i] or v_name");
-      v.index = static_cast<int>(parse_int(name.substr(lb + 1, name.size() - lb - 2), "index of " + w));
-      if (v.index < 1) throw InputError("fix ave/time value '" + w + "': the index must be >= 1");
+      v.col = static_cast<int>(parse_int(name.substr(lb + 1, name.size() - lb - 2), "index of " + w));
+      if (v.col < 1) throw InputError("fix ave/time value '" + w + "': the index must be >= 1");
       name = name.substr(0, lb);
     }
     if (name.empty()) throw InputError("fix ave/time value '" + w + "' has no name");
@@ -318,29 +267,17 @@ class FixAveTime : public Fix {
     return v;
   }
 
-  // The first sampling step at or after the current step (and `start`) whose
-  // window ends on a multiple of Nfreq.
-  std::int64_t next_valid() const {
-    std::int64_t now = std::max<std::int64_t>(engine_.update->ntimestep, start_);
-    std::int64_t nv = (now / nfreq_) * nfreq_;
-    if (nv < now) nv += nfreq_;
-    nv -= (nrepeat_ - 1) * every_;
-    if (nv < now) nv += nfreq_;
-    return nv;
-  }
-
   long long every_ = 1, nrepeat_ = 1, nfreq_ = 1;
-  std::vector<Value> values_;
+  std::vector<SampledValue> values_;
   Ave ave_ = ONE;
   long long window_ = 0;
   long long start_ = 0;
   std::string format_ = " %g";
   std::string file_, title1_, title2_, title3_;
-  std::FILE* fp_ = nullptr;
+  OutputFile fp_;  // rank 0, with a file
 
-  std::int64_t nvalid_ = 0;  // next sampling step
-  long long irepeat_ = 0;    // samples taken in the current window
-  long long count_ = 0;      // Nfreq averages in the running average
+  SamplingSchedule schedule_;
+  long long count_ = 0;  // Nfreq averages in the running average
   std::vector<double> sum_, out_, total_;
   std::deque<std::vector<double>> window_values_;
 };

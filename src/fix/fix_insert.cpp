@@ -299,6 +299,7 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
   }
   if (needs_region) engine.domain->region_or_error(region_id_, what);
   gen_.seed(static_cast<std::uint64_t>(seed_));
+  seen_step_ = engine.update->ntimestep;
   size_vector = 2;
   restart_global = true;
 }
@@ -367,6 +368,13 @@ void FixInsert::init() {
     }
   }
 
+  // the step counter was changed since this fix last saw it (reset_timestep,
+  // also before the fix was defined again after read_restart): the schedule
+  // moves with it, so that the number of steps to the next insertion is kept
+  const std::int64_t now = engine_.update->ntimestep;
+  if (!finished_ && next_step_ >= 0 && now != seen_step_) next_step_ += now - seen_step_;
+  seen_step_ = now;
+
   // first insertion: the first step of this run, or `start`
   if (!finished_ && next_step_ <= engine_.update->ntimestep) {
     next_step_ = std::max<std::int64_t>(engine_.update->ntimestep + 1, start_);
@@ -374,8 +382,9 @@ void FixInsert::init() {
 }
 
 void FixInsert::post_integrate() {
-  if (finished_) return;
   const std::int64_t step = engine_.update->ntimestep;
+  seen_step_ = step;
+  if (finished_) return;
   if (next_step_ < step) next_step_ = std::max<std::int64_t>(step, start_);  // runs without setup (pre no)
   if (step == next_step_) engine_.neighbor->force_rebuild = true;
 }
@@ -672,10 +681,18 @@ double FixInsert::compute_vector(int i) {
   return 0.0;
 }
 
+std::int64_t FixInsert::next_step() const {
+  if (finished_) return -1;
+  // a change of the step counter not yet seen by init moves the schedule too
+  return next_step_ >= 0 ? next_step_ + (engine_.update->ntimestep - seen_step_) : next_step_;
+}
+
 void FixInsert::pack_restart(std::string& out) const {
   std::ostringstream os;
   os.precision(17);
-  os << ninserted_ << ' ' << mass_inserted_ << ' ' << next_step_ << ' ' << (finished_ ? 1 : 0) << ' ' << gen_;
+  const std::int64_t next = finished_ ? next_step_ : next_step();
+  os << ninserted_ << ' ' << mass_inserted_ << ' ' << next << ' ' << (finished_ ? 1 : 0) << ' ' << gen_ << ' '
+     << engine_.update->ntimestep;
   out = os.str();
 }
 
@@ -692,6 +709,9 @@ void FixInsert::unpack_restart(const std::string& in) {
   next_step_ = next;
   finished_ = fin != 0;
   gen_ = g;
+  // the step the file was written at (files without it: the current step)
+  long long written = 0;
+  seen_step_ = (is >> written) ? written : engine_.update->ntimestep;
 }
 
 }  // namespace granary

@@ -18,7 +18,9 @@
 //   arguments, after all spheres of the batch were created.
 //
 // When it acts: insertion steps are steps of a run (the first one is the first
-// step of the next run, or `start`). In post_integrate of such a step the fix
+// step of the next run, or `start`). The schedule is kept in restart files, and
+// when the step counter is changed (reset_timestep) the schedule moves with it:
+// the number of steps to the next insertion stays the same. In post_integrate of such a step the fix
 // sets Neighbor::force_rebuild, so the step reneighbours; in pre_exchange of
 // that step the particles are added. At that point ghosts and the neighbour
 // list of the previous build still exist (the contact history is saved from
@@ -63,8 +65,8 @@ class FixInsert : public Fix {
   void pack_restart(std::string& out) const override;
   void unpack_restart(const std::string& in) override;
 
-  /// Step of the next insertion (-1 when done).
-  std::int64_t next_step() const { return finished_ ? -1 : next_step_; }
+  /// Step of the next insertion (-1 when done), on the current step counter.
+  std::int64_t next_step() const;
   long long inserted() const { return ninserted_; }
   double mass_inserted() const { return mass_inserted_; }
 
@@ -120,6 +122,9 @@ class FixInsert : public Fix {
   long long ntry_mc_ = 100000;
 
   std::int64_t next_step_ = -1;
+  // the step counter when this fix last saw it: a different value at init
+  // means reset_timestep moved it, and next_step_ moves by the same amount
+  std::int64_t seen_step_ = 0;
   bool finished_ = false;
   long long ninserted_ = 0;
   double mass_inserted_ = 0.0;
