@@ -13,8 +13,8 @@
 // reference exactly: the force and torque of a clump are summed over its
 // sub-spheres in sub-sphere order on every decomposition. With the former
 // sums (in the order in which each rank held the sub-spheres, then over the
-// ranks) this pour ends with 170 of its 340 particles differing in the last
-// bits on 2 ranks.
+// ranks) this test fails: 170 of the 340 particles and 16 of the 30 clumps
+// differ on 2 ranks, 279 and 25 on 4 ranks.
 //
 // The pour is loose on purpose: a particle's pair forces are still summed in
 // an order that depends on the decomposition when it has several contacts at
