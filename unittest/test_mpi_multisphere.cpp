@@ -8,9 +8,11 @@
 // clump on different ranks) and periodic boundaries. After 6000 steps the
 // number of clumps and particles must agree exactly, the translational and
 // rotational kinetic energies of the clumps to 1e-6 relative and every clump
-// centre to 1e-7 m (1e-4 of a clump's size). The per-body force sums differ in
-// order between rank counts, so results differ by round-off only, which the
-// collisions amplify (a few 1e-9 m after 6000 steps).
+// centre to 1e-7 m (1e-4 of a clump's size). Per-body force sums are in
+// sub-sphere order on every decomposition, but the pair forces of a particle
+// with several contacts are summed in an order that depends on it, so results
+// may differ by round-off, which the collisions amplify; the tolerances allow
+// for that.
 #include <mpi.h>
 
 #include <catch2/catch.hpp>

@@ -394,12 +394,14 @@ void FixMultisphere::index_spheres() {
   const int n = p.nlocal;
   pbody_.resize(n);
   psphere_.resize(n);
+  pslot_.resize(n);
   poffset_.resize(n);
   for (int i = 0; i < n; ++i) {
     int k;
     const int b = body_of(i, k);
     pbody_[i] = b;
     psphere_[i] = b >= 0 ? bodies_.sphere_start[b] + k : -1;
+    pslot_[i] = b >= 0 ? slot_[b] + k : -1;
     poffset_[i] = b >= 0 ? Vec3(rot_[b] * bodies_.offsets[psphere_[i]]) : Vec3::Zero();
   }
 }
@@ -442,8 +444,15 @@ void FixMultisphere::reindex() {
     if (b >= 0) is_active_[b] = 1;
   }
   active_.clear();
-  for (int b = 0; b < nb; ++b)
-    if (is_active_[b]) active_.push_back(b);
+  slot_.assign(nb, -1);
+  int nslots = 0;
+  for (int b = 0; b < nb; ++b) {
+    if (!is_active_[b]) continue;
+    active_.push_back(b);
+    slot_[b] = nslots;
+    nslots += bodies_.nspheres[b];
+  }
+  part_.assign(6 * static_cast<std::size_t>(nslots), 0.0);
   fetch_state();
   compute_rotations();
   index_spheres();
@@ -495,7 +504,7 @@ void FixMultisphere::fetch_state() {
 void FixMultisphere::find_partners() {
   // A body is shared when this rank owns some but not all of its sub-spheres.
   // Every rank publishes its shared bodies; the ranks listing the same body
-  // exchange partial force sums for it every step.
+  // exchange their sub-spheres' forces and torques for it every step.
   Engine& e = engine_;
   const Bodies& B = bodies_;
   const Particles& p = *e.particles;
@@ -514,14 +523,10 @@ void FixMultisphere::find_partners() {
   std::vector<int> displs;
   const std::vector<long long> all = allgather(e.world, mine, &displs);
   if (all.empty() || mine.empty()) return;
-  // sources of each shared body's partial sums, in ascending rank order
+  // the other ranks owning sub-spheres of each shared body, in ascending rank order
   std::vector<std::vector<std::pair<int, int>>> src(mine.size());
   for (int r = 0; r < np; ++r) {
-    if (r == e.rank) {
-      for (auto& s : src)
-        s.emplace_back(-1, 0);
-      continue;
-    }
+    if (r == e.rank) continue;
     // both lists ascend by id: merge
     Partner partner;
     partner.rank = r;
@@ -531,13 +536,21 @@ void FixMultisphere::find_partners() {
         ++a;
       if (a < mine.size() && mine[a] == all[k]) {
         src[a].emplace_back(static_cast<int>(partners_.size()), static_cast<int>(partner.bodies.size()));
-        partner.bodies.push_back(B.find(static_cast<tagint>(mine[a])));
+        const int b = B.find(static_cast<tagint>(mine[a]));
+        partner.start.push_back(
+            partner.bodies.empty() ? 0 : partner.start.back() + 6 * B.nspheres[partner.bodies.back()]);
+        partner.bodies.push_back(b);
       }
     }
-    if (!partner.bodies.empty()) partners_.push_back(std::move(partner));
+    if (!partner.bodies.empty()) {
+      const int last = partner.bodies.back();
+      partner.send.resize(partner.start.back() + 6 * static_cast<std::size_t>(B.nspheres[last]));
+      partner.recv.resize(partner.send.size());
+      partners_.push_back(std::move(partner));
+    }
   }
   for (std::size_t a = 0; a < mine.size(); ++a) {
-    if (src[a].size() < 2) continue;  // no other rank owns its other sub-spheres (yet)
+    if (src[a].empty()) continue;  // no other rank owns its other sub-spheres (yet)
     shared_.push_back(B.find(static_cast<tagint>(mine[a])));
     shared_src_.insert(shared_src_.end(), src[a].begin(), src[a].end());
     shared_start_.push_back(static_cast<int>(shared_src_.size()));
@@ -583,62 +596,70 @@ void FixMultisphere::place_spheres(bool positions) {
 }
 
 void FixMultisphere::sum_forces() {
+  // Each sub-sphere's force and torque go to its own slot; a body's total is
+  // the sum over its slots in sub-sphere order. The additions are then the
+  // same whichever ranks own the sub-spheres and in whatever order they are
+  // stored, so bodies move bit for bit alike on any number of ranks.
   check_index();
   const Particles& p = *engine_.particles;
-  const int nb = bodies_.size();
-  buf_.resize(6 * static_cast<std::size_t>(nb));
-  double* const buf = buf_.data();
-  for (int b : active_)
-    std::fill(buf + 6 * static_cast<std::size_t>(b), buf + 6 * static_cast<std::size_t>(b) + 6, 0.0);
+  double* const part = part_.data();
+  std::fill(part_.begin(), part_.end(), 0.0);  // slots of sub-spheres owned elsewhere read zero
   const int n = p.nlocal;
   const int* const pbody = pbody_.data();
+  const int* const pslot = pslot_.data();
   const Vec3* const poffset = poffset_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
   for (int i = 0; i < n; ++i) {
-    const int b = pbody[i];
-    if (b < 0) continue;
+    if (pbody[i] < 0) continue;
     const Vec3 t = poffset[i].cross(f[i]) + torque[i];
-    double* s = buf + 6 * static_cast<std::size_t>(b);
+    double* s = part + 6 * static_cast<std::size_t>(pslot[i]);
     for (int d = 0; d < 3; ++d) {
-      s[d] += f[i][d];
-      s[3 + d] += t[d];
+      s[d] = f[i][d];
+      s[3 + d] = t[d];
+    }
+  }
+  if (!partners_.empty()) {
+    // the slots of the shared bodies, with the ranks sharing them only
+    const int* const nspheres = bodies_.nspheres.data();
+    const int* const slot = slot_.data();
+    std::vector<MPI_Request> req(2 * partners_.size());
+    for (std::size_t k = 0; k < partners_.size(); ++k) {
+      Partner& q = partners_[k];
+      MPI_Irecv(q.recv.data(), static_cast<int>(q.recv.size()), MPI_DOUBLE, q.rank, 7, engine_.world,
+                &req[2 * k]);
+    }
+    for (std::size_t k = 0; k < partners_.size(); ++k) {
+      Partner& q = partners_[k];
+      for (std::size_t m = 0; m < q.bodies.size(); ++m) {
+        const double* s = part + 6 * static_cast<std::size_t>(slot[q.bodies[m]]);
+        std::copy(s, s + 6 * nspheres[q.bodies[m]], q.send.begin() + q.start[m]);
+      }
+      MPI_Isend(q.send.data(), static_cast<int>(q.send.size()), MPI_DOUBLE, q.rank, 7, engine_.world,
+                &req[2 * k + 1]);
+    }
+    MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+    // every sub-sphere has one owner: adding the others' slots (zero where
+    // they do not own the sub-sphere) to this rank's copies each value exactly
+    for (std::size_t m = 0; m < shared_.size(); ++m) {
+      const int b = shared_[m];
+      double* s = part + 6 * static_cast<std::size_t>(slot[b]);
+      const int len = 6 * nspheres[b];
+      for (int k = shared_start_[m]; k < shared_start_[m + 1]; ++k) {
+        const auto [partner, pos] = shared_src_[k];
+        const Partner& q = partners_[partner];
+        const double* r = &q.recv[q.start[pos]];
+        for (int c = 0; c < len; ++c)
+          s[c] += r[c];
+      }
     }
   }
   for (int b : active_) {
-    const double* s = buf + 6 * static_cast<std::size_t>(b);
-    bodies_.fcm[b] = Vec3(s[0], s[1], s[2]);
-    bodies_.torque[b] = Vec3(s[3], s[4], s[5]);
-  }
-  if (partners_.empty()) return;
-  // partial sums of the shared bodies, with the ranks sharing them only
-  std::vector<MPI_Request> req(2 * partners_.size());
-  for (std::size_t k = 0; k < partners_.size(); ++k) {
-    Partner& q = partners_[k];
-    q.recv.resize(6 * q.bodies.size());
-    MPI_Irecv(q.recv.data(), static_cast<int>(q.recv.size()), MPI_DOUBLE, q.rank, 7, engine_.world,
-              &req[2 * k]);
-  }
-  for (std::size_t k = 0; k < partners_.size(); ++k) {
-    Partner& q = partners_[k];
-    q.send.resize(6 * q.bodies.size());
-    for (std::size_t m = 0; m < q.bodies.size(); ++m)
-      std::copy(buf + 6 * static_cast<std::size_t>(q.bodies[m]),
-                buf + 6 * static_cast<std::size_t>(q.bodies[m]) + 6, q.send.begin() + 6 * m);
-    MPI_Isend(q.send.data(), static_cast<int>(q.send.size()), MPI_DOUBLE, q.rank, 7, engine_.world,
-              &req[2 * k + 1]);
-  }
-  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
-  for (std::size_t m = 0; m < shared_.size(); ++m) {
-    const int b = shared_[m];
+    const double* s = part + 6 * static_cast<std::size_t>(slot_[b]);
     double total[6] = {0, 0, 0, 0, 0, 0};
-    for (int k = shared_start_[m]; k < shared_start_[m + 1]; ++k) {
-      const auto [partner, slot] = shared_src_[k];
-      const double* s = partner < 0 ? buf + 6 * static_cast<std::size_t>(b)
-                                    : &partners_[partner].recv[6 * static_cast<std::size_t>(slot)];
+    for (int k = 0; k < bodies_.nspheres[b]; ++k, s += 6)
       for (int d = 0; d < 6; ++d)
         total[d] += s[d];
-    }
     bodies_.fcm[b] = Vec3(total[0], total[1], total[2]);
     bodies_.torque[b] = Vec3(total[3], total[4], total[5]);
   }
@@ -679,6 +700,15 @@ void FixMultisphere::pre_neighbor() {
   if (remove_incomplete_bodies() > 0) engine_.comm->borders();
   fill_body_mass();
   reindex();  // particles migrated and were reordered; bodies may have come or gone
+  // A body whose sub-spheres all left this rank here misses this step's
+  // second half kick on this rank: its record stops being current now (not
+  // only at the next step), so that sync_bodies() at the end of this step
+  // takes the body from a rank that advances it.
+  if (engine_.nprocs > 1) {
+    for (int b = 0; b < bodies_.size(); ++b)
+      if (!is_active_[b]) bodies_.current[b] = 0;
+    stale_ = true;  // on every rank: sync_bodies() is collective
+  }
 }
 
 void FixMultisphere::setup() {

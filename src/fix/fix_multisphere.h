@@ -5,9 +5,10 @@
 // Sub-spheres are ordinary particles whose `body` field is the body id; they
 // migrate and are ghosted like any particle. Every rank keeps a record of
 // every body (Bodies), but advances only the bodies with a sub-sphere it owns
-// (its active bodies): each step it sums the forces and torques of its owned
-// sub-spheres per active body, exchanges partial sums only for the bodies
-// whose sub-spheres are owned by several ranks (with just those ranks), and
+// (its active bodies): each step it takes the force and torque of each owned
+// sub-sphere, exchanges them only for the bodies whose sub-spheres are owned
+// by several ranks (with just those ranks), sums them per body in sub-sphere
+// order (the same additions on any number of ranks), and
 // places its own sub-spheres (ghosts follow by forward communication). A rank
 // that gains a sub-sphere of a body it did not advance fetches the body's
 // state at the neighbour-list rebuild; outputs and restarts bring every record
@@ -110,8 +111,9 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   void compute_rotations();
   /// Set x (optionally), v and omega of the owned sub-spheres from their bodies.
   void place_spheres(bool positions);
-  /// Sum forces and torques of owned sub-spheres per active body; combine the
-  /// partial sums of shared bodies with the ranks sharing them into fcm/torque.
+  /// fcm and torque of every active body: the sum of its sub-spheres' forces
+  /// and torques in sub-sphere index order (those of shared bodies exchanged
+  /// with the ranks sharing them first), so the same on any decomposition.
   void sum_forces();
   /// After the owned particles or the bodies changed (collective): the active
   /// bodies, their missing state (fetch_state), their rotation matrices, the
@@ -140,26 +142,33 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   // sphere or not yet taken over), the index of its offset in
   // Bodies::offsets, and its offset R d in the space frame at the current
   // step (set by place_spheres(true), read by sum_forces and place_spheres(false)).
-  std::vector<int> pbody_, psphere_;
+  // pslot_: the sub-sphere's slot in part_.
+  std::vector<int> pbody_, psphere_, pslot_;
   std::vector<Vec3> poffset_;
-  std::vector<double> buf_;  // per-body force/torque partial sums (6 per body, active bodies only)
+  // Force and torque of each sub-sphere of the active bodies (6 doubles per
+  // slot; body b's sub-sphere k in slot slot_[b] + k, set from one reindex()
+  // to the next; zero where another rank owns the sub-sphere).
+  std::vector<int> slot_;
+  std::vector<double> part_;
   // Active bodies: indices of the bodies with an owned, taken-over sub-sphere,
   // ascending; is_active_ per body. Fixed from one reindex() to the next.
   std::vector<int> active_;
   std::vector<char> is_active_;
   // Force exchange for bodies whose sub-spheres are owned by several ranks.
   // One Partner per other rank sharing bodies with this one; `bodies` are
-  // the shared body indices in ascending order (the same order on both sides).
+  // the shared body indices in ascending order (the same order on both sides),
+  // whose sub-sphere slots (6 doubles per sub-sphere) are sent and received,
+  // body m's from start[m] on.
   struct Partner {
     int rank = -1;
-    std::vector<int> bodies;
+    std::vector<int> bodies, start;
     std::vector<double> send, recv;
   };
   std::vector<Partner> partners_;
-  // Shared bodies (ascending) and, per shared body, the sources of its partial
-  // sums in ascending rank order (CSR): partner index, or -1 for this rank,
-  // and the body's slot in that partner's list. Every rank sharing the body
-  // adds the same numbers in the same order, so all get the same total.
+  // Shared bodies (ascending) and, per shared body, the other ranks owning
+  // some of its sub-spheres (CSR): partner index and the body's position in
+  // that partner's list. Each sub-sphere is owned by one rank, so merging
+  // the received slots into this rank's (zeros elsewhere) is exact.
   std::vector<int> shared_, shared_start_;
   std::vector<std::pair<int, int>> shared_src_;
   bool reindex_ = true;     // bodies or particles changed: reindex() before the next use
