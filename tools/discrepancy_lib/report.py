@@ -28,6 +28,9 @@ def write_json(result, path):
         json.dump(clean(result), f, indent=1)
 
 
+RESIDUAL_TICKS = [-1000, -100, -30, -10, -3, -2, -1, 0, 1, 2, 3, 10, 30, 100, 1000]
+
+
 def _label(name, units):
     return f"{name} [{units[name]}]" if units.get(name) else name
 
@@ -78,6 +81,8 @@ def plots(result, data, model, outdir):
         for lvl in (-2, 2):
             axr.axhline(lvl, color="0.6", lw=0.6, ls="--")
         axr.set_yscale("symlog", linthresh=3.0)
+        axr.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(RESIDUAL_TICKS))
+        axr.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
         axr.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda t, _: f"{t:g}"))
         if model.log_x:
             ax.set_xscale("log")
