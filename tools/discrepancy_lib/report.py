@@ -149,8 +149,9 @@ def markdown(result, data, model, pngs, path):
             L.append(f"| {_num(o['from'])} - {_num(o['to'])} | {o['n']} | {_num(o['chi2_per_point'], 3)} | "
                      f"{100 * o['share']:.0f} % |")
     s = result["settings"]
-    L += ["", "## Candidates (fitted on all %d points; cross-validated by %d-fold, %d repeats)" % (
-        result["data"]["n"], s["folds"], s["repeats"]), "",
+    cv_how = ("cross-validated by %d-fold, %d repeats" % (s["folds"], s["repeats"])
+              if result["cross_validation"]["done"] else "not cross-validated: the baseline fits; ranked by AIC")
+    L += ["", "## Candidates (fitted on all %d points; %s)" % (result["data"]["n"], cv_how), "",
           "| rank | model | fitted parameters | cross-validated rms | gain over baseline (68 % CI) | AIC | BIC "
           "| chi2/dof |",
           "|---:|---|---|---:|---:|---:|---:|---:|"]
@@ -182,10 +183,10 @@ def markdown(result, data, model, pngs, path):
             L.append(f"| - | {e['name']} (inert: excluded) | {params_text(e)} | - | - | - | - | "
                      f"{_num(e['all_chi2']['chi2_red'], 3)} |")
             continue
-        gg = e["gain"]
-        L.append(f"| {k} | {e['name']} | {params_text(e)} | {cv_text(e)} | {_num(gg['ratio'], 3)} "
-                 f"({_num(gg['ci68'][0], 3)}-{_num(gg['ci68'][1], 3)}) | {_num(e['aic'])} | {_num(e['bic'])} | "
-                 f"{_num(e['all_chi2']['chi2_red'], 3)} |")
+        gg = e.get("gain")  # none without cross-validation
+        gain = f"{_num(gg['ratio'], 3)} ({_num(gg['ci68'][0], 3)}-{_num(gg['ci68'][1], 3)})" if gg else "-"
+        L.append(f"| {k} | {e['name']} | {params_text(e)} | {cv_text(e)} | {gain} | {_num(e['aic'])} | "
+                 f"{_num(e['bic'])} | {_num(e['all_chi2']['chi2_red'], 3)} |")
     L += ["", "The cross-validated rms is the root mean square of (model - data) / uncertainty over every point, "
           "each predicted by the fit on the other folds (1 for a model that fits within the uncertainty); in "
           "brackets its value in each repeat. The gain is the baseline's over the candidate's, with its paired "

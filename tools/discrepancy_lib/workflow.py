@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from . import stats
-from .fitting import INERT_Z, Variant, fit, normalized_residuals, refit
+from .fitting import INERT_Z, Variant, fit, normalized_residuals, refit, screen_inert
 
 
 def _variant_for(cand, model, runner):
@@ -27,10 +27,14 @@ def _log(opts, msg):
         print(msg, flush=True)
 
 
-def _fit_entry(v, data, rows, opts):
-    """Fit a variant on all points; its entry of the report."""
+def _fit_entry(v, data, rows, opts, base_f=None):
+    """Fit a variant on all points; its entry of the report. A candidate whose
+    own parameters are inert at the baseline's optimum `base_f` is not fitted
+    (fitting.screen_inert)."""
     t1 = time.time()
-    f = fit(v, data, rows, opts["seed"])
+    f = screen_inert(v, data, rows, base_f) if base_f is not None else None
+    if f is None:
+        f = fit(v, data, rows, opts["seed"])
     pred = v.predict(f["values"], data, rows)
     z = normalized_residuals(pred, rows)
     # Inert parameters change nothing, so they are not counted as fitted.
@@ -48,9 +52,9 @@ def _fit_entry(v, data, rows, opts):
          "local_fits_chi2": f["local_chi2"],
          "all_chi2": stats.chi2_summary(z, k),
          "predictions": pred.tolist(), "residuals": z.tolist(), "evaluations": f["nfev"]}
-    _log(opts, "%-40s chi2/dof %.3g, AIC %.4g%s  (%d evaluations, %.1f s)" % (
+    _log(opts, "%-40s chi2/dof %.3g, AIC %.4g%s  (%d evaluations, %d granary runs so far, %.1f s)" % (
         v.name, e["all_chi2"]["chi2_red"], ic["aic"], ", inert" if e["inert"] else "", f["nfev"],
-        time.time() - t1))
+        v.runner.nruns, time.time() - t1))
     return e, f
 
 
@@ -82,6 +86,7 @@ def run(data, model, candidates, runner, opts):
               "model": {"name": model.name, "script": model.script, "set": model.set,
                         "params": [p.to_json() for p in model.params]},
               "settings": {"seed": opts["seed"], "folds": opts["folds"], "repeats": opts["repeats"],
+                           "cv": opts.get("cv", "always"),
                            "p_threshold": stats.P_THRESHOLD, "bootstrap": stats.BOOTSTRAP,
                            "stability_required": STABILITY}}
 
@@ -98,16 +103,20 @@ def run(data, model, candidates, runner, opts):
 
     # 2. Every candidate fitted on all data, all its parameters together.
     variants = [_variant_for(c, model, runner) for c in candidates]
-    fitted = [_fit_entry(v, data, rows, opts) for v in variants]
+    fitted = [_fit_entry(v, data, rows, opts, base_f) for v in variants]
 
     # 3. Repeated k-fold cross-validation of the baseline and the candidates
-    # that are not inert.
+    # that are not inert. With opts["cv"] == "if-significant" only when the
+    # baseline misses the data (otherwise the verdict is 'no significant
+    # discrepancy' whatever the held-out errors; the candidates are then
+    # ranked by AIC alone).
+    do_cv = bool(significant) or opts.get("cv", "always") == "always"
     partitions = stats.kfold(n, opts["folds"], opts["repeats"], opts["seed"], [r["observable"] for r in rows])
-    result["cross_validation"] = {"partitions": partitions}
+    result["cross_validation"] = {"partitions": partitions, "done": do_cv}
     boot_idx = stats.bootstrap_indices(n, opts["seed"] + 1)
     losses = {}
     for v, (e, f) in [(base, (base_e, base_f))] + list(zip(variants, fitted)):
-        if e["inert"]:
+        if e["inert"] or not do_cv:
             continue
         t1 = time.time()
         Z, fold_rms = _cross_validate(v, f, data, rows, partitions)
@@ -120,13 +129,14 @@ def run(data, model, candidates, runner, opts):
                    "rms_by_repeat": [float(np.sqrt(np.mean(zr ** 2))) for zr in Z],
                    "rms_by_fold": fold_rms, "rms_by_observable": per_obs,
                    "residuals_out_of_fold": Z.tolist()}
-        _log(opts, "%-40s cross-validated rms %.3g  (%.1f s)" % (v.name, e["cv"]["rms"], time.time() - t1))
+        _log(opts, "%-40s cross-validated rms %.3g  (%d granary runs so far, %.1f s)" % (
+            v.name, e["cv"]["rms"], v.runner.nruns, time.time() - t1))
 
     entries = [e for e, _ in fitted]
     active = [e for e in entries if not e["inert"]]
     # 4-5. Rank by cross-validated error (AIC breaks ties); inert candidates last.
-    active.sort(key=lambda e: (e["cv"]["rms"], e["aic"]))
-    for e in active:
+    active.sort(key=lambda e: (e["cv"]["rms"], e["aic"]) if do_cv else e["aic"])
+    for e in active if do_cv else []:
         e["gain"] = stats.bootstrap_gain(losses["baseline"], losses[e["name"]], boot_idx)
         e["delta_aic_vs_baseline"] = base_e["aic"] - e["aic"]
         e["delta_bic_vs_baseline"] = base_e["bic"] - e["bic"]
@@ -165,13 +175,15 @@ def _verdict(result, active, base_e, gof, significant, losses, boot_idx, rows, d
     inert_note = (" Inert (their parameters change no prediction by %.2g uncertainties; excluded from the "
                   "ranking): %s." % (INERT_Z, ", ".join(f"'{x}'" for x in inert))) if inert else ""
     best = active[0] if active else None
+    cv_done = result["cross_validation"]["done"]
     if best is not None:
         models = [base_e] + active
         verdict["best"] = best["name"]
-        verdict["stability"] = _stability(best, models)
+        if cv_done:
+            verdict["stability"] = _stability(best, models)
         aic_best = min(active, key=lambda e: e["aic"])
         verdict["aic_best"] = aic_best["name"]
-    if best is not None and len(active) > 1:
+    if best is not None and len(active) > 1 and cv_done:
         ru = active[1]
         verdict["runner_up"] = ru["name"]
         verdict["margin"] = {"delta_aic": ru["aic"] - best["aic"], "delta_bic": ru["bic"] - best["bic"],
@@ -182,6 +194,8 @@ def _verdict(result, active, base_e, gof, significant, losses, boot_idx, rows, d
         verdict["statement"] = ("No significant discrepancy: the baseline fits within the data's uncertainty "
                                 "(chi2/dof = %.3g with %d degrees of freedom, p = %.3g >= %g)."
                                 % (gof["chi2_red"], gof["dof"], gof["p_value"], stats.P_THRESHOLD))
+        if not cv_done:
+            verdict["statement"] += " Not cross-validated; the candidates are ranked by AIC."
         verdict["statement"] += inert_note
         return verdict
     if best is None:
