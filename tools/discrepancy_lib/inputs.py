@@ -4,6 +4,7 @@ import csv
 import json
 import math
 import os
+import re
 
 RESERVED = ("observable", "value", "uncertainty")
 
@@ -12,20 +13,14 @@ class InputFileError(Exception):
     pass
 
 
-def _float(text, where):
-    try:
-        return float(text)
-    except ValueError:
-        raise InputFileError(f"{where}: '{text}' is not a number")
-
-
 class Data:
     """Measured points: condition columns, observable name, value, uncertainty."""
 
-    def __init__(self, conditions, rows, source):
+    def __init__(self, conditions, rows, source, units=None):
         self.conditions = list(conditions)  # names of the condition columns
         self.rows = rows  # dicts: cond (tuple of floats), observable, value, sigma
         self.source = source
+        self.units = dict(units or {})  # column name -> unit from the header
 
     def __len__(self):
         return len(self.rows)
@@ -38,37 +33,147 @@ class Data:
         return seen
 
 
-def _read_csv_lines(path):
+def _read_table(path):
+    """Non-comment, non-blank CSV records with their line numbers in the file."""
     with open(path, newline="") as f:
-        lines = [ln for ln in f if ln.strip() and not ln.lstrip().startswith("#")]
-    return list(csv.reader(lines))
+        numbered = [(k, ln) for k, ln in enumerate(f, start=1) if ln.strip() and not ln.lstrip().startswith("#")]
+    return [(k, rec) for (k, _), rec in zip(numbered, csv.reader([ln for _, ln in numbered]))]
 
 
-def read_long_csv(path):
-    """CSV with condition columns plus 'observable', 'value', 'uncertainty'."""
-    table = _read_csv_lines(path)
+_UNIT = re.compile(r"^(.*?)\s*[\[(]([^\])]*)[\])]\s*$")
+
+
+def split_unit(text):
+    """'impact_speed [m/s]' or 'impact_speed (m/s)' -> ('impact_speed', 'm/s')."""
+    text = text.strip()
+    m = _UNIT.match(text)
+    if m and m.group(1):
+        return m.group(1).strip(), m.group(2).strip()
+    return text, ""
+
+
+# Names of an uncertainty column: shared ('uncertainty') or of one observable
+# ('restitution_uncertainty').
+UNCERTAINTY_WORDS = ("uncertainty", "sigma", "error")
+
+
+def _header(path, table):
     if not table:
-        raise InputFileError(f"{path}: no header line")
-    header = [h.strip() for h in table[0]]
-    for col in RESERVED:
-        if col not in header:
-            raise InputFileError(f"{path}: missing column '{col}' (header: {', '.join(header)}); "
-                                 "the data file needs condition columns plus observable,value,uncertainty")
-    conds = [h for h in header if h not in RESERVED]
-    if not conds:
-        raise InputFileError(f"{path}: no condition column besides observable,value,uncertainty")
+        raise InputFileError(f"{path}: no header line; the first line that is not a comment must name the "
+                             "columns (e.g. 'speed,restitution,uncertainty')")
+    line, rec = table[0]
+    names, units = [], {}
+    for col, h in enumerate(rec, start=1):
+        name, unit = split_unit(h)
+        if not name:
+            raise InputFileError(f"{path} line {line}: column {col} of the header has no name; name every column")
+        if name in names:
+            raise InputFileError(f"{path} line {line}: column '{name}' appears twice in the header; rename one")
+        names.append(name)
+        if unit:
+            units[name] = unit
+    return line, names, units
+
+
+def _number(text, path, line, col, what):
+    try:
+        x = float(text)
+    except ValueError:
+        raise InputFileError(f"{path} line {line}: {what} (column '{col}') is '{text}', not a number; "
+                             "write a plain number (e.g. 0.5 or 1e-3), or comment the line out with '#'")
+    if not math.isfinite(x):
+        raise InputFileError(f"{path} line {line}: {what} (column '{col}') is '{text}'; values must be finite")
+    return x
+
+
+def _sigma_value(text, path, line, col):
+    sigma = _number(text, path, line, col, "the uncertainty")
+    if not sigma > 0:
+        raise InputFileError(f"{path} line {line}: uncertainty (column '{col}') is {text}; it must be > 0 (one "
+                             "standard deviation of the measured value)")
+    return sigma
+
+
+def _records(path, table, names):
+    for line, rec in table[1:]:
+        if len(rec) != len(names):
+            raise InputFileError(f"{path} line {line}: {len(rec)} fields, the header has {len(names)} "
+                                 f"({', '.join(names)}); every line needs one value per column")
+        yield line, dict(zip(names, (x.strip() for x in rec)))
+
+
+def read_csv(path, conditions=None):
+    """Measured data in the long layout (condition columns plus observable,
+    value, uncertainty) or the wide layout (condition columns, one column per
+    observable, uncertainty columns); units in brackets in the header.
+    `conditions`: the condition names the model knows (for the wide layout)."""
+    table = _read_table(path)
+    hline, names, units = _header(path, table)
     rows = []
-    for k, rec in enumerate(table[1:], start=2):
-        if len(rec) != len(header):
-            raise InputFileError(f"{path}: data line {k} has {len(rec)} fields, header has {len(header)}")
-        d = dict(zip(header, (x.strip() for x in rec)))
-        sigma = _float(d["uncertainty"], f"{path} line {k}")
-        if not sigma > 0:
-            raise InputFileError(f"{path} line {k}: uncertainty must be > 0")
-        rows.append({"cond": tuple(_float(d[c], f"{path} line {k}") for c in conds),
-                     "observable": d["observable"], "value": _float(d["value"], f"{path} line {k}"),
-                     "sigma": sigma})
-    return Data(conds, rows, path)
+    if "observable" in names or "value" in names:  # long layout
+        for col in RESERVED:
+            if col not in names:
+                raise InputFileError(f"{path} line {hline}: missing column '{col}' (header: {', '.join(names)}); "
+                                     "the long layout needs condition columns plus observable,value,uncertainty")
+        conds = [h for h in names if h not in RESERVED]
+        if not conds:
+            raise InputFileError(f"{path} line {hline}: no condition column besides observable,value,uncertainty")
+        for line, d in _records(path, table, names):
+            rows.append({"cond": tuple(_number(d[c], path, line, c, "the condition") for c in conds),
+                         "observable": d["observable"], "value": _number(d["value"], path, line, "value", "the value"),
+                         "sigma": _sigma_value(d["uncertainty"], path, line, "uncertainty")})
+        if not rows:
+            raise InputFileError(f"{path}: no data lines after the header")
+        return Data(conds, rows, path, units)
+    # Wide layout.
+    if conditions:
+        conds = [h for h in names if h in conditions]
+        if not conds:
+            raise InputFileError(f"{path} line {hline}: no condition column; the model's conditions are "
+                                 f"{', '.join(conditions)} (header: {', '.join(names)}); name the condition column "
+                                 "after one of them, or map the column to a script variable in the model's "
+                                 "'conditions'")
+    else:
+        conds = names[:1]
+    rest = [h for h in names if h not in conds]
+    shared = [h for h in rest if h in UNCERTAINTY_WORDS]
+    own = {}
+    for h in rest:
+        for w in UNCERTAINTY_WORDS:
+            if h.endswith("_" + w) and h not in shared:
+                own[h[:-len(w) - 1]] = h
+    observables = [h for h in rest if h not in shared and h not in own.values()]
+    for obs, col in own.items():
+        if obs not in observables:
+            raise InputFileError(f"{path} line {hline}: uncertainty column '{col}' belongs to no value column "
+                                 f"'{obs}' (value columns: {', '.join(observables) or 'none'}); rename it")
+    if not observables:
+        raise InputFileError(f"{path} line {hline}: no value column (header: {', '.join(names)}); the wide layout "
+                             "is condition column(s), one column per observable and its uncertainty, e.g. "
+                             "'speed,restitution,uncertainty'")
+    if len(shared) > 1:
+        raise InputFileError(f"{path} line {hline}: more than one shared uncertainty column ({', '.join(shared)}); "
+                             "keep one, or name them '<observable>_uncertainty'")
+    unc = {}
+    for obs in observables:
+        if obs in own:
+            unc[obs] = own[obs]
+        elif shared and len([o for o in observables if o not in own]) == 1:
+            unc[obs] = shared[0]
+        else:
+            raise InputFileError(f"{path} line {hline}: no uncertainty column for '{obs}'; add a column "
+                                 f"'{obs}_uncertainty' (one standard deviation per row), or with a single "
+                                 "observable a column 'uncertainty'")
+    for line, d in _records(path, table, names):
+        cond = tuple(_number(d[c], path, line, c, "the condition") for c in conds)
+        for obs in observables:
+            if d[obs] == "" and d[unc[obs]] == "":
+                continue  # not measured at this condition
+            rows.append({"cond": cond, "observable": obs, "value": _number(d[obs], path, line, obs, "the value"),
+                         "sigma": _sigma_value(d[unc[obs]], path, line, unc[obs])})
+    if not rows:
+        raise InputFileError(f"{path}: no data lines after the header")
+    return Data(conds, rows, path, units)
 
 
 def _sigma(spec, value, where):
@@ -79,45 +184,78 @@ def _sigma(spec, value, where):
         absolute = float(spec.get("absolute", 0.0))
         floor = float(spec.get("floor", 0.0))
         return max(math.hypot(rel * abs(value), absolute), floor)
-    raise InputFileError(f"{where}: 'uncertainty' must be a number or {{relative, absolute, floor}}")
+    raise InputFileError(f"{where}: 'uncertainty' must be a number, {{relative, absolute, floor}} or the name of "
+                         "an uncertainty column")
 
 
 def read_data_spec(path):
-    """JSON that assembles data from wide CSV files (one condition column and
-    one value column each, paths relative to the JSON file) and states their
-    uncertainty."""
-    with open(path) as f:
-        spec = json.load(f)
+    """JSON that assembles data from CSV files with one condition column, a
+    value column and optionally an uncertainty column each (paths relative to
+    the JSON file), and states their uncertainty where the file has none."""
+    try:
+        with open(path) as f:
+            spec = json.load(f)
+    except json.JSONDecodeError as e:
+        raise InputFileError(f"{path} line {e.lineno}: not valid JSON ({e.msg})")
     base = os.path.dirname(os.path.abspath(path))
     cond_name = spec.get("condition")
-    rows = []
+    rows, units = [], {}
     for k, item in enumerate(spec.get("files", [])):
         where = f"{path}: files[{k}]"
+        for key in ("path", "observable"):
+            if key not in item:
+                raise InputFileError(f"{where}: '{key}' is required")
         fpath = os.path.join(base, item["path"])
         if not os.path.exists(fpath):
             raise InputFileError(f"{where}: data file '{fpath}' not found")
-        table = _read_csv_lines(fpath)
-        header = [h.strip() for h in table[0]]
-        c_col = item.get("condition_column", header[0])
-        v_col = item.get("value_column", header[1])
-        if c_col not in header or v_col not in header:
-            raise InputFileError(f"{where}: columns '{c_col}', '{v_col}' not in {fpath}")
-        ci, vi = header.index(c_col), header.index(v_col)
-        for rec in table[1:]:
-            value = _float(rec[vi], fpath)
-            rows.append({"cond": (_float(rec[ci], fpath),), "observable": item["observable"],
-                         "value": value, "sigma": _sigma(item["uncertainty"], value, where)})
+        table = _read_table(fpath)
+        hline, header, file_units = _header(fpath, table)
+        c_col = split_unit(item.get("condition_column", header[0]))[0]
+        v_col = split_unit(item.get("value_column", header[1] if len(header) > 1 else ""))[0]
+        for col in (c_col, v_col):
+            if col not in header:
+                raise InputFileError(f"{where}: column '{col}' not in {fpath} (header line {hline}: "
+                                     f"{', '.join(header)})")
+        # The uncertainty: a column of the file (named, or found by its name),
+        # else the number or rule given here.
+        u_spec = item.get("uncertainty")
+        u_col = item.get("uncertainty_column", u_spec if isinstance(u_spec, str) else None)
+        if u_col is None:
+            found = [h for h in header if h in UNCERTAINTY_WORDS or h in (v_col + "_" + w for w in UNCERTAINTY_WORDS)]
+            if found and u_spec is None:
+                u_col = found[0]
+        if u_col is not None:
+            u_col = split_unit(u_col)[0]
+            if u_col not in header:
+                raise InputFileError(f"{where}: uncertainty column '{u_col}' not in {fpath} (header line "
+                                     f"{hline}: {', '.join(header)})")
+        elif u_spec is None:
+            raise InputFileError(f"{where}: no uncertainty for '{item['observable']}': give 'uncertainty' (a "
+                                 "number, {relative, absolute, floor} or a column name) or add a column "
+                                 f"'uncertainty' to {fpath}")
+        for line, d in _records(fpath, table, header):
+            value = _number(d[v_col], fpath, line, v_col, "the value")
+            sigma = (_sigma_value(d[u_col], fpath, line, u_col) if u_col is not None
+                     else _sigma(u_spec, value, where))
+            rows.append({"cond": (_number(d[c_col], fpath, line, c_col, "the condition"),),
+                         "observable": item["observable"], "value": value, "sigma": sigma})
+        if c_col in file_units:
+            units[cond_name or "condition"] = file_units[c_col]
+        if v_col in file_units:
+            units[item["observable"]] = file_units[v_col]
     if not rows:
-        raise InputFileError(f"{path}: no data rows")
-    return Data([cond_name or "condition"], rows, path)
+        raise InputFileError(f"{path}: no data rows (a 'files' list of {{path, observable, uncertainty}} is needed)")
+    return Data([cond_name or "condition"], rows, path, units)
 
 
-def read_data(path):
+def read_data(path, model=None):
+    """Measured data from a CSV file (long or wide layout) or a JSON data spec;
+    `model` (optional) names the condition columns of a wide CSV."""
     if not os.path.exists(path):
         raise InputFileError(f"data file '{path}' not found")
     if path.endswith(".json"):
         return read_data_spec(path)
-    return read_long_csv(path)
+    return read_csv(path, list(model.conditions) if model is not None else None)
 
 
 class Param:

@@ -63,39 +63,38 @@ def bootstrap_indices(n, seed):
     return rng.integers(0, n, size=(BOOTSTRAP, n))
 
 
-def heldout_summary(z, idx):
-    """RMS of the normalized held-out residuals and its bootstrap spread."""
-    boots = np.sqrt(np.mean(z[idx] ** 2, axis=1))
-    return {"rms": rms(z), "rms_std": float(np.std(boots)),
-            "rms_ci68": [float(np.percentile(boots, 16)), float(np.percentile(boots, 84))]}, boots
-
-
-def ratio_summary(b_num, b_den, point):
-    r = b_num / np.maximum(b_den, 1e-300)
-    return {"ratio": point, "ci68": [float(np.percentile(r, 16)), float(np.percentile(r, 84))],
-            "ci90": [float(np.percentile(r, 5)), float(np.percentile(r, 95))],
-            "std": float(np.std(r)), "p_greater_than_1": float(np.mean(r > 1.0))}
-
-
 def information_criteria(chi2, k, n):
     """Gaussian likelihood with known uncertainties: -2 ln L = chi2 + const."""
     return {"aic": chi2 + 2 * k, "bic": chi2 + k * math.log(max(n, 1))}
 
 
-def split(n, fraction, seed, strata=None):
-    """Seeded train/held-out split of n rows; with strata, each stratum (e.g.
-    each observable) is split on its own so all are represented on both sides."""
-    rng = np.random.default_rng(seed)
+def kfold(n, folds, repeats, seed, strata=None):
+    """Repeated, stratified k-fold partitions of n rows: for every repeat (its
+    own seeded shuffle) a list of `folds` held-out index lists; each stratum
+    (e.g. each observable) is dealt round-robin over the folds after the
+    shuffle, so every fold holds all observables where possible and every row
+    is held out exactly once per repeat. Folds that would be empty are dropped."""
     strata = strata if strata is not None else [0] * n
-    held = []
-    for s in dict.fromkeys(strata):
-        idx = [i for i in range(n) if strata[i] == s]
-        m = int(round(fraction * len(idx)))
-        if len(idx) >= 3:
-            m = min(max(m, 1), len(idx) - 2)
-        else:
-            m = 0
-        held += list(rng.choice(idx, size=m, replace=False))
-    held = sorted(int(i) for i in held)
-    train = [i for i in range(n) if i not in set(held)]
-    return train, held
+    out = []
+    for rep in range(repeats):
+        rng = np.random.default_rng([seed, rep])
+        held = [[] for _ in range(folds)]
+        offset = int(rng.integers(folds))
+        for s in dict.fromkeys(strata):
+            idx = [i for i in range(n) if strata[i] == s]
+            for j, i in enumerate(rng.permutation(idx)):
+                held[(j + offset) % folds].append(int(i))
+            offset = (offset + len(idx)) % folds
+        out.append([sorted(h) for h in held if h])
+    return out
+
+
+def bootstrap_gain(loss_num, loss_den, idx):
+    """Ratio of the rms of two per-row losses (mean squared out-of-fold
+    residuals), sqrt(mean num / mean den), with its paired bootstrap over the
+    rows (the same resamples for every model)."""
+    point = math.sqrt(np.mean(loss_num) / max(np.mean(loss_den), 1e-300))
+    boots = np.sqrt(np.mean(loss_num[idx], axis=1) / np.maximum(np.mean(loss_den[idx], axis=1), 1e-300))
+    return {"ratio": point, "ci68": [float(np.percentile(boots, 16)), float(np.percentile(boots, 84))],
+            "ci90": [float(np.percentile(boots, 5)), float(np.percentile(boots, 95))],
+            "std": float(np.std(boots)), "p_greater_than_1": float(np.mean(boots > 1.0))}
