@@ -55,6 +55,7 @@ import math
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -63,6 +64,7 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), 
 SCRIPT = os.path.join(ROOT, "examples", "silo_study", "in.cycle")
 DATA = os.path.join(ROOT, "examples", "silo_study", "results")
 WORK = os.path.join(ROOT, "out", "silo_study")
+STOP_STATUS = 75  # granary stopped by SIGTERM or SIGUSR1 (doc/clusters.md)
 
 # The study: phi x r, phi = 0 shared by the three size ratios, and one case at
 # 50-sphere clumps.
@@ -175,8 +177,11 @@ def granary_version(granary):
 
 # ------------------------------------------------------------------ one cycle
 
-def cycle_command(a, case, k, fresh, variables):
+def cycle_command(a, case, k, fresh, variables, resume=None):
+    """The granary command of cycle k (paths absolute: it runs in the cycle's folder or a part's).
+    resume: (restart file of a stopped discharge, bodies when that discharge began)."""
     p = parse_case(case)
+    work = os.path.join(a.work, case)
     args = []
     if a.np > 1:
         args += ["mpirun", "-np", str(a.np)]
@@ -186,10 +191,12 @@ def cycle_command(a, case, k, fresh, variables):
             args += ["--oversubscribe"]
     args += [a.granary, "-in", SCRIPT, "-log", "log", "-screen", "none",
              "-var", "cycle", str(k), "-var", "restart_out", f"restart_{k}.restart",
-             "-var", "restart_in", "none" if fresh else f"../restart_{k - 1}.restart",
+             "-var", "restart_in", "none" if fresh else os.path.join(work, f"restart_{k - 1}.restart"),
              "-var", "phi", f"{p['phi']:g}", "-var", "r", f"{p['r']:g}", "-var", "nres", str(p["nres"]),
-             "-var", "potdir", os.path.join(ROOT, "potentials"), "-var", "meshdir", "..",
+             "-var", "potdir", os.path.join(ROOT, "potentials"), "-var", "meshdir", work,
              "-var", "seed", str(variables.get("seed", 15485863))]
+    if resume:
+        args += ["-var", "resume", resume[0], "-var", "resume_n0", str(resume[1])]
     for name, value in variables.items():
         if name != "seed":
             args += ["-var", name, str(value)]
@@ -204,41 +211,112 @@ def geometry(variables):
     return g
 
 
+def deadline_passed(a):
+    return a.deadline_at is not None and time.time() >= a.deadline_at
+
+
+def run_granary(a, cmd, cwd):
+    """Run one granary process in cwd. At the deadline it is asked to stop (SIGTERM; SIGUSR1 to
+    mpirun, which passes it on to every rank): it finishes the step, writes stop.restart and exits
+    with status 75. Returns (exit status, wall seconds)."""
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    t0 = time.time()
+    with open(os.path.join(cwd, "stderr"), "w") as err:
+        p = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.DEVNULL, stderr=err, start_new_session=True)
+        t_signal = None
+        while True:
+            try:
+                p.wait(timeout=0.5)
+                break
+            except subprocess.TimeoutExpired:
+                if t_signal is None and deadline_passed(a):
+                    p.send_signal(signal.SIGUSR1 if a.np > 1 else signal.SIGTERM)
+                    t_signal = time.time()
+                elif t_signal is not None and time.time() - t_signal > a.grace:
+                    os.killpg(p.pid, signal.SIGKILL)
+    return p.returncode, time.time() - t0
+
+
+def load_partial(cdir, k):
+    """The state of cycle k stopped in its discharge (partial.json), or None."""
+    path = os.path.join(cdir, "partial.json")
+    try:
+        with open(path) as f:
+            state = json.load(f)
+    except (OSError, ValueError):
+        return None
+    if state.get("cycle") != k or not os.path.exists(os.path.join(cdir, state.get("restart", "?"))):
+        return None
+    return state
+
+
 def run_cycle(a, case, k, fresh, variables):
     """Run cycle k of the case (fresh: fill a new silo instead of continuing from the restart file
-    of cycle k - 1); on success hand its rows over to the results. Returns a message."""
+    of cycle k - 1), or continue it where its discharge was stopped (partial.json in its folder).
+    On completion hand its rows over to the results. Returns a message."""
     data = os.path.join(a.data, case)
     work = os.path.join(a.work, case)
     cdir = os.path.join(work, f"cycle_{k}")
-    if os.path.isdir(cdir):
-        shutil.rmtree(cdir)
-    os.makedirs(cdir)
+    state = load_partial(cdir, k)
+    if state is None:
+        if os.path.isdir(cdir):
+            shutil.rmtree(cdir)
+        os.makedirs(cdir)
+        state = {"cycle": k, "fresh": fresh, "n0": None, "parts": [], "restart": None}
+    fresh = state["fresh"]
     g = geometry(variables)
-    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "make_silo_stl.py"), "--W", f"{g['W']:g}",
+    subprocess.run([sys.executable, os.path.join(ROOT, "tools", "make_silo_stl.py"), "--W", f"{g['W']:g}",
                     "--D", f"{g['D']:g}", "--H", f"{g['H']:g}", "--slit", f"{g['s']:g}", "--out", work],
                    check=True, capture_output=True)
-    cmd = cycle_command(a, case, k, fresh, variables)
-    env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    t0 = time.time()
-    rc = subprocess.run(cmd, cwd=cdir, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                        text=True).returncode
-    wall = time.time() - t0
-    log = os.path.join(cdir, "log")
+    # part 0 runs in the cycle's folder, a continuation j in part_j/
+    j = len(state["parts"])
+    part = "." if j == 0 else f"part_{j}"
+    pdir = os.path.normpath(os.path.join(cdir, part))
+    if j > 0:
+        if os.path.isdir(pdir):
+            shutil.rmtree(pdir)
+        os.makedirs(pdir)
+    resume = (os.path.join(cdir, state["restart"]), state["n0"]) if j > 0 else None
+    cmd = cycle_command(a, case, k, fresh, variables, resume)
+    rc, wall = run_granary(a, cmd, pdir)
+    log = os.path.join(pdir, "log")
     text = open(log, errors="replace").read() if os.path.exists(log) else ""
+    if rc == STOP_STATUS:
+        stop = os.path.join(pdir, "stop.restart")
+        filled = re.search(r"^FILLED cycle \d+ time \S+ bodies (\S+)", text, re.M)
+        if not os.path.exists(stop) or (j == 0 and not filled):
+            # stopped before the discharge began: the cycle runs again from its start
+            shutil.rmtree(cdir)
+            return f"{case} cycle {k}: STOPPED at the deadline before its discharge; it runs again from its start"
+        if j == 0:
+            state["n0"] = int(float(filled.group(1)))
+        old = state["restart"]
+        state["parts"].append({"dir": part, "wall_s": round(wall, 1)})
+        state["restart"] = os.path.relpath(stop, cdir)
+        write_atomic(os.path.join(cdir, "partial.json"), json.dumps(state, indent=1) + "\n")
+        if old and os.path.exists(os.path.join(cdir, old)):
+            os.remove(os.path.join(cdir, old))
+        return f"{case} cycle {k}: STOPPED at the deadline in its discharge; continues from {stop}"
     m = re.search(r"^CYCLE (\d+) avalanches (\S+) passed (\S+) deleted (\S+) remaining (\S+) initial (\S+) "
                   r"finished (\S+) time (\S+) steps (\S+) atoms (\S+)", text, re.M)
-    restart = os.path.join(cdir, f"restart_{k}.restart")
+    restart = os.path.join(pdir, f"restart_{k}.restart")
     if rc != 0 or not m or not os.path.exists(restart):
         err = [line for line in text.splitlines() if line.startswith("ERROR")]
         return f"{case} cycle {k}: FAILED (exit {rc}){': ' + err[-1] if err else ''}; see {log}"
     finished = float(m.group(7)) == 1
-    # particle-steps of the cycle's runs (their "Loop time" lines)
-    psteps = sum(int(n) * int(m) for n, m in
-                 re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps with (\d+) atoms", text))
+    parts = [p["dir"] for p in state["parts"]] + [part]
+    wall += sum(p["wall_s"] for p in state["parts"])
+    # particle-steps of the cycle's runs (their "Loop time" lines), over all its parts
+    psteps = 0
+    for d in parts:
+        with open(os.path.join(cdir, d, "log"), errors="replace") as f:
+            psteps += sum(int(n) * int(m) for n, m in
+                          re.findall(r"Loop time of \S+ on \d+ procs for (\d+) steps with (\d+) atoms", f.read()))
     # ---- hand over: results rows first, the cycles.csv line last
     os.makedirs(data, exist_ok=True)
     drop_uncommitted(data)
-    av_c, av_h, av_rows = read_rows(os.path.join(cdir, "avalanches.csv"))
+    # the last part's avalanche log holds the whole cycle (fix clog-detect keeps it in the restart file)
+    av_c, av_h, av_rows = read_rows(os.path.join(pdir, "avalanches.csv"))
     if av_h is None:
         return f"{case} cycle {k}: FAILED (no avalanche file); see {log}"
     path = os.path.join(data, "avalanches.csv")
@@ -250,7 +328,10 @@ def run_cycle(a, case, k, fresh, variables):
         header = ["cycle"] + av_h
     rows += [[str(k)] + r for r in av_rows]
     write_rows(path, comments, header, rows)
-    box_lines = [line.split() for line in open(os.path.join(cdir, "box.dat")) if line.strip() and line[0] != "#"]
+    box_lines = []
+    for d in parts:
+        with open(os.path.join(cdir, d, "box.dat")) as f:
+            box_lines += [line.split() for line in f if line.strip() and line[0] != "#"]
     path = os.path.join(data, "box.csv")
     comments, header, rows = read_rows(path)
     if header is None:
@@ -277,8 +358,11 @@ def run_cycle(a, case, k, fresh, variables):
         os.remove(old)
     if not a.keep_work:
         shutil.rmtree(cdir)
+    elif os.path.exists(os.path.join(cdir, "partial.json")):
+        os.remove(os.path.join(cdir, "partial.json"))
+    resumed = f" in {len(parts)} runs" if len(parts) > 1 else ""
     return (f"{case} cycle {k}: {m.group(2)} avalanches, {m.group(3)} bodies passed, {m.group(4)} deleted, "
-            f"{wall:.0f} s")
+            f"{wall:.0f} s{resumed}")
 
 
 def run_case(a, case, variables):
@@ -311,15 +395,18 @@ def run_case(a, case, variables):
         if k >= a.max_cycles:
             messages.append(f"{case}: stopped at --max-cycles {a.max_cycles} with {n} non-empty avalanches")
             break
+        if deadline_passed(a):
+            messages.append(f"{case}: STOPPED at the deadline with {n} non-empty avalanches in {k} cycles")
+            break
         fresh = k == 0 or not os.path.exists(os.path.join(work, f"restart_{k - 1}.restart"))
-        if fresh and k > 0:
+        if fresh and k > 0 and load_partial(os.path.join(work, f"cycle_{k}"), k) is None:
             # the chain's restart file stayed on another machine (it is not part of the results):
             # cycle k fills a new silo, with the seeds of cycle k
             print(f"  {case} cycle {k}: restart_{k - 1}.restart is not in {work}; this cycle fills a new silo",
                   flush=True)
         msg = run_cycle(a, case, k, fresh, variables)
         print("  " + msg, flush=True)
-        if "FAILED" in msg:
+        if "FAILED" in msg or "STOPPED" in msg:
             messages.append(msg)
             break
     return "; ".join(messages)
@@ -333,11 +420,95 @@ def cmd_run(a):
     for c in cases:
         parse_case(c)
     print(f"silo_study: {len(cases)} case(s), {a.jobs} at a time, {a.np} rank(s) each; data {a.data}", flush=True)
-    bad = 0
+    a.deadline_at = time.time() + a.deadline if a.deadline else None
+    bad = stopped = 0
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
         for msg in pool.map(lambda c: run_case(a, c, variables), cases):
             print(msg, flush=True)
             bad += ("FAILED" in msg) or ("REFUSED" in msg) or ("cannot continue" in msg)
+            stopped += "STOPPED" in msg
+    return 1 if bad else STOP_STATUS if stopped else 0
+
+
+MERGED = re.compile(r"^# merged: chain seed (\S+), its cycles (\d+)-(\d+) as cycles (\d+)-(\d+)")
+
+
+def merge_case(src, dst):
+    """Append the completed cycles of another chain of the same case (src: its data folder, run with
+    another -var seed) to the case's results in dst, numbered on from dst's last cycle. A chain's
+    cycles already merged (the '# merged:' lines of cycles.csv) are not merged again, so merging
+    the same chain after it ran further adds only its new cycles. Returns a message."""
+    case = os.path.basename(os.path.normpath(dst))
+    try:
+        with open(os.path.join(src, "case.json")) as f:
+            sinfo = json.load(f)
+    except (OSError, ValueError) as e:
+        return f"{case}: REFUSED: no readable case.json in {src} ({e})"
+    svars = dict(sinfo.get("variables", {}))
+    seed = str(svars.pop("seed", "15485863"))
+    _, sh, scycles = read_rows(os.path.join(src, "cycles.csv"))
+    if not scycles:
+        return f"{case}: nothing to merge from {src} (no completed cycle)"
+    os.makedirs(dst, exist_ok=True)
+    dinfo_path = os.path.join(dst, "case.json")
+    if os.path.exists(dinfo_path):
+        with open(dinfo_path) as f:
+            dinfo = json.load(f)
+        dvars = dict(dinfo.get("variables", {}))
+        dseed = str(dvars.pop("seed", "15485863"))
+        if dvars != svars or dinfo.get("phi") != sinfo.get("phi") or dinfo.get("r") != sinfo.get("r") or \
+                dinfo.get("nres") != sinfo.get("nres"):
+            return f"{case}: REFUSED: {src} was made with other parameters ({sinfo.get('variables')} against " \
+                   f"{dinfo.get('variables')})"
+        if dseed == seed:
+            return f"{case}: REFUSED: {src} has the seed of the case's own chain ({seed}): the same avalanches"
+    else:
+        dinfo = dict(sinfo, variables={k: v for k, v in sinfo.get("variables", {}).items() if k != "seed"})
+    drop_uncommitted(dst)
+    comments, header, rows = read_rows(os.path.join(dst, "cycles.csv"))
+    done = 0
+    for c in comments:
+        mm = MERGED.match(c)
+        if mm and mm.group(1) == seed:
+            done = max(done, int(mm.group(3)) + 1)
+    new = scycles[done:]
+    if not new:
+        return f"{case}: chain seed {seed}: its {len(scycles)} cycles are merged already"
+    n = len(rows)
+    renumber = {int(r[0]): n + i for i, r in enumerate(new)}
+    for name in ("avalanches.csv", "box.csv"):
+        sc, shh, srows = read_rows(os.path.join(src, name))
+        dc, dh, drows = read_rows(os.path.join(dst, name))
+        if dh is None:
+            dc, dh = sc, shh
+        if shh != dh:
+            return f"{case}: REFUSED: the columns of {name} differ between {src} and {dst}"
+        drows += [[str(renumber[int(r[0])])] + r[1:] for r in srows if int(r[0]) in renumber]
+        write_rows(os.path.join(dst, name), dc, dh, drows)
+    if header is None:
+        comments, header = [f"# silo study case {case}: completed cycles (wall time of the granary run, ranks, "
+                            "particle-steps of its runs)"], sh
+    first, last = int(new[0][0]), int(new[-1][0])
+    comments.append(f"# merged: chain seed {seed}, its cycles {first}-{last} as cycles {n}-{n + len(new) - 1} "
+                    f"(new_fill 0: continued from the chain's cycle before)")
+    rows += [[str(renumber[int(r[0])])] + r[1:] for r in new]
+    write_rows(os.path.join(dst, "cycles.csv"), comments, header, rows)
+    versions = set(dinfo.get("granary_versions", [])) | set(sinfo.get("granary_versions", []))
+    dinfo["granary_versions"] = sorted(versions)
+    chains = dinfo.setdefault("merged_chains", {})
+    chains[seed] = {"cycles": last + 1, "command": sinfo.get("command")}
+    write_atomic(dinfo_path, json.dumps(dinfo, indent=1) + "\n")
+    return f"{case}: chain seed {seed}: cycles {first}-{last} merged as {n}-{n + len(new) - 1}"
+
+
+def cmd_merge(a):
+    cases = a.case or sorted(d for d in os.listdir(a.source) if os.path.isdir(os.path.join(a.source, d)))
+    bad = 0
+    for c in cases:
+        parse_case(c)
+        msg = merge_case(os.path.join(a.source, c), os.path.join(a.data, c))
+        print(msg, flush=True)
+        bad += "REFUSED" in msg
     return 1 if bad else 0
 
 
@@ -429,6 +600,11 @@ def main(argv=None):
     r.add_argument("--max-cycles", type=int, default=60)
     r.add_argument("--keep-work", action="store_true", help="keep each cycle's folder (logs)")
     r.add_argument("--keep-restarts", action="store_true")
+    r.add_argument("--deadline", type=float, metavar="SECONDS",
+                   help="stop after this many seconds: running cycles are stopped (SIGTERM) and continue "
+                        "where they stopped at the next run; exit status 75")
+    r.add_argument("--grace", type=float, default=120.0, metavar="SECONDS",
+                   help="after the stop signal, wait this long for the restart file, then kill (default 120)")
     r.add_argument("-var", nargs=2, action="append", metavar=("NAME", "VALUE"))
     s = sub.add_parser("status", help="cycles, avalanches and cost per case")
     s.add_argument("--data", default=DATA)
@@ -438,6 +614,10 @@ def main(argv=None):
     pc.add_argument("--data", default=DATA)
     pc.add_argument("--work", default=WORK)
     pc.add_argument("--granary", default=os.path.join(ROOT, "build", "granary"))
+    mg = sub.add_parser("merge", help="append the completed cycles of other chains (another -var seed)")
+    mg.add_argument("--from", dest="source", required=True, help="data folder of the other chains")
+    mg.add_argument("--case", action="append", help="case name (repeatable); default: every case in --from")
+    mg.add_argument("--data", default=DATA)
     sub.add_parser("list", help="the cases of the study")
     a = ap.parse_args(argv)
     if a.cmd == "run":
@@ -447,6 +627,8 @@ def main(argv=None):
         return cmd_run(a)
     if a.cmd == "status":
         return cmd_status(a)
+    if a.cmd == "merge":
+        return cmd_merge(a)
     if a.cmd == "picture":
         a.granary = os.path.abspath(a.granary)
         return cmd_picture(a)

@@ -314,7 +314,7 @@ TEST_CASE("fix ave/histo input errors", "[fix][ave/histo]") {
   CHECK_THROWS_WITH(s.cmd("fix h all ave/histo 1 1 10 0 1 5 v_s beyond far"),
                     Contains("ignore, end or extra"));
   CHECK_THROWS_WITH(s.cmd("fix h all ave/histo 1 1 10 0 1 5 v_s overwrite"), Contains("ave running"));
-  CHECK_THROWS_WITH(s.cmd("fix h all ave/histo 1 1 10 0 1 5 v_s file /nonexistent_dir/h.txt"),
+  CHECK_THROWS_WITH(s.cmd("fix h all ave/histo 1 1 10 0 1 5 v_s file /nonexistent/dir/h.txt"),
                     Contains("writable"));
   s.cmd("fix h all ave/histo 1 1 10 0 1 5 v_vxa");
   CHECK_THROWS_WITH(s.cmd("run 0"), Contains("needs mode vector"));

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""tools/silo_study.py: the campaign driver, shortened (two tiny cases), killed and resumed.
+"""tools/silo_study.py: the campaign driver, shortened (two tiny cases), killed, stopped and resumed.
 
 A run killed in the middle of a cycle and resumed must give exactly the results
 of an uninterrupted run (the chain is deterministic on one rank): no avalanche
@@ -7,6 +7,7 @@ lost, none counted twice. Rows of a cycle whose hand-over was interrupted are
 dropped before the cycle runs again. Also the analysis tool on these results.
 """
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -117,6 +118,80 @@ class SiloStudyDriver(unittest.TestCase):
             _, _, ref_rows = st.read_rows(os.path.join(self.ref, "data", c, "cycles.csv"))
             keys = [h.index(k) for k in ("cycle", "steps", "passed", "deleted", "avalanches", "particle_steps")]
             self.assertEqual([[r[k] for k in keys] for r in rows], [[r[k] for k in keys] for r in ref_rows], c)
+
+    def test_stopped_at_deadlines_and_continued_gives_the_same_results(self):
+        # runs cut by --deadline: a cycle stopped in its discharge continues from its stop.restart
+        # (fix clog-detect's state and log travel in it); one stopped while filling runs again.
+        # The results must equal the uninterrupted run's, bit for bit (one rank).
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        base = os.path.join(self.tmp, "deadlines")
+        data, work = os.path.join(base, "data"), os.path.join(base, "work")
+        out, deadline = "", 1.5
+        for _ in range(20):
+            r = subprocess.run(driver(data, work, ["--deadline", f"{deadline:.2f}"]), capture_output=True, text=True,
+                               timeout=900)
+            out += r.stdout + r.stderr
+            self.assertIn(r.returncode, (0, 75), out)
+            if r.returncode == 0:
+                break
+            deadline *= 1.3
+        self.assertEqual(r.returncode, 0, out)
+        self.assertIn("STOPPED at the deadline in its discharge", out)
+        self.assertRegex(out, r"cycle \d+: .* in [2-9] runs")
+        for c in CASES:
+            self.assertEqual(read(os.path.join(data, c, "avalanches.csv")),
+                             read(os.path.join(self.ref, "data", c, "avalanches.csv")), f"{c}\n{out}")
+            # the box averages: the window that a stop cuts is not written (fix ave/time starts its
+            # windows anew in the continuation); every other row is the uninterrupted run's
+            stops = len(re.findall(rf"^  {re.escape(c)} cycle \d+: STOPPED at the deadline in its discharge", out,
+                                   re.M))
+            _, _, box = st.read_rows(os.path.join(data, c, "box.csv"))
+            _, _, ref_box = st.read_rows(os.path.join(self.ref, "data", c, "box.csv"))
+            self.assertTrue(all(row in ref_box for row in box), c)
+            self.assertGreaterEqual(len(box), len(ref_box) - stops, c)
+            _, h, rows = st.read_rows(os.path.join(data, c, "cycles.csv"))
+            _, _, ref_rows = st.read_rows(os.path.join(self.ref, "data", c, "cycles.csv"))
+            keys = [h.index(k) for k in ("cycle", "steps", "passed", "deleted", "avalanches")]
+            self.assertEqual([[r[k] for k in keys] for r in rows], [[r[k] for k in keys] for r in ref_rows], c)
+            # nothing of a stopped run is left once its cycle is complete
+            self.assertFalse(any(f.startswith("cycle_") for f in os.listdir(os.path.join(work, c))), c)
+
+    def test_chains_of_other_seeds_are_merged_once(self):
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        base = os.path.join(self.tmp, "chains")
+        main = os.path.join(base, "main")
+        shutil.copytree(os.path.join(self.ref, "data"), main)
+        chain = os.path.join(base, "chain")
+        cmd = driver(chain, os.path.join(base, "work"), ["-var", "seed", "16485866"])
+        cmd = cmd[:cmd.index("--case")] + ["--case", CASES[0]] + cmd[cmd.index("--case") + 4:]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        merge = [sys.executable, os.path.join(TOOLS, "silo_study.py"), "merge", "--from", chain, "--data", main]
+        case = os.path.join(main, CASES[0])
+        n_main = len(st.read_rows(os.path.join(case, "cycles.csv"))[2])
+        _, _, ch_cycles = st.read_rows(os.path.join(chain, CASES[0], "cycles.csv"))
+        _, _, ch_av = st.read_rows(os.path.join(chain, CASES[0], "avalanches.csv"))
+        _, _, main_av = st.read_rows(os.path.join(case, "avalanches.csv"))
+        r = subprocess.run(merge, capture_output=True, text=True, timeout=60)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        comments, h, rows = st.read_rows(os.path.join(case, "cycles.csv"))
+        self.assertEqual([int(x[0]) for x in rows], list(range(n_main + len(ch_cycles))))
+        self.assertEqual(rows[n_main][h.index("new_fill")], "1")  # the chain began with a fill
+        self.assertTrue(any(c.startswith("# merged: chain seed 16485866") for c in comments))
+        _, _, av = st.read_rows(os.path.join(case, "avalanches.csv"))
+        self.assertEqual(len(av), len(main_av) + len(ch_av))
+        self.assertEqual([x[1:] for x in av[len(main_av):]], [x[1:] for x in ch_av])
+        # merged again: nothing added; the case's own chain (same seed) is refused
+        before = read(os.path.join(case, "avalanches.csv"))
+        r = subprocess.run(merge, capture_output=True, text=True, timeout=60)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("merged already", r.stdout)
+        self.assertEqual(read(os.path.join(case, "avalanches.csv")), before)
+        r = subprocess.run(merge[:4] + [os.path.join(self.ref, "data"), "--case", CASES[0], "--data", main],
+                           capture_output=True, text=True, timeout=60)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("REFUSED", r.stdout)
+        self.assertEqual(read(os.path.join(case, "avalanches.csv")), before)
 
     def test_a_chain_without_its_restart_file_goes_on_with_a_new_fill(self):
         self.assertEqual(self.ref_rc, 0, self.ref_out)
