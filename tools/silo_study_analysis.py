@@ -41,7 +41,9 @@ Definitions:
             CIs from the spread of the avalanche means (t-distribution).
   minimum   for each r the phi with the smallest <S>/<S0>; its depth 1 - min,
             and one-sided Mann-Whitney p-values that S there is smaller than at
-            phi = 0 and than at the largest phi.
+            phi = 0 and than at the largest phi; and the Kruskal-Wallis p-value
+            that the sizes at every phi of that r (phi = 0 included) come from
+            one distribution (a small p: <S> depends on phi somewhere).
 Needs numpy, scipy and matplotlib.
 """
 import argparse
@@ -217,6 +219,8 @@ def analyse(a):
         if best != last:
             res["p_below_last"] = float(stats.mannwhitneyu(S[best], S[last], alternative="less").pvalue)
             res["phi_last"] = rows[-1]["phi"]
+        res["n_phi"] = len(names)
+        res["p_all_alike"] = float(stats.kruskal(*[cases[n][1]["S"] for n in names]).pvalue)
         summary["minimum"][f"{r:g}"] = res
     return cases, summary
 
@@ -342,12 +346,14 @@ def write_outputs(a, cases, summary):
         lines.append(f"| {n}{'' if row['complete'] else ' (in progress)'} | {row['phi']:g} | "
                      f"{row['box_sphere_share']:.4f} ± {row['box_sphere_share_ci95']:.4f} | "
                      f"{row.get('discharge_sphere_mass_share', float('nan')):.4f} |")
-    lines += ["", "| r | phi at the minimum | <S>/<S0> there | 95 % CI | p (below phi = 0) | p (below the last phi) |",
-              "|---|---:|---:|---|---:|---:|"]
+    lines += ["", "| r | phi at the minimum | <S>/<S0> there | 95 % CI | p (below phi = 0) | p (below the last phi) "
+              "| phi values | p (all phi alike) |",
+              "|---|---:|---:|---|---:|---:|---:|---:|"]
     for r, m in summary["minimum"].items():
         ci = m.get("ratio_min_ci95") or [float("nan")] * 2
         lines.append(f"| {r} | {m['phi_min']:g} | {m['ratio_min']:.3f} | {ci[0]:.3f} - {ci[1]:.3f} | "
-                     f"{m.get('p_below_phi0', float('nan')):.2g} | {m.get('p_below_last', float('nan')):.2g} |")
+                     f"{m.get('p_below_phi0', float('nan')):.2g} | {m.get('p_below_last', float('nan')):.2g} | "
+                     f"{m['n_phi']} | {m['p_all_alike']:.2g} |")
     with open(os.path.join(a.out, "summary.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

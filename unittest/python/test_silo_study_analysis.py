@@ -99,6 +99,8 @@ class HiddenMinimum(unittest.TestCase):
             self.assertLess(m["p_below_phi0"], 0.01)
             self.assertLess(m["p_below_last"], 0.01)
             self.assertAlmostEqual(m["ratio_min"], 0.55, delta=0.15)
+            self.assertEqual(m["n_phi"], len(PHIS))
+            self.assertLess(m["p_all_alike"], 1e-3)  # <S> depends on phi
             lo, hi = s["cases"]["r3.2_phi0.03"]["ratio_ci95"]
             self.assertLess(hi, 1.0)
             self.assertLess(lo, 0.55 + 0.02)
@@ -136,6 +138,7 @@ class HiddenMinimum(unittest.TestCase):
             # the smallest of seven equal means is below phi = 0 by chance only: with a
             # correction for the six comparisons, not significant
             self.assertGreater(min(1.0, 6 * m.get("p_below_phi0", 1.0)), 0.05)
+            self.assertGreater(m["p_all_alike"], 0.05)  # seven cases of one distribution
 
     def test_sizes_that_are_not_exponential_fail(self):
         rng = np.random.default_rng(3)
