@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/expression.h"
 #include "core/logger.h"
+#include "core/stop_signal.h"
 #include "core/variable.h"
 
 namespace granary {
@@ -587,6 +588,24 @@ void Input::run_source() {
       if (w.size() >= 2 && w[0] == "label" && w[1] == label_) label_.clear();
       continue;
     }
+    // SIGTERM/SIGUSR1 between commands (e.g. a long set-up or a loop without
+    // runs): stop before the next command; the ranks agree first
+    if (const int sig = stop_signal_agreed(engine_.world)) {
+      throw StopRequested("Stopped by " + signal_name(sig) + " before the command at " + src.name + ":" +
+                          std::to_string(src.cmd_line) +
+                          " (no run was in progress: no restart file was written; the files written so far are "
+                          "complete)");
+    }
+    {
+      Args w;
+      try {
+        w = script::split_words(script::strip_comment(text));
+      } catch (const InputError&) {
+      }
+      static const char* const kStateless[] = {"label", "jump", "print", "echo", "log"};
+      if (!w.empty() && std::find(std::begin(kStateless), std::end(kStateless), w[0]) == std::end(kStateless))
+        ++epoch_;
+    }
     try {
       execute(text, true);
     } catch (const ScriptError&) {
@@ -656,6 +675,13 @@ void Input::jump(const std::string& file, const std::string& label) {
   if (sources_.empty()) throw InputError("jump works only inside a script file");
   Source& src = *sources_.back();
   const std::string origin = src.name + ":" + std::to_string(src.cmd_line);
+  auto seen = jump_epoch_.find(origin);
+  if (seen != jump_epoch_.end() && seen->second == epoch_) {
+    throw InputError("endless loop: this jump to label '" + label +
+                     "' is reached again and nothing in between can change the loop (only label, jump, print, "
+                     "echo or log commands ran); advance a loop variable with 'next' or end the loop with 'if'");
+  }
+  jump_epoch_[origin] = epoch_;
   if (file == "SELF") {
     int ok = 0;
     if (engine_.rank == 0 && src.in && src.rewindable) {

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <istream>
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -99,6 +101,11 @@ class Input {
   bool skip_jump_ = false;
   std::string label_;        // label searched for after a jump ("" = none)
   std::string jump_origin_;  // location of that jump, for "label not found"
+  // Endless loops: commands that can change what a loop does next (anything
+  // but label, jump, print, echo, log) advance the epoch; a jump reached
+  // twice at one epoch loops for ever.
+  std::uint64_t epoch_ = 0;
+  std::map<std::string, std::uint64_t> jump_epoch_;  // jump location -> epoch at its last pass
 };
 
 }  // namespace granary

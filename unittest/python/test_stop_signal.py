@@ -234,6 +234,31 @@ class StopSignal(unittest.TestCase):
         self.assertEqual(rc, STOP_STATUS, out)
         self.assertIn("No restart file was written: the script has no restart command", out)
 
+    def test_signal_between_runs_stops_before_the_next_command(self):
+        # a long loop without any run (here a million passes of `next`): the
+        # signal is acted on before the next command, with the place named
+        work = os.path.join(self.dir, "loop")
+        os.makedirs(work)
+        with open(os.path.join(work, "in.loop"), "w") as f:
+            f.write("variable i loop 1000000000\nlabel top\nprint started file started.txt\n"
+                    "next i\njump SELF top\n")
+        proc = subprocess.Popen([GRANARY, "-in", "in.loop", "-log", "log", "-echo", "none"], cwd=work, env=ENV,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        deadline = time.time() + 60
+        while not os.path.exists(os.path.join(work, "started.txt")):
+            if proc.poll() is not None or time.time() > deadline:
+                proc.kill()
+                self.fail("the loop did not start:\n" + proc.communicate()[0])
+            time.sleep(0.02)
+        t0 = time.time()
+        proc.send_signal(signal.SIGTERM)
+        rc, out = self.finish(proc)
+        self.assertLess(time.time() - t0, 10)
+        self.assertEqual(rc, STOP_STATUS, out)
+        self.assertRegex(out, r"Stopped by SIGTERM before the command at in\.loop:[345] \(no run was in progress")
+        with open(os.path.join(work, "log")) as f:
+            self.assertIn("Stopped by SIGTERM before the command", f.read())
+
 
 if __name__ == "__main__":
     unittest.main()
