@@ -186,8 +186,32 @@ TEST_CASE("particletemplate/multisphere: principal frame, mass and file input", 
   CHECK_THROWS_AS(e.input->one("fix t4 all particletemplate/multisphere 15485867 atom_type 1 nspheres 1 "
                                "spheres 0 0 0 -1 type 1"),
                   granary::InputError);
+  // a sphere file with a NaN, an infinity or a line of 3 numbers: an error naming the file and line
+  const std::string bad = "test_multisphere_mass_bad.txt";
+  const std::pair<const char*, const char*> cases[] = {
+      {"0 0 0 1.0\nnan 0 0 0.5\n", "line 2: 'nan' is not a finite number"},
+      {"0 0 0 1.0\n1.5 0 0 inf\n", "line 2: 'inf' is not a finite number"},
+      {"# a sphere\n0 0 0\n1.0 1.5 0 0 0.5\n", "line 2: holds 3 numbers; each line holds one sphere"}};
+  for (const auto& c : cases) {
+    if (e.rank == 0) {
+      std::ofstream f(bad);
+      f << c.first;
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    CHECK_THROWS_WITH(e.input->one("fix t5 all particletemplate/multisphere 15485867 atom_type 1 "
+                                   "ntry 100000 spheres file " +
+                                   bad + " type 1"),
+                      Catch::Contains("sphere file '" + bad + "' " + c.second));
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+  CHECK_THROWS_WITH(e.input->one("fix t6 all particletemplate/multisphere 15485867 atom_type 1 nspheres 1 "
+                                 "spheres 0 nan 0 1 type 1"),
+                    Catch::Contains("'nan'"));
   MPI_Barrier(MPI_COMM_WORLD);
-  if (e.rank == 0) std::remove(path.c_str());
+  if (e.rank == 0) {
+    std::remove(path.c_str());
+    std::remove(bad.c_str());
+  }
 }
 
 TEST_CASE("potentials: the cylinder clumps have the volumes their headers state", "[multisphere]") {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <new>
 #include <sstream>
 
 #include "core/engine.h"
@@ -618,6 +619,17 @@ void Input::run_source() {
       throw;
     } catch (const RunError& e) {  // may be raised on this rank only: add where, nothing collective
       throw LocatedRunError(format_error(frames(), first_word(script::strip_comment(text)), e.what()));
+    } catch (const StopRequested&) {
+      throw;
+    } catch (const std::bad_alloc&) {  // this rank only, like a RunError
+      throw LocatedRunError(format_error(
+          frames(), first_word(script::strip_comment(text)),
+          "out of memory on rank " + std::to_string(engine_.rank) +
+              " (the command asked for more memory than this process can get; use fewer particles or more "
+              "ranks)"));
+    } catch (const std::exception& e) {  // a failure without its own message: say where it happened
+      throw LocatedRunError(format_error(frames(), first_word(script::strip_comment(text)),
+                                         std::string("internal error: ") + e.what()));
     }
   }
   if (!label_.empty() && !quit_) {

@@ -63,16 +63,23 @@ void FixParticleTemplateMultisphere::read_file(const std::string& path, double s
     if (hash != std::string::npos) line.erase(hash);
     std::istringstream words(line);
     std::string w;
+    int count = 0;
+    const std::string where = what + ": sphere file '" + path + "' line " + std::to_string(lineno) + ": ";
     while (words >> w) {
+      double v = 0.0;
       try {
         std::size_t used = 0;
-        const double v = std::stod(w, &used);
+        v = std::stod(w, &used);
         if (used != w.size()) throw std::invalid_argument(w);
-        values.push_back(v * scale);
       } catch (const std::exception&) {
-        throw InputError(what + ": sphere file '" + path + "' line " + std::to_string(lineno) + ": '" + w +
-                         "' is not a number (expected lines 'x y z r')");
+        throw InputError(where + "'" + w + "' is not a number (expected lines 'x y z r')");
       }
+      if (!std::isfinite(v)) throw InputError(where + "'" + w + "' is not a finite number (expected lines 'x y z r')");
+      values.push_back(v * scale);
+      ++count;
+    }
+    if (count != 0 && count != 4) {
+      throw InputError(where + "holds " + std::to_string(count) + " numbers; each line holds one sphere, 'x y z r'");
     }
   }
 }
@@ -128,8 +135,11 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
           throw InputError(what + ": spheres needs " + std::to_string(4 * nspheres) +
                            " numbers (x y z r for each of " + std::to_string(nspheres) + " spheres)");
         }
-        for (long long m = 0; m < 4 * nspheres; ++m)
+        for (long long m = 0; m < 4 * nspheres; ++m) {
           values.push_back(parse_double(args[++k], what + " spheres"));
+          if (!std::isfinite(values.back()))
+            throw InputError(what + ": spheres: '" + args[k] + "' is not a finite number");
+        }
       }
       have_spheres = true;
     } else if (w == "type") {
@@ -186,7 +196,11 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
                        "; radii must be positive");
     }
   }
-  props_ = sphere_union_properties(centres_, radii, ntry, static_cast<std::uint64_t>(seed));
+  try {
+    props_ = sphere_union_properties(centres_, radii, ntry, static_cast<std::uint64_t>(seed));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(what + ": the clump's spheres: " + e.what());
+  }
 
   // mass, density and volume (LIGGGHTS: mass with use_volume sets the density,
   // with use_density the volume)
