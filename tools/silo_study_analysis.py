@@ -39,7 +39,7 @@ Definitions:
             k_re = rotational kinetic energy of the bodies in the box (J),
             theta = mean angle of the cylinders' long axes to the vertical (deg);
             CIs from the spread of the avalanche means (t-distribution).
-  minimum   for each r the phi with the smallest <S>/<S0>; its depth 1 - min,
+  minimum   for each r (its complete cases) the phi with the smallest <S>/<S0>; its depth 1 - min,
             and one-sided Mann-Whitney p-values that S there is smaller than at
             phi = 0 and than at the largest phi; and the Kruskal-Wallis p-value
             that the sizes at every phi of that r (phi = 0 included) come from
@@ -204,7 +204,9 @@ def analyse(a):
     # the minimum of <S>/<S0> per size ratio
     summary["minimum"] = {}
     for r in sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and row["nres"] == 10}):
-        names = [n for n, row in summary["cases"].items() if row["nres"] == 10 and (row["r"] == r or row["phi"] == 0)]
+        # complete cases only (one short of its avalanches is provisional)
+        names = [n for n, row in summary["cases"].items()
+                 if row["nres"] == 10 and (row["r"] == r or row["phi"] == 0) and row["complete"]]
         names.sort(key=lambda n: summary["cases"][n]["phi"])
         rows = [summary["cases"][n] for n in names]
         if not rows or rows[0]["phi"] != 0 or len(rows) < 3:
@@ -243,12 +245,18 @@ def write_outputs(a, cases, summary):
     # <S>/<S0> (Fig. 6b)
     fig, ax = plt.subplots(figsize=(6, 4.2))
     for j, r in enumerate(rs):
-        rows = series(r, "ratio")
-        x = np.array([row["phi"] for row in rows]) + (j - 1) * 0.0012
-        y = np.array([row["ratio"] for row in rows])
-        lo = y - np.array([row["ratio_ci95"][0] for row in rows])
-        hi = np.array([row["ratio_ci95"][1] for row in rows]) - y
-        ax.errorbar(x, y, yerr=[lo, hi], marker="o", capsize=3, color=colors.get(r), label=f"r = {r:g}")
+        # complete cases joined by a line; cases in progress (from 20 avalanches) as open markers
+        for done in (True, False):
+            rows = [row for row in series(r, "ratio") if row["complete"] == done and (done or row["n"] >= 20)]
+            if not rows:
+                continue
+            x = np.array([row["phi"] for row in rows]) + (j - 1) * 0.0012
+            y = np.array([row["ratio"] for row in rows])
+            lo = y - np.array([row["ratio_ci95"][0] for row in rows])
+            hi = np.array([row["ratio_ci95"][1] for row in rows]) - y
+            ax.errorbar(x, y, yerr=[lo, hi], marker="o", capsize=3, color=colors.get(r), ls="-" if done else "none",
+                        mfc=None if done else "white", alpha=1.0 if done else 0.6,
+                        label=f"r = {r:g}" + ("" if done else f" (in progress, {min(x['n'] for x in rows)}+ aval.)"))
     for row in summary["cases"].values():
         if row["nres"] != 10 and "ratio" in row:
             ax.errorbar([row["phi"]], [row["ratio"]], marker="s", color="k", ls="none",
