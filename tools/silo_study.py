@@ -234,7 +234,7 @@ def run_granary(a, cmd, cwd):
                     t_signal = time.time()
                 elif t_signal is not None and time.time() - t_signal > a.grace:
                     os.killpg(p.pid, signal.SIGKILL)
-    return p.returncode, time.time() - t0
+    return p.returncode, time.time() - t0, t_signal is not None
 
 
 def load_partial(cdir, k):
@@ -278,9 +278,19 @@ def run_cycle(a, case, k, fresh, variables):
         os.makedirs(pdir)
     resume = (os.path.join(cdir, state["restart"]), state["n0"]) if j > 0 else None
     cmd = cycle_command(a, case, k, fresh, variables, resume)
-    rc, wall = run_granary(a, cmd, pdir)
+    rc, wall, signalled = run_granary(a, cmd, pdir)
     log = os.path.join(pdir, "log")
     text = open(log, errors="replace").read() if os.path.exists(log) else ""
+    if signalled and rc not in (0, STOP_STATUS):
+        # the signal ended the run before it could stop cleanly (it came while granary was starting,
+        # before its handlers were in place, or the grace ran out): nothing of this run is kept
+        if j == 0:
+            shutil.rmtree(cdir)
+            return f"{case} cycle {k}: STOPPED at the deadline before the run could stop cleanly (exit {rc}); " \
+                   "it runs again from its start"
+        shutil.rmtree(pdir)
+        return f"{case} cycle {k}: STOPPED at the deadline before the run could stop cleanly (exit {rc}); " \
+               f"it continues from {os.path.join(cdir, state['restart'])}"
     if rc == STOP_STATUS:
         stop = os.path.join(pdir, "stop.restart")
         filled = re.search(r"^FILLED cycle \d+ time \S+ bodies (\S+)", text, re.M)

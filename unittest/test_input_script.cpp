@@ -129,15 +129,17 @@ TEST_CASE("an endless jump loop is an error, a loop that changes something is no
   Scratch s;
   Quiet q;
   // nothing between the label and the jump can change the loop: an error at the jump's line
-  const std::string endless = s.write("in.endless", "print a screen no\nlabel top\nprint b screen no\n"
-                                                    "jump SELF top\n");
+  const std::string endless = s.write("in.endless",
+                                      "print a screen no\nlabel top\nprint b screen no\n"
+                                      "jump SELF top\n");
   CHECK_THAT(error_of(q, endless), Catch::StartsWith(endless + ":4: jump: endless loop"));
   const std::string bare = s.write("in.bare", "label top\njump SELF top\n");
   CHECK_THAT(error_of(q, bare), Catch::StartsWith(bare + ":2: jump: endless loop"));
   // a loop that advances a variable runs to its end; so does one that ends with if
-  const std::string counted = s.write("in.counted",
-                                      "variable n loop 5\nlabel top\nprint x screen no\nnext n\njump SELF top\n"
-                                      "variable done string yes\n");
+  const std::string counted =
+      s.write("in.counted",
+              "variable n loop 5\nlabel top\nprint x screen no\nnext n\njump SELF top\n"
+              "variable done string yes\n");
   q.input.file(counted);
   CHECK(q.value("done") == "yes");
   const std::string with_if = s.write("in.if",

@@ -592,10 +592,11 @@ void Input::run_source() {
     // SIGTERM/SIGUSR1 between commands (e.g. a long set-up or a loop without
     // runs): stop before the next command; the ranks agree first
     if (const int sig = stop_signal_agreed(engine_.world)) {
-      throw StopRequested("Stopped by " + signal_name(sig) + " before the command at " + src.name + ":" +
-                          std::to_string(src.cmd_line) +
-                          " (no run was in progress: no restart file was written; the files written so far are "
-                          "complete)");
+      throw StopRequested(
+          "Stopped by " + signal_name(sig) + " before the command at " + src.name + ":" +
+          std::to_string(src.cmd_line) +
+          " (no run was in progress: no restart file was written; the files written so far are "
+          "complete)");
     }
     {
       Args w;
@@ -689,9 +690,10 @@ void Input::jump(const std::string& file, const std::string& label) {
   const std::string origin = src.name + ":" + std::to_string(src.cmd_line);
   auto seen = jump_epoch_.find(origin);
   if (seen != jump_epoch_.end() && seen->second == epoch_) {
-    throw InputError("endless loop: this jump to label '" + label +
-                     "' is reached again and nothing in between can change the loop (only label, jump, print, "
-                     "echo or log commands ran); advance a loop variable with 'next' or end the loop with 'if'");
+    throw InputError(
+        "endless loop: this jump to label '" + label +
+        "' is reached again and nothing in between can change the loop (only label, jump, print, "
+        "echo or log commands ran); advance a loop variable with 'next' or end the loop with 'if'");
   }
   jump_epoch_[origin] = epoch_;
   if (file == "SELF") {

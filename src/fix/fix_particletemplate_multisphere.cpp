@@ -74,12 +74,14 @@ void FixParticleTemplateMultisphere::read_file(const std::string& path, double s
       } catch (const std::exception&) {
         throw InputError(where + "'" + w + "' is not a number (expected lines 'x y z r')");
       }
-      if (!std::isfinite(v)) throw InputError(where + "'" + w + "' is not a finite number (expected lines 'x y z r')");
+      if (!std::isfinite(v))
+        throw InputError(where + "'" + w + "' is not a finite number (expected lines 'x y z r')");
       values.push_back(v * scale);
       ++count;
     }
     if (count != 0 && count != 4) {
-      throw InputError(where + "holds " + std::to_string(count) + " numbers; each line holds one sphere, 'x y z r'");
+      throw InputError(where + "holds " + std::to_string(count) +
+                       " numbers; each line holds one sphere, 'x y z r'");
     }
   }
 }
