@@ -148,7 +148,7 @@ void Modify::init() {
     f->init();
   for (auto& c : computes) {
     c->init();
-    c->invoked_scalar = c->invoked_vector = c->invoked_peratom = -1;
+    c->invoked_scalar = c->invoked_vector = c->invoked_peratom = c->invoked_local = -1;
   }
 }
 
