@@ -192,6 +192,53 @@ TEST_CASE("region units lattice scales by the lattice spacing", "[region]") {
   CHECK(s.region("ls")->volume() == Approx(4.0 / 3.0 * M_PI * 0.125));
 }
 
+// The surface points fix wall/region acts from: distance r and del = x - point.
+TEST_CASE("region surfaces: nearest points of each face inside, of the shape outside", "[region]") {
+  Sim s;
+  s.cmds({"region b block 0 1 0 2 0 3", "region bo block 0 1 0 2 0 3 side out",
+          "region c cylinder z 0 0 1 -1 1", "region co cylinder z 0 0 1 -1 1 side out",
+          "region sp sphere 1 1 1 2", "region so sphere 1 1 1 2 side out", "region p plane 0 0 1 0 0 2",
+          "region po plane 0 0 1 0 0 2 side out", "region half block INF INF INF INF 0 INF"});
+  std::vector<granary::Region::SurfacePoint> pts;
+  auto check = [&](const char* id, const Vec3& x, double cutoff, std::vector<std::pair<double, Vec3>> want) {
+    INFO("region " << id << " at " << x.transpose());
+    s.region(id)->surface(x, cutoff, pts);
+    REQUIRE(pts.size() == want.size());
+    for (std::size_t k = 0; k < want.size(); ++k) {
+      CHECK(pts[k].r == Approx(want[k].first).margin(1e-15));
+      CHECK((pts[k].del - want[k].second).norm() < 1e-15);
+    }
+  };
+  // block inside: each face within the cutoff (a corner: three)
+  check("b", Vec3(0.5, 1, 1.5), 0.4, {});
+  check("b", Vec3(0.9, 1, 1.5), 0.4, {{0.1, Vec3(-0.1, 0, 0)}});
+  check("b", Vec3(0.1, 1.8, 2.95), 0.4,
+        {{0.1, Vec3(0.1, 0, 0)}, {0.2, Vec3(0, -0.2, 0)}, {0.05, Vec3(0, 0, -0.05)}});
+  check("b", Vec3(2, 1, 1), 0.4, {});  // not in the region
+  // block outside: the nearest point of the box (an edge here)
+  check("bo", Vec3(1.3, 2.4, 1), 1.0, {{0.5, Vec3(0.3, 0.4, 0)}});
+  check("bo", Vec3(0.5, 1, 1), 1.0, {});
+  // infinite bounds have no face
+  check("half", Vec3(5, -7, 0.25), 0.5, {{0.25, Vec3(0, 0, 0.25)}});
+  // cylinder inside: curved face towards the axis and the end faces
+  check("c", Vec3(0.6, 0.8, 0.9), 0.2, {{0.0, Vec3(0, 0, 0)}, {0.1, Vec3(0, 0, -0.1)}});
+  check("c", Vec3(0.48, 0.64, 0.0), 0.3, {{0.2, Vec3(-0.12, -0.16, 0)}});
+  check("c", Vec3(0, 0, 0.0), 2.0,
+        {{1.0, Vec3(0, 0, 1)}, {1.0, Vec3(0, 0, -1)}});  // on the axis: no radial point
+  // cylinder outside: beside it, above it, beyond its rim
+  check("co", Vec3(1.2, 1.6, 0.5), 2.0, {{1.0, Vec3(0.6, 0.8, 0)}});
+  check("co", Vec3(0.3, 0.4, 1.5), 2.0, {{0.5, Vec3(0, 0, 0.5)}});
+  check("co", Vec3(1.2, 1.6, 1.5), 2.0, {{std::sqrt(1.25), Vec3(0.6, 0.8, 0.5)}});
+  // sphere inside and outside
+  check("sp", Vec3(1, 1, 2.5), 1.0, {{0.5, Vec3(0, 0, -0.5)}});
+  check("sp", Vec3(1, 1, 1), 3.0, {});  // the centre
+  check("so", Vec3(1, 4, 1), 1.5, {{1.0, Vec3(0, 1, 0)}});
+  // plane: along the normal on its side, against it on the other
+  check("p", Vec3(3, 4, 1.5), 1.0, {{0.5, Vec3(0, 0, 0.5)}});
+  check("po", Vec3(3, 4, 0.7), 1.0, {{0.3, Vec3(0, 0, -0.3)}});
+  check("po", Vec3(3, 4, 1.5), 1.0, {});
+}
+
 TEST_CASE("region input errors", "[region]") {
   Sim s;
   CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0"), Contains("6 arguments"));

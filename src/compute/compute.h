@@ -24,19 +24,26 @@ class Compute {
   virtual void compute_vector() {}
   /// Per-atom values of the local particles into vector_atom (cols 0) or array_atom.
   virtual void compute_peratom() {}
+  /// Local values (rows of items this rank holds, e.g. contacts) into
+  /// array_local (collective: every rank calls it together).
+  virtual void compute_local() {}
 
   bool scalar_flag = false;
   int size_vector = 0;
   bool peratom_flag = false;
   int peratom_cols = 0;    // 0: a per-atom vector
   bool extensive = false;  // scalar grows with the number of particles (thermo_modify norm)
+  bool local_flag = false;
+  int size_local_cols = 0;  // 0: a local vector
+  int size_local_rows = 0;  // rows of this rank after compute_local()
 
   std::vector<double> vector;
   std::vector<double> vector_atom;
   std::vector<std::vector<double>> array_atom;  // [col][i]
+  std::vector<double> array_local;              // row-major: [row * max(1, size_local_cols) + col]
 
   // cache: step at which each output was last computed (-1: never)
-  std::int64_t invoked_scalar = -1, invoked_vector = -1, invoked_peratom = -1;
+  std::int64_t invoked_scalar = -1, invoked_vector = -1, invoked_peratom = -1, invoked_local = -1;
   double scalar = 0.0;
 
   std::string id, style;

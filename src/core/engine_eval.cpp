@@ -117,7 +117,9 @@ bool Engine::atom_vector(const std::string& name, std::vector<double>& out) {
 
 void Engine::compute_peratom(const std::string& id, int col, std::vector<double>& out) {
   Compute* c = modify->compute_or_error(id, "c_" + id);
-  if (!c->peratom_flag) throw InputError("compute " + id + " does not give per-atom values");
+  if (!c->peratom_flag)
+    throw InputError("compute " + id + " does not give per-atom values" +
+                     (c->local_flag ? std::string(" (it gives local values, one row per contact)") : ""));
   if (c->invoked_peratom != update->ntimestep) {
     c->compute_peratom();
     c->invoked_peratom = update->ntimestep;

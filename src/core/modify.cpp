@@ -64,12 +64,17 @@ void Modify::delete_fix(const std::string& id) {
       return;
     }
   }
+  if (Fix* f = find_fix(id))
+    throw InputError("unfix " + id + ": that is another name of fix " + f->id + "; unfix " + f->id);
   fix_or_error(id, "unfix");
 }
 
 Fix* Modify::find_fix(const std::string& id) const {
   for (const auto& f : fixes)
     if (f->id == id) return f.get();
+  for (const auto& f : fixes)
+    for (const auto& a : f->aliases)
+      if (a == id) return f.get();
   return nullptr;
 }
 
@@ -148,7 +153,7 @@ void Modify::init() {
     f->init();
   for (auto& c : computes) {
     c->init();
-    c->invoked_scalar = c->invoked_vector = c->invoked_peratom = -1;
+    c->invoked_scalar = c->invoked_vector = c->invoked_peratom = c->invoked_local = -1;
   }
 }
 

@@ -104,4 +104,13 @@ double Region::length(const std::string& word, int dim) const {
   return parse_double(word, "a length of region " + id) * scale[dim];
 }
 
+void Region::surface_interior(const Vec3&, double, std::vector<SurfacePoint>&) const {
+  throw InputError("region " + id + " (" + style +
+                   ") has no surface for walls; use a block, cylinder, sphere or plane");
+}
+
+void Region::surface_exterior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const {
+  surface_interior(x, cutoff, out);
+}
+
 }  // namespace granary

@@ -1,6 +1,8 @@
 // region ID cylinder dim c1 c2 radius lo hi [keywords]: a circular cylinder
 // with its axis along dim through (c1, c2); lo and hi may be INF or EDGE.
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 #include "core/registry.h"
@@ -50,6 +52,39 @@ class RegionCylinder : public Region {
   double volume() const override {
     if (!interior || unbounded()) return -1.0;
     return M_PI * radius_ * radius_ * (hi_ - lo_);
+  }
+
+ protected:
+  // the curved face (radially) and the two end faces, each when closer than cutoff
+  void surface_interior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const override {
+    const double d1 = x[a_] - c1_, d2 = x[b_] - c2_;
+    const double rho = std::sqrt(d1 * d1 + d2 * d2);
+    const double r = radius_ - rho;
+    if (r < cutoff && rho > 0.0) {
+      Vec3 del = Vec3::Zero();
+      del[a_] = -d1 / rho * r;
+      del[b_] = -d2 / rho * r;
+      out.push_back({r, del});
+    }
+    Vec3 e = Vec3::Zero();
+    e[axis_] = 1.0;
+    const double below = x[axis_] - lo_, above = hi_ - x[axis_];
+    if (!region_util::is_infinite(lo_) && below < cutoff) out.push_back({below, below * e});
+    if (!region_util::is_infinite(hi_) && above < cutoff) out.push_back({above, -above * e});
+  }
+  // the nearest point of the solid cylinder
+  void surface_exterior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const override {
+    const double d1 = x[a_] - c1_, d2 = x[b_] - c2_;
+    const double rho = std::sqrt(d1 * d1 + d2 * d2);
+    Vec3 nearest = x;
+    nearest[axis_] = std::min(std::max(x[axis_], lo_), hi_);
+    if (rho > radius_) {
+      nearest[a_] = c1_ + d1 / rho * radius_;
+      nearest[b_] = c2_ + d2 / rho * radius_;
+    }
+    const Vec3 del = x - nearest;
+    const double r = del.norm();
+    if (r < cutoff) out.push_back({r, del});
   }
 
  private:

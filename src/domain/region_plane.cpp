@@ -1,6 +1,7 @@
 // region ID plane px py pz nx ny nz [keywords]: the half-space on the side of
 // the plane through p that the normal n points to (points on the plane count as inside).
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 #include "core/registry.h"
@@ -26,6 +27,16 @@ class RegionPlane : public Region {
 
   bool inside(const Vec3& x) const override { return (x - point_).dot(normal_) >= 0.0; }
   bool bounds(Vec3&, Vec3&) const override { return false; }
+
+ protected:
+  void surface_interior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const override {
+    const double r = (x - point_).dot(normal_);
+    if (r < cutoff) out.push_back({r, r * normal_});
+  }
+  void surface_exterior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const override {
+    const double r = -(x - point_).dot(normal_);
+    if (r < cutoff) out.push_back({r, -r * normal_});
+  }
 
  private:
   Vec3 point_{0, 0, 0}, normal_{0, 0, 1};

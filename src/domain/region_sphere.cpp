@@ -1,5 +1,6 @@
 // region ID sphere x y z radius [keywords]: a ball.
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 #include "core/registry.h"
@@ -33,6 +34,20 @@ class RegionSphere : public Region {
   double volume() const override {
     if (!interior) return -1.0;
     return 4.0 / 3.0 * M_PI * radius_ * radius_ * radius_;
+  }
+
+ protected:
+  void surface_interior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const override {
+    const Vec3 d = x - centre_;
+    const double dist = d.norm();
+    const double r = radius_ - dist;
+    if (r < cutoff && dist > 0.0) out.push_back({r, -(r / dist) * d});
+  }
+  void surface_exterior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const override {
+    const Vec3 d = x - centre_;
+    const double dist = d.norm();
+    const double r = dist - radius_;
+    if (r < cutoff) out.push_back({r, (r / dist) * d});
   }
 
  private:

@@ -70,6 +70,9 @@ class Fix {
   bool restart_global = false;  // set by fixes that implement the two above
 
   std::string id, style;
+  /// Other IDs f_ID finds this fix by (LIGGGHTS' names of per-atom
+  /// properties a fix owns, e.g. f_massflow_ID of fix massflow/mesh).
+  std::vector<std::string> aliases;
   int igroup = 0;               // group index
   int groupbit = 1;             // group bit mask
   int nevery = 1;               // end_of_step period

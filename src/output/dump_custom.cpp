@@ -119,6 +119,10 @@ void DumpFields::init() {
         Compute* c = engine_.modify->compute_or_error(f.ref, what_ + " field " + f.name);
         peratom = c->peratom_flag;
         ncols = c->peratom_cols;
+        if (c->local_flag)
+          throw InputError(what_ + ": compute " + f.ref + " (" + c->style +
+                           ") gives local values, one row per contact, not per-atom values; write them with "
+                           "dump local/gran/vtk");
       } else {
         Fix* x = engine_.modify->fix_or_error(f.ref, what_ + " field " + f.name);
         peratom = x->peratom_flag;
