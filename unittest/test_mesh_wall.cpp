@@ -259,6 +259,31 @@ TEST_CASE("mesh/surface refuses a binary STL cut inside a triangle or with bytes
   CHECK_THAT(e2, Catch::Contains(longer) && Catch::Contains("5 bytes after the 2 triangles"));
 }
 
+TEST_CASE("mesh/surface checks every file the reader takes for binary, also one that starts like ASCII",
+          "[mesh]") {
+  // an ASCII STL with binary bytes in its first 256: the reader takes it for a
+  // binary STL and its bytes 80-83 for the triangle count (here 2^32 - 1),
+  // which it would allocate for; it is refused before the reader runs
+  std::string text =
+      "solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
+      "   vertex 0 1 0\n  endloop\n endfacet\nendsolid x\n";
+  text.resize(300, ' ');
+  for (int k = 0; k < 4; ++k)
+    text[80 + k] = static_cast<char>(0xff);
+  for (int k = 100; k < 120; ++k)
+    text[k] = static_cast<char>(0x01);
+  const std::string file = path("mixed.stl");
+  {
+    std::ofstream out(file, std::ios::binary);
+    out << text;
+  }
+  ScriptEngine s;
+  s.cmds(scene());
+  const std::string e = error_of(s, "fix m all mesh/surface file " + file + " type 1");
+  CHECK_THAT(e, Catch::Contains(file) && Catch::Contains("starts like an ASCII STL") &&
+                    Catch::Contains("announces 4294967295 triangles"));
+}
+
 TEST_CASE("mesh/surface refuses missing, malformed, empty and degenerate files with the file name",
           "[mesh]") {
   ScriptEngine s;

@@ -2,7 +2,11 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <filesystem>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <limits>
 #include <fstream>
 #include <map>
 #include <string>
@@ -243,6 +247,137 @@ TEST_CASE("bad restart files give a clear error and change nothing") {
   e.input->one("read_restart good.restart");
   CHECK(e.domain->box_exist);
   CHECK(e.update->ntimestep == 200);
+}
+
+namespace {
+std::uint32_t crc32_of(const char* p, std::size_t n) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < n; ++i) {
+    c ^= static_cast<unsigned char>(p[i]);
+    for (int k = 0; k < 8; ++k)
+      c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+
+// A restart file changed inside its particles section, with every checksum
+// written again (doc/restart_format.md): what a checksum cannot catch.
+struct ParticleSection {
+  std::string bytes;
+  std::size_t offset = 0;   // of the section
+  std::size_t records = 0;  // of the first particle record
+  std::size_t per = 0;      // doubles per record
+  explicit ParticleSection(const std::string& file) : bytes(file) {
+    std::uint32_t n;
+    std::memcpy(&n, bytes.data() + 24, 4);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const char* t = bytes.data() + 32 + k * 56;
+      if (std::string(t) != "particles") continue;
+      std::uint64_t off;
+      std::memcpy(&off, t + 32, 8);
+      offset = off;
+    }
+    REQUIRE(offset > 0);
+    std::uint32_t nextra;
+    std::memcpy(&nextra, bytes.data() + offset + 8, 4);
+    std::size_t at = offset + 12;
+    per = 23;
+    for (std::uint32_t k = 0; k < nextra; ++k) {
+      std::uint64_t len;
+      std::memcpy(&len, bytes.data() + at, 8);
+      std::uint32_t ncomp;
+      std::memcpy(&ncomp, bytes.data() + at + 8 + len, 4);
+      per += ncomp;
+      at += 8 + len + 4;
+    }
+    records = at;
+  }
+  void set_value(std::size_t record, int field, double v) {
+    std::memcpy(&bytes[records + (record * per + field) * 8], &v, 8);
+  }
+  void set_count(std::uint64_t count) { std::memcpy(&bytes[offset], &count, 8); }
+  std::string sealed() const {
+    std::string b = bytes;
+    std::uint32_t n;
+    std::memcpy(&n, b.data() + 24, 4);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      char* t = &b[32 + k * 56];
+      std::uint64_t off, size;
+      std::memcpy(&off, t + 32, 8);
+      std::memcpy(&size, t + 40, 8);
+      const std::uint32_t c = crc32_of(b.data() + off, size);
+      std::memcpy(t + 48, &c, 4);
+    }
+    const std::uint32_t c = crc32_of(b.data() + 32, n * 56);
+    std::memcpy(&b[28], &c, 4);
+    return b;
+  }
+};
+}  // namespace
+
+TEST_CASE("restart records with impossible values are refused before anything is read") {
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::fresh());
+    e.input->one("run 20");
+    e.input->one("write_restart good.restart");
+  }
+  const std::string good = read_file("good.restart");
+  struct Case {
+    std::string name, expect;
+    int record, field;
+    double value;
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<Case> cases = {
+      {"huge_id", "particle record 2 has the id", 1, 0, -3.85e49},
+      {"nan_x", "particle record 1 holds a value that is not a finite number", 0, 3, std::nan("")},
+      {"inf_v", "particle record 3 holds a value that is not a finite number", 2, 7, inf},
+      {"type_0", "particle record 1 has the type 0", 0, 1, 0.0},
+      {"type_half", "particle record 1 has the type 1.5", 0, 1, 1.5},
+      {"radius", "radius, density or mass that is not positive", 1, 18, -1e-3},
+      {"body", "particle record 1 has the body", 0, 21, -7.0},
+      {"image", "particle record 1 has the image flags", 0, 22, 1e12},
+      {"mask", "particle record 1 has the group mask", 0, 2, -1.0},
+  };
+  for (const auto& c : cases) {
+    ParticleSection ps(good);
+    ps.set_value(c.record, c.field, c.value);
+    write_file(c.name + ".restart", ps.sealed());
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    INFO(c.name);
+    CHECK_THROWS_WITH(e.input->one("read_restart " + c.name + ".restart"),
+                      Catch::Contains(c.expect) && Catch::Contains("corrupted"));
+    CHECK_FALSE(e.domain->box_exist);
+    CHECK(e.particles->nlocal == 0);
+  }
+  {  // two records with one id
+    ParticleSection ps(good);
+    double first;
+    std::memcpy(&first, ps.bytes.data() + ps.records, 8);
+    ps.set_value(1, 0, first);
+    write_file("same_id.restart", ps.sealed());
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    CHECK_THROWS_WITH(e.input->one("read_restart same_id.restart"), Catch::Contains("the same id"));
+  }
+  {  // a count of particles the section cannot hold: refused before allocating for it
+    ParticleSection ps(good);
+    ps.set_count(std::uint64_t(1) << 60);
+    write_file("count.restart", ps.sealed());
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    CHECK_THROWS_WITH(e.input->one("read_restart count.restart"),
+                      Catch::Contains("announces 1152921504606846976 particles"));
+  }
+  // the sealing itself changes nothing: an unchanged file sealed again reads
+  write_file("resealed.restart", ParticleSection(good).sealed());
+  granary::Engine e(MPI_COMM_SELF);
+  e.logger->set_screen(false);
+  e.input->one("read_restart resealed.restart");
+  CHECK(e.particles->natoms > 3);
 }
 
 TEST_CASE("read_restart refuses an engine that already has a box") {

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/input.h"
 #include "core/logger.h"
+#include "core/resources.h"
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "domain/region.h"
@@ -339,6 +340,69 @@ TEST_CASE("create_atoms region, single and errors", "[particles]") {
   CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 1000000000000 5 NULL"),
                     Contains("1e+12 particles would need about") && Contains("GB on this machine"));
   CHECK(s.e.particles->nlocal == before);
+}
+
+TEST_CASE("a particle limit refuses creation beyond it and the command guard sees every command",
+          "[particles]") {
+  Sim s;
+  s.cmds(kBox);
+  std::vector<std::string> seen;
+  s.e.command_guard = [&seen](const granary::Args& w) {
+    seen.push_back(w[0]);
+    if (w[0] == "delete_atoms") throw InputError("guard: refused");
+  };
+  granary::set_particle_limit(500);
+  // 10^3 lattice points in the box: refused before any is created (the bound counts candidates)
+  s.cmd("lattice sc 0.1");
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 box"), Contains("limit of 500 particles"));
+  CHECK(s.e.particles->natoms == 0);
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 501 5 NULL"), Contains("limit of 500 particles"));
+  s.cmd("create_atoms 1 random 400 5 NULL");
+  CHECK(s.e.particles->natoms == 400);
+  CHECK_THROWS_WITH(s.cmd("create_atoms 1 random 101 6 NULL"), Contains("501 particles would pass"));
+  CHECK_THROWS_WITH(s.cmd("delete_atoms group all"), Contains("guard: refused"));
+  CHECK(s.e.particles->natoms == 400);
+  granary::set_particle_limit(-1);  // none again
+  s.e.command_guard = nullptr;
+  s.cmd("create_atoms 1 random 200 7 NULL");
+  CHECK(s.e.particles->natoms == 600);
+  CHECK(seen == std::vector<std::string>{"lattice", "create_atoms", "create_atoms", "create_atoms",
+                                         "create_atoms", "delete_atoms"});
+}
+
+TEST_CASE("a periodic remap of a particle millions of box lengths away takes one step", "[domain]") {
+  Engine e(MPI_COMM_SELF);
+  e.logger->set_screen(false);
+  for (const char* c : {"atom_style granular", "boundary p p f", "region box block 0 2 0 1 0 1 units box",
+                        "create_box 1 box"})
+    e.input->one(c);
+  const granary::Domain& d = *e.domain;
+  // 3e6 + 0.25 lengths in x (2 each), -5e6 - 0.5 lengths in y: the loops of one
+  // length per pass would take millions of passes, and at 1e300 never end
+  granary::Vec3 x(2.0 * 3.0e6 + 0.5, -5.0e6 - 0.5, 0.5);
+  int image = granary::Particles::image_pack(0, 0, 0);
+  d.remap(x, image);
+  CHECK(x[0] == Approx(0.5).margin(1e-8));
+  CHECK(x[1] == Approx(0.5).margin(1e-8));
+  CHECK(x[2] == 0.5);
+  int ix, iy, iz;
+  granary::Particles::image_unpack(image, ix, iy, iz);
+  // image counts wrap at 10 bits: 3e6 = 2929 * 1024 + 704 -> 704 - 1024 = -320
+  CHECK(ix == -320);
+  CHECK(((iy % 1024) + 1024) % 1024 == ((-5000001 % 1024) + 1024) % 1024);
+  CHECK(iz == 0);
+  // at 1e300 the loops alone never end (x - 2 == x): the call returns, with the
+  // particle placed in the box or, where the subtraction cannot place it, left
+  granary::Vec3 far(1.0e300, 0.5, 0.5);
+  d.remap(far, image);
+  CHECK(((far[0] >= 0.0 && far[0] < 2.0) || far[0] == 1.0e300));
+  // one length over: the same arithmetic as before (x - prd)
+  granary::Vec3 one(2.3, 0.5, 0.5);
+  image = granary::Particles::image_pack(0, 0, 0);
+  d.remap(one, image);
+  CHECK(one[0] == 2.3 - 2.0);
+  granary::Particles::image_unpack(image, ix, iy, iz);
+  CHECK(ix == 1);
 }
 
 TEST_CASE("create_atoms random respects the region and the overlap distance", "[particles]") {

@@ -230,6 +230,9 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
     throw InputError("create_atoms: the lattice spacing " + fmt(sp[0]) +
                      " is far too small for the box (more than 2e9 lattice points per rank)");
   }
+  double ncand_sum = 0.0;  // an upper bound of the points created
+  MPI_Allreduce(&ncand, &ncand_sum, 1, MPI_DOUBLE, MPI_SUM, e.world);
+  check_particle_limit(e, ncand_sum, "create_atoms on a lattice");
 
   // keys give every lattice point a global order, so ids do not depend on the rank count
   std::vector<long long> keys;

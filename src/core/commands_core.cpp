@@ -113,6 +113,10 @@ void cmd_create_box(Engine& e, const Args& a) {
   require_no_box(e, "create_box");
   const long long ntypes = parse_int(a[0], "create_box number of types");
   if (ntypes < 1) throw InputError("create_box needs at least one atom type");
+  if (ntypes > Particles::kMaxTypes) {
+    throw InputError("create_box: " + std::to_string(ntypes) + " atom types are more than the " +
+                     std::to_string(Particles::kMaxTypes) + " Granary supports");
+  }
   Region* r = e.domain->region_or_error(a[1], "create_box");
   Vec3 lo, hi;
   if (!r->bounds(lo, hi))

@@ -85,6 +85,7 @@ void Engine::clear() {
 
 void Engine::execute(const Args& words) {
   if (words.empty()) return;
+  if (command_guard) command_guard(words);
   const auto& registry = CommandRegistry::instance();
   const CommandFn* fn = registry.find(words[0]);
   if (!fn) {

@@ -18,6 +18,7 @@
 
 #include <mpi.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -84,6 +85,12 @@ class Engine {
   /// last to the first (a particle moved into a freed slot has been looked at
   /// already). Returns the number deleted on this rank.
   long long delete_particles(const std::vector<char>& doomed);
+
+  /// Called with the words of every command before it runs (after
+  /// substitution); it may refuse one by throwing InputError. Unset in the
+  /// granary program; the engine fuzz targets keep random scripts small and
+  /// inside their folder with it (unittest/fuzz/fuzz_engine.cpp).
+  std::function<void(const Args&)> command_guard;
 
   MPI_Comm world;
   int rank = 0;

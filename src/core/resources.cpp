@@ -24,7 +24,27 @@ double available_memory_bytes() {
   return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
 }
 
+namespace {
+double g_particle_limit = -1.0;  // < 0: none
+}  // namespace
+
+void set_particle_limit(double n) {
+  g_particle_limit = n;
+}
+
+void check_particle_limit(const Engine& e, double n, const std::string& what) {
+  if (g_particle_limit < 0.0) return;
+  const double total = n + static_cast<double>(e.particles->natoms);
+  if (!(total <= g_particle_limit)) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%s: %.4g particles would pass this program's limit of %.4g particles",
+                  what.c_str(), total, g_particle_limit);
+    throw InputError(buf);
+  }
+}
+
 void check_particle_memory(const Engine& e, double n, const std::string& what) {
+  check_particle_limit(e, n, what);
   const double avail = available_memory_bytes();
   if (!(avail > 0.0) || !(n > 0.0)) return;
   // the particles spread over the ranks; the ranks of this machine share its memory

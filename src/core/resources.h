@@ -22,4 +22,13 @@ double available_memory_bytes();
 /// rank gets the same verdict). `what` names the request, e.g. "create_atoms random".
 void check_particle_memory(const Engine& e, double n, const std::string& what);
 
+/// A cap on the particles of this process (all ranks together), checked by
+/// check_particle_memory and create_atoms on a lattice; none by default. A
+/// program that embeds the engine sets it (the fuzz targets keep random
+/// scripts small with it).
+void set_particle_limit(double n);
+/// InputError when `n` more particles (an upper bound is fine) would pass the
+/// cap set with set_particle_limit.
+void check_particle_limit(const Engine& e, double n, const std::string& what);
+
 }  // namespace granary

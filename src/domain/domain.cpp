@@ -68,6 +68,18 @@ void Domain::remap(Vec3& x, int& image) const {
   int* img[3] = {&ix, &iy, &iz};
   for (int d = 0; d < 3; ++d) {
     if (!periodic[d]) continue;
+    if (!std::isfinite(x[d])) continue;  // a blown-up particle: the run's checks report it
+    // more than one box length away (a particle far too fast): whole lengths at
+    // once, so the loops below take at most a step (one length is the common
+    // case and gives the same arithmetic as the loops)
+    const double s = std::floor((x[d] - boxlo[d]) / prd[d]);
+    if (s < -1.0 || s > 1.0) {
+      x[d] -= s * prd[d];
+      // image counts wrap (10 bits each), so a multiple of 2^20 changes nothing
+      *img[d] += static_cast<int>(std::fmod(s, 1048576.0));
+      // beyond 2^52 lengths the subtraction cannot place it: left where it is
+      if (x[d] < boxlo[d] - prd[d] || x[d] >= boxhi[d] + prd[d]) continue;
+    }
     while (x[d] < boxlo[d]) {
       x[d] += prd[d];
       --*img[d];

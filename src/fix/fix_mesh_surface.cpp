@@ -45,23 +45,37 @@ void collect_error(vtkObject*, unsigned long, void* client, void* call) {
 // A binary STL is an 80-byte header, a 32-bit little-endian triangle count N
 // and N records of 50 bytes: its size must be 84 + 50 N. A file cut inside its
 // last triangle would otherwise load with one triangle fewer and no message
-// (a hole in the wall). An ASCII STL (starting with "solid", with "facet" or
-// "endsolid" in its first kilobyte) is left to the reader. Returns "" or what
-// is wrong.
+// (a hole in the wall), and a count larger than the file would make the reader
+// allocate for it. The reader (vtkSTLReader) takes a file for binary when 5 %
+// or more of its first 256 bytes are not text (bytes 0x20-0x7f, tab, CR, LF),
+// whatever it starts with; the same rule decides here, so every file it reads
+// as binary is checked. Returns "" or what is wrong.
 std::string check_binary_size(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
-  std::string head(1024, '\0');
+  std::string head(256, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  std::size_t text = 0;
+  for (const char c : head) {
+    const auto u = static_cast<unsigned char>(c);
+    if ((u >= 0x20 && u <= 0x7f) || c == '\n' || c == '\r' || c == '\t') ++text;
+  }
+  const bool binary =
+      !head.empty() && static_cast<double>(head.size() - text) >= 0.05 * static_cast<double>(head.size());
+  if (!binary) return "";
   const std::size_t first = head.find_first_not_of(" \t\r\n");
-  const bool ascii = first != std::string::npos && head.compare(first, 5, "solid") == 0 &&
-                     (head.find("facet") != std::string::npos || head.find("endsolid") != std::string::npos);
-  if (ascii) return "";
+  const std::string as =
+      first != std::string::npos && head.compare(first, 5, "solid") == 0 &&
+              head.find("facet") != std::string::npos
+          ? " (it starts like an ASCII STL, but 5 % or more of its first 256 bytes are not "
+            "text, so it is read as binary)"
+          : "";
+  head.resize(std::min<std::size_t>(head.size(), 84));
   std::error_code ec;
   const auto size = static_cast<unsigned long long>(std::filesystem::file_size(file, ec));
   if (ec) return "";
   if (size < 84) {
-    return "binary STL file '" + file + "' has " + std::to_string(size) +
+    return "binary STL file '" + file + "'" + as + " has " + std::to_string(size) +
            " bytes, fewer than the 84 of its header and triangle count; the file is cut or not an STL";
   }
   const auto* b = reinterpret_cast<const unsigned char*>(head.data() + 80);
@@ -71,14 +85,14 @@ std::string check_binary_size(const std::string& file) {
   if (size == expect) return "";
   if (size < expect) {
     const unsigned long long whole = (size - 84) / 50;
-    return "binary STL file '" + file + "' is cut: its header announces " + std::to_string(n) +
+    return "binary STL file '" + file + "'" + as + " is cut: its header announces " + std::to_string(n) +
            " triangles (" + std::to_string(expect) + " bytes) but the file has " + std::to_string(size) +
            " bytes, so triangle " + std::to_string(whole + 1) + " ends at byte " + std::to_string(size) +
            " instead of " + std::to_string(84 + 50 * (whole + 1)) + "; write the file again";
   }
-  return "binary STL file '" + file + "' has " + std::to_string(size - expect) + " bytes after the " +
-         std::to_string(n) + " triangles its header announces (" + std::to_string(expect) +
-         " bytes); the triangle count or the file is wrong";
+  return "binary STL file '" + file + "'" + as + " has " + std::to_string(size - expect) +
+         " bytes after the " + std::to_string(n) + " triangles its header announces (" +
+         std::to_string(expect) + " bytes); the triangle count or the file is wrong";
 }
 
 // Rank 0: read the triangle corners of an STL file (ASCII or binary); returns

@@ -104,15 +104,28 @@ class Reader {
     return s;
   }
   void get_doubles(double* out, std::size_t n) {
-    need(n * sizeof(double));
+    if (n > remaining() / sizeof(double)) need(remaining() + 1);
+    if (n == 0) return;  // (out may be the null data() of an empty vector)
     std::memcpy(out, data_.data() + pos_, n * sizeof(double));
     pos_ += n * sizeof(double);
   }
   bool done() const { return pos_ == data_.size(); }
+  std::size_t remaining() const { return data_.size() - pos_; }
+  /// A count read from the file that announces `count` items of at least
+  /// `bytes_each` bytes still to come: refused before anything is allocated
+  /// for them when the section cannot hold that many.
+  void check_count(std::uint64_t count, std::size_t bytes_each, const char* what) const {
+    if (bytes_each > 0 && count > remaining() / bytes_each) {
+      throw InputError(
+          "restart file '" + file_ + "': section '" + section_ + "' announces " + std::to_string(count) +
+          " " + what + ", more than its " + std::to_string(remaining()) +
+          " remaining bytes hold; the file is corrupted or was written by an incompatible program");
+    }
+  }
 
  private:
   void need(std::size_t n) const {
-    if (pos_ + n > data_.size()) {
+    if (n > remaining()) {
       throw InputError("restart file '" + file_ + "': section '" + section_ +
                        "' ends early; the file is corrupted or was written by an incompatible program");
     }
@@ -488,28 +501,93 @@ void read_restart(Engine& e, const std::string& file) {
       !g.count("forces_current") || g["forces_current"].empty() || g["forces_current"][0] == "1";
   const auto& bnd = need("boundary", 3);
   const Vec3 boxlo = vec("boxlo"), boxhi = vec("boxhi"), minlo = vec("minlo"), minhi = vec("minhi");
-  const int ntypes = static_cast<int>(parse_int(need("ntypes", 1)[0], "ntypes"));
+  const long long ntypes_read = parse_int(need("ntypes", 1)[0], "ntypes");
   const auto& nb = need("neighbor", 6);
+  auto bad = [&](const std::string& what) {
+    return InputError("restart file '" + file + "': " + what +
+                      "; the file is corrupted or was written by an incompatible program");
+  };
+  // the global values, checked before anything is applied
+  if (ntypes_read < 1 || ntypes_read > Particles::kMaxTypes)
+    throw bad("the number of atom types " + std::to_string(ntypes_read) + " is outside 1.." +
+              std::to_string(Particles::kMaxTypes));
+  const int ntypes = static_cast<int>(ntypes_read);
+  for (int k = 0; k < 3; ++k) {
+    if (!(std::isfinite(boxlo[k]) && std::isfinite(boxhi[k]) && boxlo[k] < boxhi[k]))
+      throw bad("the box bounds are not finite numbers with lo < hi");
+    if (!(std::isfinite(minlo[k]) && std::isfinite(minhi[k]) && minlo[k] <= minhi[k]))
+      throw bad("the initial box bounds are not finite numbers with lo <= hi");
+    if (bnd[k].empty() || bnd[k].size() > 2 || bnd[k].find_first_not_of("pfsm") != std::string::npos)
+      throw bad("boundary '" + bnd[k] + "' is not one of p, f, s, m (or two of them)");
+  }
+  if (!(std::isfinite(dt) && dt > 0.0)) throw bad("the timestep is not a positive number");
+  if (step < 0 || atimestep < 0 || atimestep > step || !std::isfinite(atime))
+    throw bad("the step or time is not valid");
+  if (units != "si" && units != "cgs") throw bad("unknown units '" + units + "'");
+  const double skin_read = parse_double(nb[0], "skin");
+  long long neigh_int[4] = {parse_int(nb[1], "every"), parse_int(nb[2], "delay"), 0,
+                            parse_int(nb[4], "sort")};
+  const double sort_binsize = parse_double(nb[5], "sort binsize");
+  if (!(std::isfinite(skin_read) && skin_read >= 0.0) ||
+      !(std::isfinite(sort_binsize) && sort_binsize >= 0.0))
+    throw bad("the neighbour skin or sort bin size is not a number >= 0");
+  for (long long v : neigh_int)
+    if (v < 0 || v > 1000000000) throw bad("a neighbour setting is outside 0..1e9");
 
   Reader pr(fs.sections["particles"], file, "particles");
   const auto count = pr.get<std::uint64_t>();
   const auto nextra = pr.get<std::uint32_t>();
+  pr.check_count(nextra, 12, "per-particle fields");
   std::vector<std::string> fnames(nextra);
   std::vector<int> fncomp(nextra);
   std::size_t per = kCoreFields;
   for (std::uint32_t k = 0; k < nextra; ++k) {
     fnames[k] = pr.get_string();
-    fncomp[k] = static_cast<int>(pr.get<std::uint32_t>());
+    const auto ncomp = pr.get<std::uint32_t>();
+    if (fnames[k].empty() || ncomp < 1 || ncomp > 4096)
+      throw bad("per-particle field " + std::to_string(k + 1) + " has no name or " + std::to_string(ncomp) +
+                " values (1..4096)");
+    fncomp[k] = static_cast<int>(ncomp);
     per += fncomp[k];
   }
+  pr.check_count(count, per * sizeof(double), "particles");
   std::vector<double> records(count * per);
   pr.get_doubles(records.data(), records.size());
+  // every record's core values, checked before anything is applied
+  // (layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image)
+  {
+    std::vector<double> ids;
+    ids.reserve(count);
+    auto integral = [](double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); };
+    for (std::uint64_t r = 0; r < count; ++r) {
+      const double* rec = &records[r * per];
+      const std::string which = "particle record " + std::to_string(r + 1);
+      for (int c = 0; c < kCoreFields; ++c)
+        if (!std::isfinite(rec[c])) throw bad(which + " holds a value that is not a finite number");
+      if (!integral(rec[0], 1.0, 9.0e15)) throw bad(which + " has the id " + fmt(rec[0]));
+      if (!integral(rec[1], 1.0, ntypes))
+        throw bad(which + " has the type " + fmt(rec[1]) + " (1.." + std::to_string(ntypes) + ")");
+      if (!integral(rec[2], 0.0, 2147483647.0)) throw bad(which + " has the group mask " + fmt(rec[2]));
+      if (!(rec[18] > 0.0 && rec[19] > 0.0 && rec[20] > 0.0))
+        throw bad(which + " has a radius, density or mass that is not positive");
+      if (!integral(rec[21], -1.0, 9.0e15)) throw bad(which + " has the body " + fmt(rec[21]));
+      if (!integral(rec[22], -2147483648.0, 2147483647.0))
+        throw bad(which + " has the image flags " + fmt(rec[22]));
+      ids.push_back(rec[0]);
+    }
+    std::sort(ids.begin(), ids.end());
+    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
+      throw bad("two particle records have the same id");
+  }
 
   std::vector<double> history;
   if (fs.sections.count("contact_history")) {
     Reader hr(fs.sections["contact_history"], file, "contact_history");
     const auto nentries = hr.get<std::uint64_t>();
     const auto nvalues = hr.get<std::uint32_t>();
+    if (nvalues > 4096)
+      throw bad("contact history entries of " + std::to_string(nvalues) + " values (0..4096)");
+    hr.check_count(nentries, 16 + nvalues * sizeof(double), "contact history entries");
     history.push_back(static_cast<double>(nentries));
     history.push_back(nvalues);
     for (std::uint64_t c = 0; c < nentries; ++c) {
@@ -538,7 +616,9 @@ void read_restart(Engine& e, const std::string& file) {
     const auto nm = mr.get<std::uint32_t>();
     for (std::uint32_t k = 0; k < nm; ++k) {
       const std::string name = mr.get_string();
-      std::vector<double> values(mr.get<std::uint64_t>());
+      const auto nvalues = mr.get<std::uint64_t>();
+      mr.check_count(nvalues, sizeof(double), "material values");
+      std::vector<double> values(nvalues);
       mr.get_doubles(values.data(), values.size());
       materials[name] = values;
     }
@@ -563,15 +643,15 @@ void read_restart(Engine& e, const std::string& file) {
   u.dt = dt;
   e.force->newton_pair = need("newton", 1)[0] == "on";
   Neighbor& ne = *e.neighbor;
-  ne.skin = parse_double(nb[0], "skin");
-  ne.every = static_cast<int>(parse_int(nb[1], "every"));
-  ne.delay = static_cast<int>(parse_int(nb[2], "delay"));
+  ne.skin = skin_read;
+  ne.every = static_cast<int>(neigh_int[0]);
+  ne.delay = static_cast<int>(neigh_int[1]);
   ne.check = nb[3] == "1";
-  ne.sort_every = static_cast<int>(parse_int(nb[4], "sort"));
-  ne.sort_binsize = parse_double(nb[5], "sort binsize");
+  ne.sort_every = static_cast<int>(neigh_int[3]);
+  ne.sort_binsize = sort_binsize;
   for (const auto& kv : g) {
     if (kv.first.rfind("group#", 0) != 0 || kv.second.size() < 2) continue;
-    const int index = static_cast<int>(parse_int(kv.second[0], "group index"));
+    const long long index = parse_int(kv.second[0], "group index");
     if (index >= 0 && index < Groups::kMaxGroups) e.groups->names[index] = kv.second[1];
   }
   if (g.count("pair_style")) e.force->restart_pair_style = join(g["pair_style"]);

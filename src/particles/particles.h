@@ -41,6 +41,8 @@ class Particles {
   int nlocal = 0;
   int nghost = 0;
   int ntypes = 0;
+  /// Most atom types a box may have (per-type-pair tables grow as its square).
+  static constexpr int kMaxTypes = 10000;
   tagint natoms = 0;  // global number of particles (kept current by the owner of the count)
 
   // core fields: [exchange, restart]; x v omega are forward-communicated;
