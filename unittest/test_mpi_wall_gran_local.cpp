@@ -299,9 +299,11 @@ TEST_CASE("compute wall/gran/local: spheres resting on a floor report their weig
   }
 }
 
-// LIGGGHTS 3.8 (dump local of every column, %.17g) for the same script.
+// LIGGGHTS 3.8 (dump local of every column, %.17g) for the same script, run
+// unchanged by Granary (its dump local, and dump local/gran/vtk besides).
 TEST_CASE(
-    "compute wall/gran/local and dump local/gran/vtk: LIGGGHTS 3.8's values for four spheres on two meshes",
+    "compute wall/gran/local, dump local and dump local/gran/vtk: LIGGGHTS 3.8's values for four spheres on "
+    "two meshes",
     "[wall_gran_local][mpi][liggghts]") {
   const fs::path src(GRANARY_SOURCE_DIR);
   const fs::path scripts = src / "unittest/scripts/wall_gran_local";
@@ -310,49 +312,62 @@ TEST_CASE(
   const std::string dir = fresh_dir("liggghts");
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
   for (std::string line : script_lines((scripts / "in.wall_gran_local").string())) {
-    if (line.rfind("dump", 0) == 0) continue;  // dump local is LIGGGHTS' only; d2 is written below
-    for (const char* stl : {"floor.stl", "side.stl"}) {
-      const auto at = line.find(std::string("file ") + stl);
-      if (at != std::string::npos) line.replace(at + 5, std::string(stl).size(), (scripts / stl).string());
+    // the script's files, in the test's directory
+    for (const char* file : {"floor.stl", "side.stl", "wall_gran_local.dump", "wallcontacts*.vtp"}) {
+      const std::string name(file);
+      const auto at = line.find(" " + name);
+      if (at == std::string::npos) continue;
+      const bool input = name.find(".stl") != std::string::npos;
+      line.replace(at + 1, name.size(), input ? (scripts / name).string() : dir + "/" + name);
     }
-    if (line.rfind("run", 0) == 0) s.cmd("dump d2 all local/gran/vtk 1 " + dir + "/wallcontacts*.vtp cwgl");
     s.cmd(line);
   }
+  const auto written = read_dump_local(dir + "/wall_gran_local.dump");
+  CHECK(written.size() == reference.size());
   for (const auto& [step, expect] : reference) {
-    INFO("step " << step);
-    const auto ds = read_vtp(dir + "/wallcontacts" + std::to_string(step) + ".vtp");
-    REQUIRE(ds);
-    const std::vector<Row> got = frame_rows(ds);
-    REQUIRE(got.size() == expect.size());
-    REQUIRE(expect.size() == 4);
-    for (const Row& want : expect) {
-      REQUIRE(want.size() == 35);
-      // the same contact: mesh, triangle, particle
-      const Row* match = nullptr;
-      for (const Row& g : got)
-        if (g[12] == want[12] && g[13] == want[13] && g[14] == want[14]) match = &g;
-      INFO("contact of particle " << want[14] << " with triangle " << want[13] << " of mesh " << want[12]);
-      REQUIRE(match);
-      const Row& g = *match;
-      // positions and velocities: the same to round-off
-      for (int c = 0; c < 12; ++c)
-        CHECK(g[c] == Approx(want[c]).epsilon(1e-12).margin(1e-15));
-      // forces, torques, history (to 1e-10 of the largest component of each vector)
-      // (the parts of the force to 1e-10 of the force: LIGGGHTS' split leaves
-      // round-off of 1e-17 N in a zero tangential part)
-      const double force = v3(want, 15).norm();
-      for (int at : {15, 18, 21, 24, 27}) {
-        double scale = std::max({std::abs(want[at]), std::abs(want[at + 1]), std::abs(want[at + 2])});
-        if (at <= 21) scale = std::max(scale, force);
-        INFO("columns " << at + 1 << "-" << at + 3);
-        CHECK((v3(g, at) - v3(want, at)).norm() <= 1e-10 * scale + 1e-30);
+    for (const char* source : {"dump local", "dump local/gran/vtk"}) {
+      INFO("step " << step << ", " << source);
+      std::vector<Row> got;
+      if (source == std::string("dump local")) {
+        REQUIRE(written.count(step));
+        got = written.at(step);
+      } else {
+        const auto ds = read_vtp(dir + "/wallcontacts" + std::to_string(step) + ".vtp");
+        REQUIRE(ds);
+        got = frame_rows(ds);
       }
-      CHECK(g[30] == Approx(want[30]).epsilon(1e-10));  // contact area
-      CHECK(g[31] == Approx(want[31]).epsilon(1e-10));  // overlap
-      // LIGGGHTS writes zeros as the contact point of wall contacts; Granary
-      // the contact point on the wall (the first position)
-      CHECK(v3(want, 32).norm() == 0.0);
-      CHECK(v3(g, 32) == v3(g, 0));
+      REQUIRE(got.size() == expect.size());
+      REQUIRE(expect.size() == 4);
+      for (const Row& want : expect) {
+        REQUIRE(want.size() == 35);
+        // the same contact: mesh, triangle, particle
+        const Row* match = nullptr;
+        for (const Row& g : got)
+          if (g[12] == want[12] && g[13] == want[13] && g[14] == want[14]) match = &g;
+        INFO("contact of particle " << want[14] << " with triangle " << want[13] << " of mesh " << want[12]);
+        REQUIRE(match);
+        const Row& g = *match;
+        REQUIRE(g.size() == 35);
+        // positions and velocities: the same to round-off
+        for (int c = 0; c < 12; ++c)
+          CHECK(g[c] == Approx(want[c]).epsilon(1e-12).margin(1e-15));
+        // forces, torques, history (to 1e-10 of the largest component of
+        // each vector; the parts of the force to 1e-10 of the force: LIGGGHTS'
+        // split leaves round-off of 1e-17 N in a zero tangential part)
+        const double force = v3(want, 15).norm();
+        for (int at : {15, 18, 21, 24, 27}) {
+          double scale = std::max({std::abs(want[at]), std::abs(want[at + 1]), std::abs(want[at + 2])});
+          if (at <= 21) scale = std::max(scale, force);
+          INFO("columns " << at + 1 << "-" << at + 3);
+          CHECK((v3(g, at) - v3(want, at)).norm() <= 1e-10 * scale + 1e-30);
+        }
+        CHECK(g[30] == Approx(want[30]).epsilon(1e-10));  // contact area
+        CHECK(g[31] == Approx(want[31]).epsilon(1e-10));  // overlap
+        // LIGGGHTS writes zeros as the contact point of wall contacts; Granary
+        // the contact point on the wall (the first position)
+        CHECK(v3(want, 32).norm() == 0.0);
+        CHECK(v3(g, 32) == v3(g, 0));
+      }
     }
   }
 }

@@ -40,6 +40,9 @@ class ComputeGranLocal : public Compute {
  protected:
   /// Parses the keywords (args from index 3); none: LIGGGHTS' default set.
   ComputeGranLocal(Engine& engine, const Args& args);
+  /// size_local_cols for a layout: one column is a local vector (0), as in
+  /// LIGGGHTS; more make a local array.
+  static int local_cols(const Layout& L) { return L.ncols == 1 ? 0 : L.ncols; }
   /// Doubles of contact history per contact (0 while unknown).
   virtual int history_size() const = 0;
   virtual bool wall() const = 0;

@@ -23,7 +23,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 ComputePairGranLocal::ComputePairGranLocal(Engine& engine, const Args& args)
     : ComputeGranLocal(engine, args) {
-  size_local_cols = layout().ncols;
+  size_local_cols = local_cols(layout());
 }
 
 PairGranular& ComputePairGranLocal::pair() const {
@@ -44,7 +44,7 @@ int ComputePairGranLocal::history_size() const {
 
 void ComputePairGranLocal::init() {
   pair();
-  size_local_cols = layout().ncols;
+  size_local_cols = local_cols(layout());
 }
 
 void ComputePairGranLocal::compute_local() {
@@ -62,7 +62,7 @@ void ComputePairGranLocal::compute_local() {
                      "during a run, or after `run 0` when particles were added or deleted or the pair style "
                      "changed since the last run");
   const Layout L = layout();
-  size_local_cols = L.ncols;
+  size_local_cols = local_cols(L);
 
   // ghosts get the current velocities and spins (after the last forward
   // communication they hold the half-step ones); positions do not change

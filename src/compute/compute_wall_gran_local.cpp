@@ -28,19 +28,19 @@ constexpr double kPi = 3.14159265358979323846;
 class ComputeWallGranLocal : public ComputeGranLocal {
  public:
   ComputeWallGranLocal(Engine& engine, const Args& args) : ComputeGranLocal(engine, args) {
-    size_local_cols = layout().ncols;
+    size_local_cols = local_cols(layout());
   }
 
   void init() override {
     walls();
-    size_local_cols = layout().ncols;
+    size_local_cols = local_cols(layout());
   }
 
   void compute_local() override {
     const std::string where = "compute " + id + " (" + style + ")";
     const std::vector<FixWallGran*> fixes = walls();
     const Layout L = layout();
-    size_local_cols = L.ncols;
+    size_local_cols = local_cols(L);
     const Particles& p = *engine_.particles;
     array_local.clear();
     row_i.clear();
