@@ -273,54 +273,69 @@ TEST_CASE("compute pair/gran/local: a resting overlap gives the Hertz force", "[
   CHECK((f1_all - on1).norm() < 1e-14 * fn);
 }
 
-// LIGGGHTS 3.8 (dump local of every column, %.17g) for the same script. The
+// LIGGGHTS 3.8 (dump local of every column, %.17g) for the same script, run
+// unchanged by Granary (its dump local, and dump local/gran/vtk besides). The
 // contact forces of LIGGGHTS' compute are those of the current positions,
 // velocities and history; Granary's are the same to round-off.
-TEST_CASE("compute pair/gran/local and dump local/gran/vtk: LIGGGHTS 3.8's values for four spheres",
-          "[pair_gran_local][mpi][liggghts]") {
+TEST_CASE(
+    "compute pair/gran/local, dump local and dump local/gran/vtk: LIGGGHTS 3.8's values for four spheres",
+    "[pair_gran_local][mpi][liggghts]") {
   const fs::path src(GRANARY_SOURCE_DIR);
   const auto reference = read_dump_local((src / "unittest/reference/pair_gran_local.liggghts.dump").string());
   REQUIRE(reference.size() == 4);
   const std::string dir = fresh_dir("liggghts");
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
-  for (const std::string& line :
+  for (std::string line :
        script_lines((src / "unittest/scripts/pair_gran_local/in.pair_gran_local").string())) {
-    if (line.rfind("dump", 0) == 0) continue;  // dump local is LIGGGHTS' only; d2 is written below
-    if (line.rfind("run", 0) == 0) s.cmd("dump d2 all local/gran/vtk 1 " + dir + "/forcechain*.vtp cpgl");
+    // the script's dumps (local and local/gran/vtk) write to the test's directory
+    for (const std::string name : {"pair_gran_local.dump", "forcechain*.vtp"}) {
+      const auto at = line.find(" " + name);
+      if (at != std::string::npos) line.replace(at + 1, name.size(), dir + "/" + name);
+    }
     s.cmd(line);
   }
-  for (const auto& [step, expect] : reference) {
-    INFO("step " << step);
-    const auto ds = read_xml<vtkXMLPolyDataReader>(dir + "/forcechain" + std::to_string(step) + ".vtp");
-    REQUIRE(ds);
-    const std::vector<Row> got = frame_rows(ds);
-    REQUIRE(got.size() == expect.size());
-    for (const Row& want : expect) {
-      REQUIRE(want.size() == 35);
-      // the same contact, in either order of its particles
-      const Row* match = nullptr;
-      for (const Row& g : got)
-        if ((g[12] == want[12] && g[13] == want[13]) || (g[12] == want[13] && g[13] == want[12])) match = &g;
-      INFO("contact " << want[12] << "-" << want[13]);
-      REQUIRE(match);
-      Row g = *match;
-      if (g[12] != want[12]) g = seen_from_other(g);
-      // positions and velocities of the integration: the same to round-off
-      for (int c = 0; c < 12; ++c)
-        CHECK(g[c] == Approx(want[c]).epsilon(1e-12).margin(1e-15));
-      CHECK(g[14] == want[14]);
-      // forces and torques (to 1e-9 of the largest component of each vector)
-      for (int at : {15, 18, 21, 24, 27}) {
-        const double scale = std::max({std::abs(want[at]), std::abs(want[at + 1]), std::abs(want[at + 2])});
-        INFO("columns " << at + 1 << "-" << at + 3);
-        CHECK((v3(g, at) - v3(want, at)).norm() <= 1e-12 * scale + 1e-300);
+  const auto written = read_dump_local(dir + "/pair_gran_local.dump");
+  CHECK(written.size() == reference.size());
+  for (const auto& [step, expect] : reference)
+    for (const char* source : {"dump local", "dump local/gran/vtk"}) {
+      INFO("step " << step << ", " << source);
+      std::vector<Row> got;
+      if (source == std::string("dump local")) {
+        REQUIRE(written.count(step));
+        got = written.at(step);
+      } else {
+        const auto ds = read_xml<vtkXMLPolyDataReader>(dir + "/forcechain" + std::to_string(step) + ".vtp");
+        REQUIRE(ds);
+        got = frame_rows(ds);
       }
-      CHECK(g[30] == Approx(want[30]).epsilon(1e-12));  // contact area
-      CHECK(g[31] == Approx(want[31]).epsilon(1e-10));  // overlap
-      for (int c = 32; c < 35; ++c)
-        CHECK(g[c] == Approx(want[c]).epsilon(1e-12).margin(1e-15));  // contact point
+      REQUIRE(got.size() == expect.size());
+      for (const Row& want : expect) {
+        REQUIRE(want.size() == 35);
+        // the same contact, in either order of its particles
+        const Row* match = nullptr;
+        for (const Row& g : got)
+          if ((g[12] == want[12] && g[13] == want[13]) || (g[12] == want[13] && g[13] == want[12]))
+            match = &g;
+        INFO("contact " << want[12] << "-" << want[13]);
+        REQUIRE(match);
+        Row g = *match;
+        if (g[12] != want[12]) g = seen_from_other(g);
+        // positions and velocities of the integration: the same to round-off
+        for (int c = 0; c < 12; ++c)
+          CHECK(g[c] == Approx(want[c]).epsilon(1e-12).margin(1e-15));
+        CHECK(g[14] == want[14]);
+        // forces and torques (to 1e-9 of the largest component of each vector)
+        for (int at : {15, 18, 21, 24, 27}) {
+          const double scale = std::max({std::abs(want[at]), std::abs(want[at + 1]), std::abs(want[at + 2])});
+          INFO("columns " << at + 1 << "-" << at + 3);
+          CHECK((v3(g, at) - v3(want, at)).norm() <= 1e-12 * scale + 1e-300);
+        }
+        CHECK(g[30] == Approx(want[30]).epsilon(1e-12));  // contact area
+        CHECK(g[31] == Approx(want[31]).epsilon(1e-10));  // overlap
+        for (int c = 32; c < 35; ++c)
+          CHECK(g[c] == Approx(want[c]).epsilon(1e-12).margin(1e-15));  // contact point
+      }
     }
-  }
 }
 
 TEST_CASE("compute pair/gran/local: every contact once on any number of ranks, with periodic images",

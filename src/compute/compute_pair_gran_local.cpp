@@ -19,55 +19,11 @@ namespace granary {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-const char* const kKeywords =
-    "pos, vel, id, force, force_normal, force_tangential, torque, history, contactArea, delta, contactPoint";
 }  // namespace
 
-ComputePairGranLocal::ComputePairGranLocal(Engine& engine, const Args& args) : Compute(engine, args) {
-  local_flag = true;
-  const std::string where = "compute " + id + " " + style;
-  if (args.size() == 3) {
-    // LIGGGHTS' default: everything but force_normal, force_tangential, delta
-    // and contactPoint
-    want_pos_ = want_vel_ = want_id_ = want_force_ = want_torque_ = want_history_ = want_area_ = true;
-  }
-  for (std::size_t k = 3; k < args.size(); ++k) {
-    const std::string& w = args[k];
-    if (w == "pos")
-      want_pos_ = true;
-    else if (w == "vel")
-      want_vel_ = true;
-    else if (w == "id")
-      want_id_ = true;
-    else if (w == "force")
-      want_force_ = true;
-    else if (w == "force_normal")
-      want_fn_ = true;
-    else if (w == "force_tangential")
-      want_ft_ = true;
-    else if (w == "torque")
-      want_torque_ = true;
-    else if (w == "history")
-      want_history_ = true;
-    else if (w == "contactArea")
-      want_area_ = true;
-    else if (w == "delta")
-      want_delta_ = true;
-    else if (w == "contactPoint")
-      want_point_ = true;
-    else if (w == "heatFlux")
-      throw InputError(
-          where +
-          ": heatFlux needs the conductive heat transfer of fix heat/gran, which Granary does not "
-          "have; remove the keyword");
-    else if (w == "ms_id")
-      throw InputError(where +
-                       ": ms_id is not supported; the clump of each particle is the per-atom value 'body' "
-                       "(dump custom ... body)");
-    else
-      throw InputError(where + ": unknown keyword '" + w + "'; expected any of " + kKeywords);
-  }
-  size_local_cols = layout().ncols;
+ComputePairGranLocal::ComputePairGranLocal(Engine& engine, const Args& args)
+    : ComputeGranLocal(engine, args) {
+  size_local_cols = local_cols(layout());
 }
 
 PairGranular& ComputePairGranLocal::pair() const {
@@ -81,32 +37,14 @@ PairGranular& ComputePairGranLocal::pair() const {
   return *pg;
 }
 
-ComputePairGranLocal::Layout ComputePairGranLocal::layout() const {
-  Layout L;
-  auto take = [&L](bool want, int& first, int n) {
-    if (!want) return;
-    first = L.ncols;
-    L.ncols += n;
-  };
+int ComputePairGranLocal::history_size() const {
   const auto* pg = dynamic_cast<const PairGranular*>(engine_.force->pair.get());
-  L.nhistory = pg ? pg->history_size() : 0;
-  take(want_pos_, L.pos, 6);
-  take(want_vel_, L.vel, 6);
-  take(want_id_, L.id, 3);
-  take(want_force_, L.force, 3);
-  take(want_fn_, L.force_normal, 3);
-  take(want_ft_, L.force_tangential, 3);
-  take(want_torque_, L.torque, 3);
-  take(want_history_, L.history, L.nhistory);
-  take(want_area_, L.contact_area, 1);
-  take(want_delta_, L.delta, 1);
-  take(want_point_, L.contact_point, 3);
-  return L;
+  return pg ? pg->history_size() : 0;
 }
 
 void ComputePairGranLocal::init() {
   pair();
-  size_local_cols = layout().ncols;
+  size_local_cols = local_cols(layout());
 }
 
 void ComputePairGranLocal::compute_local() {
@@ -124,7 +62,7 @@ void ComputePairGranLocal::compute_local() {
                      "during a run, or after `run 0` when particles were added or deleted or the pair style "
                      "changed since the last run");
   const Layout L = layout();
-  size_local_cols = L.ncols;
+  size_local_cols = local_cols(L);
 
   // ghosts get the current velocities and spins (after the last forward
   // communication they hold the half-step ones); positions do not change

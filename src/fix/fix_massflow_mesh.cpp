@@ -18,10 +18,22 @@
 // per step: the rates are over the interval since the previous read).
 // Particles counted with delete_atoms yes are deleted in pre_exchange of the
 // next reneighbouring step. See doc/fixes/massflow_mesh.md.
+//
+// fix ID group massflow/mesh/sieve ... sieveSize S sieveSpacing A
+//     sieveStiffness K [sieveDamping C] [sieveMultiSphereCanPass] [seed N]
+// is the same counter on a mesh that is a sieve: a particle of the group that
+// touches the mesh (its centre within its radius of the nearest point of the
+// mesh) passes, at the first step of the contact, with the open-area
+// probability of its diameter d, pi (S - d)^2 / (4 A^2) (0 for d >= S), drawn
+// from a hash of the seed, the particle id and the step (the same on any
+// number of ranks); otherwise, until the contact ends, the mesh pushes it
+// back with the normal force max(0, K delta - C v_n) (post_force). See
+// doc/fixes/massflow_mesh_sieve.md.
 #include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -54,14 +66,32 @@ enum Track : int {
 };
 constexpr int kComps = 4;  // state, previous unwrapped position (3)
 
+// the sieve's per-particle state of the current contact with the mesh
+enum SieveState : int {
+  kNoContact = 0,
+  kPasses = 1,        // passes through the mesh: no force until the contact ends
+  kBlockedInner = 2,  // repelled, came from the inner side
+  kBlockedOuter = 3,  // repelled, came from the outer side
+};
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// splitmix64's finaliser: a bijective mix of 64 bits.
+std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
 class FixMassflowMesh : public Fix {
  public:
-  FixMassflowMesh(Engine& engine, const Args& args) : Fix(engine, args) {
+  FixMassflowMesh(Engine& engine, const Args& args, bool sieve = false) : Fix(engine, args), sieve_(sieve) {
     const std::string what = where();
     std::size_t k = 3;
     if (k + 1 >= args.size() || args[k] != "mesh")
       throw InputError(what + ": expected 'mesh MESH-ID' after the style, e.g. fix " + id + " " + args[1] +
-                       " massflow/mesh mesh outlet vec_side 0 0 -1");
+                       " " + style + " mesh outlet vec_side 0 0 -1");
     mesh_id_ = args[k + 1];
     FixMeshSurface::find(*engine.modify, mesh_id_, what);
     k += 2;
@@ -102,14 +132,20 @@ class FixMassflowMesh : public Fix {
         delete_ = parse_bool(args[k + 1], what + " delete_atoms");
         ++k;
       } else if (w == "mesh") {
-        throw InputError(what + ": one mesh per fix; define another fix massflow/mesh for mesh '" +
+        throw InputError(what + ": one mesh per fix; define another fix " + style + " for mesh '" +
                          (has1 ? args[k + 1] : std::string("?")) + "'");
+      } else if (sieve_ && parse_sieve(args, k)) {
+        // a sieve keyword (k is at its last word)
       } else {
         throw InputError(what + ": unknown keyword or missing value '" + w +
                          "'; expected vec_side, point_at_outlet, inside_out, count, file, append, writeTime, "
-                         "screen or delete_atoms");
+                         "screen or delete_atoms" +
+                         (sieve_ ? std::string(", or sieveSize, sieveSpacing, sieveStiffness, sieveDamping, "
+                                               "sieveMultiSphereCanPass, seed")
+                                 : std::string()));
       }
     }
+    if (sieve_) check_sieve();
     // LIGGGHTS 3.8's rules
     if (!have_side && !use_point_)
       throw InputError(what +
@@ -124,11 +160,12 @@ class FixMassflowMesh : public Fix {
     if (delete_ && !once_) throw InputError(what + ": delete_atoms yes requires count once (as in LIGGGHTS)");
     if (!use_point_) check_vec_side();
 
-    size_vector = 6;
+    size_vector = sieve_ ? 9 : 6;
     peratom_flag = true;
     restart_global = true;
     aliases.push_back("massflow_" + id);  // LIGGGHTS' name of the per-atom marker
     field_ = engine.particles->add_field(field_name(), kComps, false, true);
+    if (sieve_) sieve_field_ = engine.particles->add_field(sieve_field_name(), 1, false, true);
 
     if (!file_.empty()) {
       // rank 0 writes; every rank learns whether it could open the file
@@ -153,14 +190,20 @@ class FixMassflowMesh : public Fix {
     if (fp_) std::fclose(fp_);
   }
 
-  unsigned hooks() const override { return POST_INTEGRATE | (delete_ ? PRE_EXCHANGE : 0u); }
+  unsigned hooks() const override {
+    return POST_INTEGRATE | (delete_ ? PRE_EXCHANGE : 0u) | (sieve_ ? POST_FORCE : 0u);
+  }
 
-  void unfixed() override { engine_.particles->release_field(field_name()); }
+  void unfixed() override {
+    engine_.particles->release_field(field_name());
+    if (sieve_) engine_.particles->release_field(sieve_field_name());
+  }
 
   void init() override {
     mesh_ = &FixMeshSurface::find(*engine_.modify, mesh_id_, where());
     if (!use_point_) check_vec_side();
     field_ = engine_.particles->add_field(field_name(), kComps, false, true);
+    if (sieve_) sieve_field_ = engine_.particles->add_field(sieve_field_name(), 1, false, true);
     if (delete_ && FixMultisphere::find(*engine_.modify))
       throw InputError(
           where() +
@@ -239,6 +282,85 @@ class FixMassflowMesh : public Fix {
     if (!file_.empty() || screen_) write_records();
   }
 
+  // The sieve: every particle of the group touching the mesh either passes or
+  // is pushed back, decided at the first step of each contact.
+  void post_force() override {
+    if (!sieve_) return;
+    Particles& p = *engine_.particles;
+    TriMesh& mesh = mesh_->mesh;
+    double* state = engine_.particles->extras[sieve_field_].data.data();
+    const double* body_mass = body_mass_.data(p);
+    const std::int64_t step = engine_.update->ntimestep;
+    Vec3 total = Vec3::Zero();
+    for (int i = 0; i < p.nlocal; ++i) {
+      if (!(p.mask[i] & groupbit)) {
+        state[i] = kNoContact;
+        continue;
+      }
+      const double r = p.radius[i];
+      const Vec3 x = p.x[i];
+      // the nearest point of the mesh
+      mesh.ensure_margin(r);
+      int n = 0;
+      const int* cand = mesh.near(x, n);
+      int tri = -1;
+      Vec3 cp = Vec3::Zero();
+      double best = r * r;
+      for (int c = 0; c < n; ++c) {
+        const int t = cand[c];
+        const double dn = (x - mesh.corner(t, 0)).dot(mesh.normal(t));
+        if (dn >= r || dn <= -r) continue;
+        TriMesh::Feature feature;
+        const Vec3 q = mesh.closest_point(t, x, feature);
+        const double d2 = (x - q).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          tri = t;
+          cp = q;
+        }
+      }
+      if (tri < 0) {
+        state[i] = kNoContact;
+        continue;
+      }
+      // the triangle's normal towards the outer side, and the signed
+      // distance of the centre from its plane along it
+      Vec3 m = mesh.normal(tri);
+      if (m.dot(outer(mesh, tri)) < 0.0) m = -m;
+      const double dn = (x - mesh.corner(tri, 0)).dot(m);
+      if (state[i] == kNoContact) {
+        bool inner = dn < 0.0;
+        if (dn == 0.0) inner = p.v[i].dot(m) >= 0.0;  // centre on the mesh: from where it moves
+        state[i] = passes(p, i, body_mass, step) ? kPasses : inner ? kBlockedInner : kBlockedOuter;
+      }
+      if (state[i] == kPasses) continue;
+      // pushed back to the side it came from: across the mesh's faces along
+      // the normal (also once its centre got past the mesh's plane), at the
+      // mesh's edges away from the nearest point
+      Vec3 normal;
+      double overlap;
+      const Vec3 off = x - cp;
+      const Vec3 in_plane = off - off.dot(m) * m;
+      if (in_plane.squaredNorm() <= 1e-18 * r * r) {
+        const double side = state[i] == kBlockedInner ? -1.0 : 1.0;
+        normal = side * m;
+        overlap = r - side * dn;
+      } else {
+        const double dist = std::sqrt(best);
+        normal = off / dist;
+        overlap = r - dist;
+      }
+      const double vn = (p.v[i] - mesh.velocity_at(tri, cp)).dot(normal);
+      const double fn = sieve_stiffness_ * overlap - sieve_damping_ * vn;
+      if (!(fn > 0.0)) continue;  // the sieve pushes, never pulls
+      const Vec3 f = fn * normal;
+      p.f[i] += f;
+      total += f;
+      if (!mesh.tri_force.empty()) mesh.tri_force[tri] -= f;
+    }
+    sieve_force_ = -total;
+  }
+
   void pre_exchange() override {
     if (!delete_) return;
     Particles& p = *engine_.particles;
@@ -260,12 +382,13 @@ class FixMassflowMesh : public Fix {
   }
 
   double compute_vector(int i) override {
-    if (i < 0 || i >= 6) return 0.0;
+    if (i < 0 || i >= size_vector) return 0.0;
     const std::int64_t step = engine_.update->ntimestep;
     if (step != summed_step_) {
-      const double local[4] = {mass_, number_, deleted_mass_, deleted_number_};
-      double total[4];
-      MPI_Allreduce(local, total, 4, MPI_DOUBLE, MPI_SUM, engine_.world);
+      const double local[7] = {mass_,           number_,         deleted_mass_,  deleted_number_,
+                               sieve_force_[0], sieve_force_[1], sieve_force_[2]};
+      double total[7];
+      MPI_Allreduce(local, total, 7, MPI_DOUBLE, MPI_SUM, engine_.world);
       const double now = engine_.update->time();
       if (last_step_ < 0) {
         last_step_ = step;
@@ -278,6 +401,8 @@ class FixMassflowMesh : public Fix {
       values_[3] = dt > 0.0 ? (total[1] - last_number_) / dt : 0.0;
       values_[4] = total[2];
       values_[5] = total[3];
+      for (int d = 0; d < 3; ++d)
+        values_[6 + d] = total[4 + d];
       // the rates of the next read are over the time from this one
       last_mass_ = total[0];
       last_number_ = total[1];
@@ -335,8 +460,79 @@ class FixMassflowMesh : public Fix {
  private:
   static constexpr int kRecord = 8;  // id, diameter, x(3), v(3)
 
-  std::string where() const { return "fix " + id + " massflow/mesh"; }
+  std::string where() const { return "fix " + id + " " + style; }
   std::string field_name() const { return "massflow/" + id; }
+  std::string sieve_field_name() const { return "massflow_sieve/" + id; }
+
+  /// Parse the sieve keyword at args[k] (advancing k to its last word);
+  /// false if args[k] is none.
+  bool parse_sieve(const Args& args, std::size_t& k) {
+    const std::string what = where();
+    const std::string& w = args[k];
+    auto number = [&](double& to) {
+      if (k + 1 >= args.size()) throw InputError(what + ": " + w + " needs a value");
+      to = parse_double(args[k + 1], what + " " + w);
+      ++k;
+    };
+    if (w == "sieveSize") {
+      number(sieve_size_);
+    } else if (w == "sieveSpacing") {
+      number(sieve_spacing_);
+    } else if (w == "sieveStiffness") {
+      number(sieve_stiffness_);
+    } else if (w == "sieveDamping") {
+      number(sieve_damping_);
+    } else if (w == "sieveMultiSphereCanPass") {
+      ms_can_pass_ = true;
+    } else if (w == "seed") {
+      if (k + 1 >= args.size()) throw InputError(what + ": seed needs a value");
+      const long long v = parse_int(args[k + 1], what + " seed");
+      if (v <= 0) throw InputError(what + ": seed must be a positive integer, got " + args[k + 1]);
+      seed_ = static_cast<std::uint64_t>(v);
+      ++k;
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  void check_sieve() const {
+    const std::string what = where();
+    if (sieve_size_ < 0.0 || sieve_spacing_ < 0.0 || sieve_stiffness_ < 0.0)
+      throw InputError(what + ": sieveSize, sieveSpacing and sieveStiffness must be given, e.g. sieveSize " +
+                       "2e-3 sieveSpacing 2.5e-3 sieveStiffness 1e5 (sieveDamping is 0 by default)");
+    if (!(sieve_size_ > 0.0)) throw InputError(what + ": sieveSize (the hole diameter) must be positive");
+    if (!(sieve_stiffness_ > 0.0)) throw InputError(what + ": sieveStiffness must be positive");
+    if (sieve_damping_ < 0.0) throw InputError(what + ": sieveDamping must not be negative");
+    if (sieve_spacing_ < sieve_size_)
+      throw InputError(what + ": sieveSpacing (" + args_to_string(sieve_spacing_) +
+                       ", the distance between the centres of neighbouring holes) must be at least " +
+                       "sieveSize (" + args_to_string(sieve_size_) + "): holes would overlap");
+  }
+
+  static std::string args_to_string(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+  }
+
+  /// Probability that a sphere of diameter d passes the sieve.
+  double pass_probability(double d) const {
+    if (d >= sieve_size_) return 0.0;
+    const double open = sieve_size_ - d;
+    return kPi * open * open / (4.0 * sieve_spacing_ * sieve_spacing_);
+  }
+
+  /// Whether particle i, at the first step of a contact, passes.
+  bool passes(const Particles& p, int i, const double* body_mass, std::int64_t step) const {
+    if (body_mass && body_mass[i] > 0.0 && !ms_can_pass_) return false;
+    const double prob = pass_probability(2.0 * p.radius[i]);
+    if (prob <= 0.0) return false;
+    const std::uint64_t h =
+        mix64(mix64(mix64(seed_) ^ static_cast<std::uint64_t>(p.id[i])) ^ static_cast<std::uint64_t>(step));
+    const double u = static_cast<double>(h >> 11) * 0x1.0p-53;  // uniform in [0, 1)
+    return u < prob;
+  }
   double* field() const { return engine_.particles->extras[field_].data.data(); }
 
   Vec3 unwrapped(int i) const {
@@ -427,6 +623,14 @@ class FixMassflowMesh : public Fix {
     if (screen_) engine_.logger->print(text);
   }
 
+  // the sieve (massflow/mesh/sieve)
+  bool sieve_ = false;
+  double sieve_size_ = -1.0, sieve_spacing_ = -1.0, sieve_stiffness_ = -1.0, sieve_damping_ = 0.0;
+  bool ms_can_pass_ = false;
+  std::uint64_t seed_ = 5489;
+  int sieve_field_ = -1;
+  Vec3 sieve_force_ = Vec3::Zero();  // of the particles on the sieve, this rank, last step
+
   std::string mesh_id_;
   FixMeshSurface* mesh_ = nullptr;
   Vec3 vec_side_ = Vec3::Zero(), point_ = Vec3::Zero();
@@ -442,13 +646,19 @@ class FixMassflowMesh : public Fix {
   // the last read of f_ID (the rates are over the time since)
   double last_mass_ = 0.0, last_number_ = 0.0, last_time_ = 0.0;
   std::int64_t last_step_ = -1, summed_step_ = -1;
-  double values_[6] = {0, 0, 0, 0, 0, 0};
+  double values_[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   double restart_totals_[4] = {0, 0, 0, 0};
   std::vector<double> records_;
+};
+
+class FixMassflowMeshSieve : public FixMassflowMesh {
+ public:
+  FixMassflowMeshSieve(Engine& engine, const Args& args) : FixMassflowMesh(engine, args, true) {}
 };
 
 }  // namespace
 
 GRANARY_FIX_STYLE("massflow/mesh", FixMassflowMesh);
+GRANARY_FIX_STYLE("massflow/mesh/sieve", FixMassflowMeshSieve);
 
 }  // namespace granary

@@ -236,6 +236,7 @@ void FixWallGran::init() {
       base += fm.mesh.ntri();
     }
   }
+  initialized_ = true;
 }
 
 double FixWallGran::compute_vector(int i) {
@@ -446,6 +447,74 @@ void FixWallGran::post_force() {
   });
 }
 
+// The contacts a sphere (centre xi, radius r) physically has with the meshes
+// (see post_force_mesh): every triangle within reach is a candidate, then
+// face contacts are kept first, edge and corner contacts after them, dropping
+// duplicates. Returns the number kept; their indices into cand are in kept.
+int FixWallGran::mesh_contacts(const Vec3& xi, double r, tagint tag, Candidate* cand, int* kept) const {
+  const int nmesh = static_cast<int>(meshes_.size());
+  int ncand = 0;
+  for (int m = 0; m < nmesh; ++m) {
+    TriMesh& mesh = meshes_[m]->mesh;
+    mesh.ensure_margin(r);
+    int nnear = 0;
+    const int* near = mesh.near(xi, nnear);
+    for (int q = 0; q < nnear; ++q) {
+      const int t = near[q];
+      const double dn = (xi - mesh.corner(t, 0)).dot(mesh.normal(t));
+      if (dn >= r || dn <= -r) continue;  // beyond the triangle's plane reach
+      TriMesh::Feature feature;
+      const Vec3 cp = mesh.closest_point(t, xi, feature);
+      const Vec3 d = xi - cp;
+      const double d2 = d.squaredNorm();
+      if (d2 >= r * r) continue;
+      Candidate cd;
+      cd.mesh = m;
+      cd.tri = t;
+      cd.point = cp;
+      cd.face = feature == TriMesh::kFace;
+      if (cd.face) {
+        cd.overlap = r - std::fabs(dn);
+        cd.n = dn >= 0 ? mesh.normal(t) : Vec3(-mesh.normal(t));
+      } else {
+        if (!mesh.contact_valid(t, feature, cp, xi, 1e-10)) continue;
+        const double dist = std::sqrt(d2);
+        if (!(dist > 0.0)) continue;  // centre on the mesh: no direction
+        cd.overlap = r - dist;
+        cd.n = d * (1.0 / dist);
+      }
+      if (ncand == kMaxCandidates) {
+        throw RunError("fix " + id + " wall/gran: particle " + std::to_string(tag) + " touches more than " +
+                       std::to_string(kMaxCandidates) +
+                       " mesh triangles; the mesh is much finer than the particles");
+      }
+      cand[ncand++] = cd;
+    }
+  }
+  if (ncand == 0) return 0;
+  // faces first, then edges and corners; drop duplicates
+  const double eps = 1e-9 * r;
+  int nkept = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int a = 0; a < ncand; ++a) {
+      const Candidate& ca = cand[a];
+      if (ca.face != (pass == 0)) continue;
+      bool drop = false;
+      for (int b = 0; b < nkept && !drop; ++b) {
+        const Candidate& cb = cand[kept[b]];
+        if ((ca.point - cb.point).squaredNorm() <= eps * eps) drop = true;
+        if (!drop && !ca.face && cb.face) {
+          TriMesh::Feature ft;
+          const TriMesh& mb = meshes_[cb.mesh]->mesh;
+          drop = (mb.closest_point(cb.tri, ca.point, ft) - ca.point).squaredNorm() <= eps * eps;
+        }
+      }
+      if (!drop) kept[nkept++] = a;
+    }
+  }
+  return nkept;
+}
+
 // Sphere-triangle contacts of the mesh form. For each particle: the triangles
 // near its centre (bin grid), the closest point on each, and then the contacts
 // the sphere physically has, in this order:
@@ -481,19 +550,11 @@ void FixWallGran::post_force_mesh() {
   const int* const mask = p.mask.data();
   const int* const type = p.type.data();
   const int bit = groupbit;
-  const int nmesh = static_cast<int>(meshes_.size());
   const contact::ModelSpec spec = spec_;
   const MaterialTable& materials = materials_;
   Vec3 total = Vec3::Zero();
 
   // candidate contacts of one particle (fixed storage: no allocation per step)
-  constexpr int kMaxCandidates = 64;
-  struct Candidate {
-    int mesh, tri;
-    bool face;
-    double overlap;
-    Vec3 point, n;
-  };
   Candidate cand[kMaxCandidates];
   int kept[kMaxCandidates];
 
@@ -538,45 +599,8 @@ void FixWallGran::post_force_mesh() {
           std::copy_n(it->second.data(), (nold - kInlineSlots) * stride, prev + kInlineSlots * stride);
         h = prev;
       }
-      int ncand = 0;
-      for (int m = 0; m < nmesh; ++m) {
-        TriMesh& mesh = meshes_[m]->mesh;
-        mesh.ensure_margin(r);
-        int nnear = 0;
-        const int* near = mesh.near(xi, nnear);
-        for (int q = 0; q < nnear; ++q) {
-          const int t = near[q];
-          const double dn = (xi - mesh.corner(t, 0)).dot(mesh.normal(t));
-          if (dn >= r || dn <= -r) continue;  // beyond the triangle's plane reach
-          TriMesh::Feature feature;
-          const Vec3 cp = mesh.closest_point(t, xi, feature);
-          const Vec3 d = xi - cp;
-          const double d2 = d.squaredNorm();
-          if (d2 >= r * r) continue;
-          Candidate cd;
-          cd.mesh = m;
-          cd.tri = t;
-          cd.point = cp;
-          cd.face = feature == TriMesh::kFace;
-          if (cd.face) {
-            cd.overlap = r - std::fabs(dn);
-            cd.n = dn >= 0 ? mesh.normal(t) : Vec3(-mesh.normal(t));
-          } else {
-            if (!mesh.contact_valid(t, feature, cp, xi, 1e-10)) continue;
-            const double dist = std::sqrt(d2);
-            if (!(dist > 0.0)) continue;  // centre on the mesh: no direction
-            cd.overlap = r - dist;
-            cd.n = d * (1.0 / dist);
-          }
-          if (ncand == kMaxCandidates) {
-            throw RunError("fix " + id + " wall/gran: particle " + std::to_string(p.id[i]) +
-                           " touches more than " + std::to_string(kMaxCandidates) +
-                           " mesh triangles; the mesh is much finer than the particles");
-          }
-          cand[ncand++] = cd;
-        }
-      }
-      if (ncand == 0) {
+      const int nkept = mesh_contacts(xi, r, p.id[i], cand, kept);
+      if (nkept == 0) {
         if (nh > 0) {
           if (count[i] != 0.0) {
             if (keep_extra) {
@@ -589,26 +613,6 @@ void FixWallGran::post_force_mesh() {
           }
         }
         continue;
-      }
-      // faces first, then edges and corners; drop duplicates
-      const double eps = 1e-9 * r;
-      int nkept = 0;
-      for (int pass = 0; pass < 2; ++pass) {
-        for (int a = 0; a < ncand; ++a) {
-          const Candidate& ca = cand[a];
-          if (ca.face != (pass == 0)) continue;
-          bool drop = false;
-          for (int b = 0; b < nkept && !drop; ++b) {
-            const Candidate& cb = cand[kept[b]];
-            if ((ca.point - cb.point).squaredNorm() <= eps * eps) drop = true;
-            if (!drop && !ca.face && cb.face) {
-              TriMesh::Feature ft;
-              const TriMesh& mb = meshes_[cb.mesh]->mesh;
-              drop = (mb.closest_point(cb.tri, ca.point, ft) - ca.point).squaredNorm() <= eps * eps;
-            }
-          }
-          if (!drop) kept[nkept++] = a;
-        }
       }
       if (nkept > kMeshSlots) {
         throw RunError("fix " + id + " wall/gran: particle " + std::to_string(p.id[i]) + " has " +
@@ -692,6 +696,89 @@ void FixWallGran::post_force_mesh() {
   });
   for (int d = 0; d < 3; ++d)
     force_[d] = total[d];
+}
+
+void FixWallGran::local_contacts(int bits, const std::string& who, std::vector<LocalContact>& out) const {
+  if (!initialized_)
+    throw InputError(who + " reports the contacts of fix " + id +
+                     " wall/gran as a run finds them: use it during a run, or after `run 0`");
+  const Particles& p = *engine_.particles;
+  const double* body_mass = body_mass_.data(p);
+  const int nh = nhist_;
+  const double* hist = nh > 0 ? p.extras[field_].data.data() : nullptr;
+  const double* count = mesh_ && nh > 0 ? p.extras[count_field_].data.data() : nullptr;
+  const int stride = kSlotHeader + nh;
+  Candidate cand[kMaxCandidates];
+  int kept[kMaxCandidates];
+  contact::ContactState c;
+  c.dt = 0.0;  // the history as stored, not advanced
+  c.r_j = 0.0;
+  c.omega_j.setZero();
+  auto evaluate = [&](LocalContact& lc, int wall_type) {
+    const int i = lc.i;
+    c.n = lc.n;
+    c.overlap = lc.overlap;
+    c.r_i = p.radius[i];
+    c.r_eff = p.radius[i];
+    c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : p.rmass[i];
+    c.v_rel = p.v[i] - lc.wall_v;
+    c.omega_i = p.omega[i];
+    lc.res = contact::ContactResult();
+    std::vector<double> h = lc.history;  // evaluate may rescale it
+    h.resize(std::max(nh, 1), 0.0);
+    contact::evaluate(spec_, c, materials_(p.type[i], wall_type), h.data(), lc.res);
+    out.push_back(lc);
+  };
+  for (int i = 0; i < p.nlocal; ++i) {
+    if (!(p.mask[i] & groupbit) || !(p.mask[i] & bits)) continue;
+    const double r = p.radius[i];
+    const Vec3& xi = p.x[i];
+    LocalContact lc;
+    lc.i = i;
+    if (!mesh_) {
+      if (!contact(xi, r, lc.overlap, lc.n)) continue;
+      lc.point = xi - (r - lc.overlap) * lc.n;
+      lc.wall_v = Vec3::Zero();
+      if (nh > 0)
+        lc.history.assign(hist + static_cast<std::size_t>(i) * nh,
+                          hist + static_cast<std::size_t>(i + 1) * nh);
+      else
+        lc.history.clear();
+      evaluate(lc, wall_type_);
+      continue;
+    }
+    const int nkept = mesh_contacts(xi, r, p.id[i], cand, kept);
+    if (nkept == 0) continue;
+    // the particle's stored slots: the per-particle ones, then the extra ones
+    std::vector<double> slots;
+    if (nh > 0) {
+      const double* h = hist + static_cast<std::size_t>(i) * kInlineSlots * stride;
+      slots.assign(h, h + kInlineSlots * stride);
+      if (count[i] > kInlineSlots) {
+        auto it = extra_.find(p.id[i]);
+        if (it != extra_.end()) slots.insert(slots.end(), it->second.begin(), it->second.end());
+      }
+    }
+    for (int k = 0; k < nkept; ++k) {
+      const Candidate& ck = cand[kept[k]];
+      const TriMesh& mesh = meshes_[ck.mesh]->mesh;
+      lc.mesh = ck.mesh;
+      lc.tri = ck.tri;
+      lc.point = ck.point;
+      lc.n = ck.n;
+      lc.overlap = ck.overlap;
+      lc.wall_v = mesh.velocity_at(ck.tri, ck.point);
+      lc.history.assign(nh, 0.0);
+      // the history of the slot of this triangle (none before the contact's first force evaluation)
+      const double key = key_base_[ck.mesh] + ck.tri + 1;
+      for (std::size_t at = 0; nh > 0 && at + stride <= slots.size(); at += stride)
+        if (slots[at] == key) {
+          std::copy_n(slots.begin() + at + kSlotHeader, nh, lc.history.begin());
+          break;
+        }
+      evaluate(lc, meshes_[ck.mesh]->wall_type);
+    }
+  }
 }
 
 GRANARY_FIX_STYLE("wall/gran", FixWallGran);

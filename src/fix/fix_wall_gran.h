@@ -67,6 +67,30 @@ class FixWallGran : public Fix {
   /// Mesh form (fix mesh/surface walls): contact() does not apply.
   bool mesh_form() const { return mesh_; }
 
+  /// One contact of a particle with the wall, as compute wall/gran/local
+  /// reports it.
+  struct LocalContact {
+    int i = -1;                   ///< local index of the particle
+    int mesh = -1;                ///< the mesh's position in this fix's list (-1: primitive wall)
+    int tri = -1;                 ///< triangle of that mesh, in the order of its file (-1: primitive)
+    Vec3 point, wall_v;           ///< contact point on the wall surface, the wall's velocity there
+    Vec3 n;                       ///< unit normal from the wall to the particle centre
+    double overlap = 0.0;         ///< radius minus the distance of the centre from the wall
+    contact::ContactResult res;   ///< force and torque of the contact on the particle
+    std::vector<double> history;  ///< the contact's history as stored (history_size() values)
+  };
+  /// The contacts of the owned particles in `bits` (and in this fix's group)
+  /// with the wall, found as post_force finds them, with the force of the
+  /// contact model for the current positions, velocities and spins and the
+  /// contact history stored at the last force evaluation, which is not
+  /// advanced. Needs init() (the materials and meshes): throws an InputError
+  /// naming `who` before the first run.
+  void local_contacts(int bits, const std::string& who, std::vector<LocalContact>& out) const;
+  /// Doubles of contact history per contact.
+  int history_size() const { return nhist_; }
+  /// Mesh form: the number of meshes.
+  int nmeshes() const { return static_cast<int>(mesh_ids_.size()); }
+
  private:
   contact::ModelSpec spec_;
   MaterialTable materials_;
@@ -107,6 +131,19 @@ class FixWallGran : public Fix {
 
   // mesh form
   void post_force_mesh();
+  /// A contact of a sphere with a mesh triangle (see post_force_mesh).
+  struct Candidate {
+    int mesh, tri;
+    bool face;
+    double overlap;
+    Vec3 point, n;
+  };
+  static constexpr int kMaxCandidates = 64;
+  /// The contacts a sphere (centre x, radius r, particle id tag) has with the
+  /// meshes: writes the candidates to cand and the indices of the physical
+  /// ones to kept (both kMaxCandidates long); returns the number kept.
+  int mesh_contacts(const Vec3& x, double r, tagint tag, Candidate* cand, int* kept) const;
+  bool initialized_ = false;  // init() has run: materials and meshes resolved
   bool mesh_ = false;
   std::vector<std::string> mesh_ids_;
   std::vector<FixMeshSurface*> meshes_;  // resolved by init

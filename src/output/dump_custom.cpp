@@ -122,7 +122,7 @@ void DumpFields::init() {
         if (c->local_flag)
           throw InputError(what_ + ": compute " + f.ref + " (" + c->style +
                            ") gives local values, one row per contact, not per-atom values; write them with "
-                           "dump local/gran/vtk");
+                           "dump local or dump local/gran/vtk");
       } else {
         Fix* x = engine_.modify->fix_or_error(f.ref, what_ + " field " + f.name);
         peratom = x->peratom_flag;
@@ -266,6 +266,140 @@ std::string open_error(const std::string& file) {
   return "cannot write '" + file + "': " + std::strerror(errno);
 }
 
+// ---------------------------------------------------------------- ColumnFormats
+
+void ColumnFormats::resize(int ncols) {
+  if (ncols == ncols_ && static_cast<int>(col_format_.size()) == ncols) return;
+  ncols_ = ncols;
+  col_format_.assign(ncols, "");
+  if (static_cast<int>(line_format_.size()) != ncols) line_format_.clear();
+  formats_.clear();
+}
+
+ColumnFormats::Format ColumnFormats::parse(const std::string& text) {
+  format_number(0.0, text);  // validates: exactly one numeric conversion
+  Format f;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '%') continue;
+    if (i + 1 < text.size() && text[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    j = i + 1;
+    while (j < text.size() && std::string("-+ #0123456789.").find(text[j]) != std::string::npos)
+      ++j;
+    break;
+  }
+  f.spec = text;
+  f.integer = text[j] == 'd' || text[j] == 'i';
+  if (f.integer) f.spec.insert(j, "ll");
+  return f;
+}
+
+void ColumnFormats::build(const std::vector<bool>& integer) {
+  const int n = static_cast<int>(integer.size());
+  resize(n);
+  formats_.assign(n, Format{});
+  for (int c = 0; c < n; ++c) {
+    std::string text;
+    if (!col_format_[c].empty())
+      text = col_format_[c];
+    else if (integer[c] && !int_format_.empty())
+      text = int_format_;
+    else if (!integer[c] && !float_format_.empty())
+      text = float_format_;
+    else if (!line_format_.empty())
+      text = line_format_[c];
+    if (!text.empty()) {
+      formats_[c] = parse(text);
+      continue;
+    }
+    Format f;
+    f.integer = integer[c];
+    f.spec = integer[c] ? "%lld" : precision_ > 0 ? "%." + std::to_string(precision_) + "g" : "%g";
+    formats_[c] = f;
+  }
+}
+
+int ColumnFormats::modify_param(const Args& args, std::size_t k, const std::string& where) {
+  const std::string& key = args[k];
+  const bool has1 = k + 1 < args.size(), has2 = k + 2 < args.size();
+  if (key == "format" && has1) {
+    const std::string& v = args[k + 1];
+    formats_.clear();
+    if (v == "none") {
+      line_format_.clear();
+      int_format_.clear();
+      float_format_.clear();
+      col_format_.assign(ncols_, "");
+      return 2;
+    }
+    if ((v == "line" || v == "int" || v == "float") && !has2)
+      throw InputError(where + " " + v + " needs a format string");
+    if (v == "int" || v == "float") {
+      parse(args[k + 2]);
+      (v == "int" ? int_format_ : float_format_) = args[k + 2];
+      return 3;
+    }
+    const bool is_column = !v.empty() && std::all_of(v.begin(), v.end(), [](char ch) {
+      return std::isdigit(static_cast<unsigned char>(ch));
+    });
+    if (is_column) {
+      if (!has2) throw InputError(where + " " + v + " needs a format string");
+      const long long c = parse_int(v, where);
+      if (c < 1 || c > ncols_)
+        throw InputError(where + ": column " + v + " is out of range 1.." + std::to_string(ncols_));
+      parse(args[k + 2]);
+      col_format_[c - 1] = args[k + 2];
+      return 3;
+    }
+    // `format line "..."` or the older `format "..."`: one conversion per column
+    const std::string& text = v == "line" ? args[k + 2] : v;
+    std::vector<std::string> words;
+    std::size_t pos = 0;
+    while ((pos = text.find_first_not_of(" \t", pos)) != std::string::npos) {
+      const std::size_t end = text.find_first_of(" \t", pos);
+      words.push_back(text.substr(pos, end == std::string::npos ? std::string::npos : end - pos));
+      pos = end;
+    }
+    if (static_cast<int>(words.size()) != ncols_) {
+      throw InputError(where + ": the format line has " + std::to_string(words.size()) + " conversions for " +
+                       std::to_string(ncols_) + " columns");
+    }
+    for (const auto& w : words)
+      parse(w);
+    line_format_ = words;
+    return v == "line" ? 3 : 2;
+  }
+  if (key == "precision" && has1) {
+    const long long n = parse_int(args[k + 1], where);
+    if (n < 1 || n > 17) throw InputError(where + ": significant digits must be 1..17");
+    precision_ = static_cast<int>(n);
+    formats_.clear();
+    return 2;
+  }
+  return 0;
+}
+
+void ColumnFormats::append_row(std::string& out, const double* row) const {
+  char buf[1200];
+  for (int c = 0; c < ncols_; ++c) {
+    const Format& f = formats_[c];
+    int len;
+    if (f.integer) {
+      const double v = std::round(row[c]);
+      const long long iv = std::fabs(v) < 9.2e18 ? static_cast<long long>(v) : 0;
+      len = std::snprintf(buf, sizeof buf, f.spec.c_str(), iv);
+    } else {
+      len = std::snprintf(buf, sizeof buf, f.spec.c_str(), row[c]);
+    }
+    if (c > 0) out += ' ';
+    out.append(buf, std::min<int>(std::max(len, 0), sizeof buf - 1));
+  }
+  out += '\n';
+}
+
 }  // namespace dumpio
 
 // ---------------------------------------------------------------- DumpCustom
@@ -287,7 +421,7 @@ DumpCustom::DumpCustom(Engine& engine, const Args& args)
   }
   multifile_ = filename.find('*') != std::string::npos;
   dumpio::check_directory(engine.world, filename, "dump " + id);
-  col_format_.assign(fields_.ncols(), "");
+  formats_.resize(fields_.ncols());
   columns_ = "";
   for (const auto& f : fields_.fields)
     columns_ += (columns_.empty() ? "" : " ") + f.name;
@@ -304,56 +438,16 @@ void DumpCustom::finish() {
   }
 }
 
-DumpCustom::Format DumpCustom::parse_format(const std::string& text) const {
-  format_number(0.0, text);  // validates: exactly one numeric conversion
-  Format f;
-  f.set = true;
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] != '%') continue;
-    if (i + 1 < text.size() && text[i + 1] == '%') {
-      ++i;
-      continue;
-    }
-    j = i + 1;
-    while (j < text.size() && std::string("-+ #0123456789.").find(text[j]) != std::string::npos)
-      ++j;
-    break;
-  }
-  f.spec = text;
-  f.integer = text[j] == 'd' || text[j] == 'i';
-  if (f.integer) f.spec.insert(j, "ll");
-  return f;
-}
-
 void DumpCustom::build_formats() {
-  const int n = fields_.ncols();
-  formats_.assign(n, Format{});
-  for (int c = 0; c < n; ++c) {
-    const bool integer = fields_.fields[c].integer;
-    std::string text;
-    if (!col_format_[c].empty())
-      text = col_format_[c];
-    else if (integer && !int_format_.empty())
-      text = int_format_;
-    else if (!integer && !float_format_.empty())
-      text = float_format_;
-    else if (!line_format_.empty())
-      text = line_format_[c];
-    if (!text.empty()) {
-      formats_[c] = parse_format(text);
-      continue;
-    }
-    Format f;
-    f.integer = integer;
-    f.spec = integer ? "%lld" : precision_ > 0 ? "%." + std::to_string(precision_) + "g" : "%g";
-    formats_[c] = f;
-  }
+  std::vector<bool> integer;
+  for (const auto& f : fields_.fields)
+    integer.push_back(f.integer);
+  formats_.build(integer);
 }
 
 int DumpCustom::modify_param(const Args& args, std::size_t k) {
   const std::string& key = args[k];
-  const bool has1 = k + 1 < args.size(), has2 = k + 2 < args.size();
+  const bool has1 = k + 1 < args.size();
   const std::string where = "dump_modify " + id + " " + key;
   if (key == "sort" && has1) {
     const std::string& v = args[k + 1];
@@ -370,58 +464,7 @@ int DumpCustom::modify_param(const Args& args, std::size_t k) {
     }
     return 2;
   }
-  if (key == "format" && has1) {
-    const std::string& v = args[k + 1];
-    if (v == "none") {
-      line_format_.clear();
-      int_format_.clear();
-      float_format_.clear();
-      col_format_.assign(fields_.ncols(), "");
-      return 2;
-    }
-    if ((v == "line" || v == "int" || v == "float") && !has2)
-      throw InputError(where + " " + v + " needs a format string");
-    if (v == "int" || v == "float") {
-      parse_format(args[k + 2]);
-      (v == "int" ? int_format_ : float_format_) = args[k + 2];
-      return 3;
-    }
-    const bool is_column = !v.empty() && std::all_of(v.begin(), v.end(), [](char ch) {
-      return std::isdigit(static_cast<unsigned char>(ch));
-    });
-    if (is_column) {
-      if (!has2) throw InputError(where + " " + v + " needs a format string");
-      const long long c = parse_int(v, where);
-      if (c < 1 || c > fields_.ncols())
-        throw InputError(where + ": column " + v + " is out of range 1.." + std::to_string(fields_.ncols()));
-      parse_format(args[k + 2]);
-      col_format_[c - 1] = args[k + 2];
-      return 3;
-    }
-    // `format line "..."` or the older `format "..."`: one conversion per column
-    const std::string& text = v == "line" ? args[k + 2] : v;
-    std::vector<std::string> words;
-    std::size_t pos = 0;
-    while ((pos = text.find_first_not_of(" \t", pos)) != std::string::npos) {
-      const std::size_t end = text.find_first_of(" \t", pos);
-      words.push_back(text.substr(pos, end == std::string::npos ? std::string::npos : end - pos));
-      pos = end;
-    }
-    if (static_cast<int>(words.size()) != fields_.ncols()) {
-      throw InputError(where + ": the format line has " + std::to_string(words.size()) + " conversions for " +
-                       std::to_string(fields_.ncols()) + " columns");
-    }
-    for (const auto& w : words)
-      parse_format(w);
-    line_format_ = words;
-    return v == "line" ? 3 : 2;
-  }
-  if (key == "precision" && has1) {
-    const long long n = parse_int(args[k + 1], where);
-    if (n < 1 || n > 17) throw InputError(where + ": significant digits must be 1..17");
-    precision_ = static_cast<int>(n);
-    return 2;
-  }
+  if (const int used = formats_.modify_param(args, k, where)) return used;
   if (key == "pad" && has1) {
     const long long n = parse_int(args[k + 1], where);
     if (n < 0 || n > 30) throw InputError(where + ": pad must be 0..30");
@@ -479,23 +522,8 @@ void DumpCustom::write_frame(std::FILE* fp, const std::vector<double>& rows, std
       return descending ? ka > kb : ka < kb;
     });
   }
-  const int ncols = fields_.ncols();
   for (std::int64_t r : order) {
-    const double* row = rows.data() + r * stride;
-    for (int c = 0; c < ncols; ++c) {
-      const Format& f = formats_[c];
-      int len;
-      if (f.integer) {
-        const double v = std::round(row[c]);
-        const long long iv = std::fabs(v) < 9.2e18 ? static_cast<long long>(v) : 0;
-        len = std::snprintf(buf, sizeof buf, f.spec.c_str(), iv);
-      } else {
-        len = std::snprintf(buf, sizeof buf, f.spec.c_str(), row[c]);
-      }
-      if (c > 0) out += ' ';
-      out.append(buf, std::min<int>(std::max(len, 0), sizeof buf - 1));
-    }
-    out += '\n';
+    formats_.append_row(out, rows.data() + r * stride);
     if (out.size() > (1u << 20)) {
       std::fwrite(out.data(), 1, out.size(), fp);
       out.clear();
@@ -505,7 +533,7 @@ void DumpCustom::write_frame(std::FILE* fp, const std::vector<double>& rows, std
 }
 
 void DumpCustom::write() {
-  if (static_cast<int>(formats_.size()) != fields_.ncols()) build_formats();
+  if (!formats_.built(fields_.ncols())) build_formats();
   std::vector<int> sel;
   fields_.select(groupbit, region_, sel);
   const bool with_id = sort_ == kSortId;

@@ -80,6 +80,35 @@ std::string first_error(MPI_Comm comm, const std::string& local_error);
 /// "cannot write 'file': reason" with the system's reason for errno.
 std::string open_error(const std::string& file);
 
+/// The printf formats of the columns of a text dump (dump custom, dump
+/// local): `dump_modify format` and `precision`, then one format per column.
+class ColumnFormats {
+ public:
+  /// Set the number of columns (clears the per-column formats when it changes).
+  void resize(int ncols);
+  /// `format ...` or `precision P` at args[k]: the number of words used (0:
+  /// not one of them). `where` names the command in messages.
+  int modify_param(const Args& args, std::size_t k, const std::string& where);
+  /// Resolve one format per column; integer[c]: column c holds integers.
+  void build(const std::vector<bool>& integer);
+  bool built(int ncols) const { return static_cast<int>(formats_.size()) == ncols; }
+  /// Append one row, its values separated by blanks, and a newline.
+  void append_row(std::string& out, const double* row) const;
+
+ private:
+  struct Format {
+    std::string spec;  // printf specification with its text, "ll" added for integers
+    bool integer = false;
+  };
+  static Format parse(const std::string& text);
+  int ncols_ = 0;
+  int precision_ = 0;                    // significant digits of the default float format (0 = %g)
+  std::vector<std::string> col_format_;  // per-column user format ("" = none)
+  std::string int_format_, float_format_;
+  std::vector<std::string> line_format_;
+  std::vector<Format> formats_;  // resolved, one per column
+};
+
 }  // namespace dumpio
 
 class DumpCustom : public Dump {
@@ -93,12 +122,6 @@ class DumpCustom : public Dump {
   void finish() override;
 
  private:
-  struct Format {
-    std::string spec;  // printf specification with its text, "ll" added for integers
-    bool integer = false;
-    bool set = false;
-  };
-  Format parse_format(const std::string& text) const;
   void build_formats();
   void write_frame(std::FILE* fp, const std::vector<double>& rows, std::int64_t nrows, int stride);
 
@@ -108,15 +131,11 @@ class DumpCustom : public Dump {
   int pad_ = 0;
   int sort_ = 0;  // 0 off, kSortId by id, +-(column) ascending/descending
   static constexpr int kSortId = 1 << 30;
-  int precision_ = 0;  // significant digits of the default float format (0 = %g)
   bool time_flag_ = false, units_flag_ = false, units_written_ = false;
   std::string label_ = "ATOMS";
-  std::vector<std::string> col_format_;  // per-column user format ("" = none)
-  std::string int_format_, float_format_;
-  std::vector<std::string> line_format_;
-  std::vector<Format> formats_;  // resolved, one per column
-  std::FILE* fp_ = nullptr;      // single-file mode, open on rank 0
-  std::string columns_;          // header column names
+  dumpio::ColumnFormats formats_;
+  std::FILE* fp_ = nullptr;  // single-file mode, open on rank 0
+  std::string columns_;      // header column names
 };
 
 }  // namespace granary

@@ -1,7 +1,8 @@
 // `dump ID group local/gran/vtk N file compute-ID`: the contacts of a compute
 // pair/gran/local as VTK line cells (the contact network, force chains), one
 // line from the first particle's centre to the second's per contact, with the
-// compute's other values as cell data. The extension picks the format: .vtp
+// compute's other values as cell data; or those of a compute wall/gran/local,
+// one line from the contact point on the wall to the particle's centre. The extension picks the format: .vtp
 // (XML PolyData), .vtu (XML UnstructuredGrid) and .vtk (legacy PolyData) are
 // gathered to rank 0 and written there; .pvtp and .pvtu give one piece per
 // rank and an index written by rank 0. XML frames are listed in a .pvd
@@ -29,7 +30,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "compute/compute_pair_gran_local.h"
+#include "compute/compute_gran_local.h"
 #include "core/atomic_file.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -114,19 +115,19 @@ class DumpLocalGranVTK : public Dump {
   void init() override { find_compute(); }
 
   void write() override {
-    ComputePairGranLocal& c = find_compute();
+    ComputeGranLocal& c = find_compute();
     if (c.invoked_local != engine_.update->ntimestep) {
       c.compute_local();
       c.invoked_local = engine_.update->ntimestep;
     }
-    const ComputePairGranLocal::Layout L = c.layout();
+    const ComputeGranLocal::Layout L = c.layout();
     const std::vector<CellArray> arrays = cell_arrays(L);
-    // the contacts whose two particles are in the dump's group
+    // the contacts whose particles are in the dump's group
     const Particles& p = *engine_.particles;
     std::vector<double> local;
     local.reserve(c.array_local.size());
     for (int r = 0; r < c.size_local_rows; ++r) {
-      if (!(p.mask[c.row_i[r]] & groupbit) || !(p.mask[c.row_j[r]] & groupbit)) continue;
+      if (!(p.mask[c.row_i[r]] & groupbit) || (c.row_j[r] >= 0 && !(p.mask[c.row_j[r]] & groupbit))) continue;
       local.insert(local.end(), c.array_local.begin() + static_cast<std::size_t>(r) * L.ncols,
                    c.array_local.begin() + static_cast<std::size_t>(r + 1) * L.ncols);
     }
@@ -153,35 +154,45 @@ class DumpLocalGranVTK : public Dump {
  private:
   enum class Kind { kPolyData, kUnstructured, kLegacy };
 
-  ComputePairGranLocal& find_compute() const {
+  ComputeGranLocal& find_compute() const {
     const std::string where = "dump " + id + " local/gran/vtk";
     Compute* c = engine_.modify->find_compute(compute_id_);
     if (!c)
       throw InputError(where + ": there is no compute '" + compute_id_ + "'; define it first, e.g. compute " +
                        compute_id_ + " all pair/gran/local pos vel force");
-    auto* pgl = dynamic_cast<ComputePairGranLocal*>(c);
-    if (!pgl)
+    auto* gl = dynamic_cast<ComputeGranLocal*>(c);
+    if (!gl)
       throw InputError(where + ": compute " + compute_id_ + " is a " + c->style +
-                       " compute; it must be a compute pair/gran/local");
-    if (pgl->layout().pos < 0)
-      throw InputError(where +
-                       ": draws each contact as a line between the two particle centres, but compute " +
-                       compute_id_ + " does not give them; add the keyword pos to it");
-    return *pgl;
+                       " compute; it must be a compute pair/gran/local or wall/gran/local");
+    if (gl->layout().pos < 0)
+      throw InputError(
+          where + ": draws each contact as a line between " +
+          (gl->layout().wall ? "the contact point and the particle centre" : "the two particle centres") +
+          ", but compute " + compute_id_ + " does not give them; add the keyword pos to it");
+    return *gl;
   }
 
   /// The cell-data arrays of a row layout, named as LIGGGHTS names them
-  /// (periodic, history and contact_point are Granary's).
-  static std::vector<CellArray> cell_arrays(const ComputePairGranLocal::Layout& L) {
+  /// (periodic, history and contact_point, and the names of wall contacts'
+  /// arrays are Granary's).
+  static std::vector<CellArray> cell_arrays(const ComputeGranLocal::Layout& L) {
     std::vector<CellArray> out;
     auto add = [&out](const char* name, int first, int ncomp, int type = 0) {
       if (first >= 0 && ncomp > 0) out.push_back({name, first, ncomp, type});
     };
-    add("vel1", L.vel, 3);
-    add("vel2", L.vel >= 0 ? L.vel + 3 : -1, 3);
-    add("id1", L.id, 1, 2);
-    add("id2", L.id >= 0 ? L.id + 1 : -1, 1, 2);
-    add("periodic", L.id >= 0 ? L.id + 2 : -1, 1, 1);
+    if (L.wall) {
+      add("wall_vel", L.vel, 3);
+      add("vel", L.vel >= 0 ? L.vel + 3 : -1, 3);
+      add("mesh_id", L.id, 1, 1);
+      add("triangle_id", L.id >= 0 ? L.id + 1 : -1, 1, 1);
+      add("id", L.id >= 0 ? L.id + 2 : -1, 1, 2);
+    } else {
+      add("vel1", L.vel, 3);
+      add("vel2", L.vel >= 0 ? L.vel + 3 : -1, 3);
+      add("id1", L.id, 1, 2);
+      add("id2", L.id >= 0 ? L.id + 1 : -1, 1, 2);
+      add("periodic", L.id >= 0 ? L.id + 2 : -1, 1, 1);
+    }
     add("force", L.force, 3);
     add("force_normal", L.force_normal, 3);
     add("force_tangential", L.force_tangential, 3);
@@ -194,8 +205,7 @@ class DumpLocalGranVTK : public Dump {
   }
 
   template <class DataSet>
-  static vtkSmartPointer<DataSet> build(const std::vector<double>& rows,
-                                        const ComputePairGranLocal::Layout& L,
+  static vtkSmartPointer<DataSet> build(const std::vector<double>& rows, const ComputeGranLocal::Layout& L,
                                         const std::vector<CellArray>& arrays, double time,
                                         std::int64_t step) {
     const vtkIdType n = L.ncols > 0 ? static_cast<vtkIdType>(rows.size() / L.ncols) : 0;
@@ -250,7 +260,7 @@ class DumpLocalGranVTK : public Dump {
 
   /// Write one file (a whole frame, or this rank's piece); "" or an error message.
   std::string write_file(const std::string& file, const std::vector<double>& rows,
-                         const ComputePairGranLocal::Layout& L, const std::vector<CellArray>& arrays) const {
+                         const ComputeGranLocal::Layout& L, const std::vector<CellArray>& arrays) const {
     const double time = engine_.update->time();
     const std::int64_t step = engine_.update->ntimestep;
     return replace_file_by_name(file, [&](const std::string& temp) -> std::string {
