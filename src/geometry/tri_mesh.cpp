@@ -201,14 +201,46 @@ void TriMesh::build_bins(double margin) {
       b0[d] = std::clamp(static_cast<int>(std::floor((tlo[d] - reach - lo_[d]) * inv_h_)), 0, nbin_[d] - 1);
       b1[d] = std::clamp(static_cast<int>(std::floor((thi[d] + reach - lo_[d]) * inv_h_)), 0, nbin_[d] - 1);
     }
-    for (int k = b0[2]; k <= b1[2]; ++k)
-      for (int j = b0[1]; j <= b1[1]; ++j)
-        for (int i = b0[0]; i <= b1[0]; ++i) {
-          const Vec3 centre = lo_ + h * Vec3(i + 0.5, j + 0.5, k + 0.5);
-          Feature f;
-          if ((closest_point(t, centre, f) - centre).norm() > reach + half_diag) continue;
-          entries.emplace_back((static_cast<std::size_t>(k) * nbin_[1] + j) * nbin_[0] + i, t);
-        }
+    auto test = [&](int i, int j, int k) {
+      const Vec3 centre = lo_ + h * Vec3(i + 0.5, j + 0.5, k + 0.5);
+      Feature f;
+      if ((closest_point(t, centre, f) - centre).norm() > reach + half_diag) return;
+      entries.emplace_back((static_cast<std::size_t>(k) * nbin_[1] + j) * nbin_[0] + i, t);
+    };
+    // Only bin centres within reach + half_diag of the triangle's plane can
+    // pass the test: along the axis a where the normal is largest, that is a
+    // few bins per column of the other two axes, not the whole bounding box
+    // (a large tilted triangle would otherwise cost the cube of its bins).
+    const Vec3 c0 = corner(t, 0);
+    const Vec3 nrm = (corner(t, 1) - c0).cross(corner(t, 2) - c0);
+    const double len = nrm.norm();
+    if (!(len > 0.0) || !std::isfinite(len)) {  // degenerate: every bin of the box
+      for (int k = b0[2]; k <= b1[2]; ++k)
+        for (int j = b0[1]; j <= b1[1]; ++j)
+          for (int i = b0[0]; i <= b1[0]; ++i)
+            test(i, j, k);
+      continue;
+    }
+    const Vec3 n = nrm / len;
+    int a = 0;
+    for (int d = 1; d < 3; ++d)
+      if (std::fabs(n[d]) > std::fabs(n[a])) a = d;
+    const int u = (a + 1) % 3, v = (a + 2) % 3;
+    const double along = (reach + half_diag) / std::fabs(n[a]);  // >= the plane distance allowed, along a
+    int idx[3];
+    for (idx[u] = b0[u]; idx[u] <= b1[u]; ++idx[u])
+      for (idx[v] = b0[v]; idx[v] <= b1[v]; ++idx[v]) {
+        const double xu = lo_[u] + h * (idx[u] + 0.5), xv = lo_[v] + h * (idx[v] + 0.5);
+        // the plane's coordinate along a above this column's centre line
+        const double xa = c0[a] - (n[u] * (xu - c0[u]) + n[v] * (xv - c0[v])) / n[a];
+        const double f0 = std::floor((xa - along - lo_[a]) * inv_h_ - 0.5) - 1.0;
+        const double f1 = std::ceil((xa + along - lo_[a]) * inv_h_ - 0.5) + 1.0;
+        if (!(f1 >= b0[a]) || !(f0 <= b1[a])) continue;
+        const int k0 = std::max(b0[a], static_cast<int>(std::max(f0, static_cast<double>(b0[a]))));
+        const int k1 = std::min(b1[a], static_cast<int>(std::min(f1, static_cast<double>(b1[a]))));
+        for (idx[a] = k0; idx[a] <= k1; ++idx[a])
+          test(idx[0], idx[1], idx[2]);
+      }
   }
   std::sort(entries.begin(), entries.end());
   const std::size_t nbins = static_cast<std::size_t>(nbin_[0]) * nbin_[1] * nbin_[2];
