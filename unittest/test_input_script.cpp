@@ -7,10 +7,13 @@
 
 #include "script_engine.h"
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <unistd.h>
+#include <utility>
+#include <vector>
 
 #include "core/engine.h"
 #include "core/error.h"
@@ -322,4 +325,51 @@ TEST_CASE("substitution echo, one(), clear and ramp with the engine", "[input][s
   std::istringstream in("variable from_stream string yes\n");
   q.input.stream(in, "test-stream");
   CHECK(q.value("from_stream") == "yes");
+}
+
+TEST_CASE("shell runs cd mkdir mv rm rmdir putenv and programs and its errors name what failed") {
+  Scratch s;
+  Quiet q;
+  char here[4096];
+  REQUIRE(::getcwd(here, sizeof here) != nullptr);
+  const std::string home = here;
+  const std::string script = s.write("in.shell", "shell cd " + s.dir +
+                                                     "\n"
+                                                     "shell mkdir a b/c\n"
+                                                     "print 'hello' file a/f.txt\n"
+                                                     "shell mv a/f.txt b/c\n"
+                                                     "shell mv b/c/f.txt g.txt\n"
+                                                     "shell putenv GRANARY_SHELL_TEST=x=1 OTHER=2\n"
+                                                     "shell echo $(2*3) > h.txt\n"
+                                                     "shell rm g.txt nothing.txt\n"
+                                                     "shell rmdir a\n"
+                                                     "shell cd b\n");
+  q.input.file(script);
+  char now[4096];
+  REQUIRE(::getcwd(now, sizeof now) != nullptr);
+  CHECK(std::string(now) == s.dir + "/b");
+  REQUIRE(::chdir(home.c_str()) == 0);
+  CHECK(std::string(std::getenv("GRANARY_SHELL_TEST")) == "x=1");
+  CHECK(std::string(std::getenv("OTHER")) == "2");
+  CHECK(s.read("h.txt") == "6\n");
+  std::ifstream g(s.path("g.txt"));
+  CHECK_FALSE(g.good());  // moved twice, then removed
+  std::ifstream adir(s.path("a"));
+  CHECK_FALSE(adir.good());
+  std::ifstream cdir(s.path("b/c"));
+  CHECK(cdir.good());
+
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"shell cd " + s.dir + "/nowhere", "cannot change to directory"},
+      {"shell rmdir " + s.dir + "/b", "is not empty"},
+      {"shell rm " + s.dir + "/b", "is a directory"},
+      {"shell mv " + s.dir + "/none.txt " + s.dir + "/x.txt", "cannot move"},
+      {"shell putenv NOEQUALS", "is not VAR=VALUE"},
+      {"shell", "shell needs a command"},
+  };
+  for (const auto& [line, expect] : bad) {
+    INFO(line);
+    CHECK_THROWS_WITH(q.input.one(line), Catch::Contains(expect));
+  }
+  CHECK(std::string(::getcwd(now, sizeof now)) == home);  // a failed cd changes nothing
 }
