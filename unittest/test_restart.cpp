@@ -321,9 +321,9 @@ TEST_CASE("restart records with impossible values are refused before anything is
     e.logger->set_screen(false);
     run_lines(e, restart_scene::fresh());
     e.input->one("run 20");
-    e.input->one("write_restart good.restart");
+    e.input->one("write_restart rec_good.restart");
   }
-  const std::string good = read_file("good.restart");
+  const std::string good = read_file("rec_good.restart");
   struct Case {
     std::string name, expect;
     int record, field;
@@ -344,11 +344,11 @@ TEST_CASE("restart records with impossible values are refused before anything is
   for (const auto& c : cases) {
     ParticleSection ps(good);
     ps.set_value(c.record, c.field, c.value);
-    write_file(c.name + ".restart", ps.sealed());
+    write_file("rec_" + c.name + ".restart", ps.sealed());
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
     INFO(c.name);
-    CHECK_THROWS_WITH(e.input->one("read_restart " + c.name + ".restart"),
+    CHECK_THROWS_WITH(e.input->one("read_restart rec_" + c.name + ".restart"),
                       Catch::Contains(c.expect) && Catch::Contains("corrupted"));
     CHECK_FALSE(e.domain->box_exist);
     CHECK(e.particles->nlocal == 0);
@@ -358,25 +358,25 @@ TEST_CASE("restart records with impossible values are refused before anything is
     double first;
     std::memcpy(&first, ps.bytes.data() + ps.records, 8);
     ps.set_value(1, 0, first);
-    write_file("same_id.restart", ps.sealed());
+    write_file("rec_same_id.restart", ps.sealed());
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    CHECK_THROWS_WITH(e.input->one("read_restart same_id.restart"), Catch::Contains("the same id"));
+    CHECK_THROWS_WITH(e.input->one("read_restart rec_same_id.restart"), Catch::Contains("the same id"));
   }
   {  // a count of particles the section cannot hold: refused before allocating for it
     ParticleSection ps(good);
     ps.set_count(std::uint64_t(1) << 60);
-    write_file("count.restart", ps.sealed());
+    write_file("rec_count.restart", ps.sealed());
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
-    CHECK_THROWS_WITH(e.input->one("read_restart count.restart"),
+    CHECK_THROWS_WITH(e.input->one("read_restart rec_count.restart"),
                       Catch::Contains("announces 1152921504606846976 particles"));
   }
   // the sealing itself changes nothing: an unchanged file sealed again reads
-  write_file("resealed.restart", ParticleSection(good).sealed());
+  write_file("rec_resealed.restart", ParticleSection(good).sealed());
   granary::Engine e(MPI_COMM_SELF);
   e.logger->set_screen(false);
-  e.input->one("read_restart resealed.restart");
+  e.input->one("read_restart rec_resealed.restart");
   CHECK(e.particles->natoms > 3);
 }
 
