@@ -266,6 +266,24 @@ std::string open_error(const std::string& file) {
   return "cannot write '" + file + "': " + std::strerror(errno);
 }
 
+void append_frame_header(std::string& out, const Engine& e, const char* count_item, std::int64_t nrows) {
+  const Domain& d = *e.domain;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "ITEM: TIMESTEP\n%lld\nITEM: NUMBER OF %s\n%lld\nITEM: BOX BOUNDS",
+                static_cast<long long>(e.update->ntimestep), count_item, static_cast<long long>(nrows));
+  out += buf;
+  for (int dim = 0; dim < 3; ++dim) {
+    out += ' ';
+    out += d.boundary[dim][0];
+    out += d.boundary[dim][1];
+  }
+  out += '\n';
+  for (int dim = 0; dim < 3; ++dim) {
+    std::snprintf(buf, sizeof buf, "%-1.16e %-1.16e\n", d.boxlo[dim], d.boxhi[dim]);
+    out += buf;
+  }
+}
+
 // ---------------------------------------------------------------- ColumnFormats
 
 void ColumnFormats::resize(int ncols) {
@@ -497,19 +515,7 @@ void DumpCustom::write_frame(std::FILE* fp, const std::vector<double>& rows, std
     std::snprintf(buf, sizeof buf, "ITEM: TIME\n%.16g\n", engine_.update->time());
     out += buf;
   }
-  std::snprintf(buf, sizeof buf, "ITEM: TIMESTEP\n%lld\nITEM: NUMBER OF ATOMS\n%lld\nITEM: BOX BOUNDS",
-                static_cast<long long>(engine_.update->ntimestep), static_cast<long long>(nrows));
-  out += buf;
-  for (int dim = 0; dim < 3; ++dim) {
-    out += ' ';
-    out += d.boundary[dim][0];
-    out += d.boundary[dim][1];
-  }
-  out += '\n';
-  for (int dim = 0; dim < 3; ++dim) {
-    std::snprintf(buf, sizeof buf, "%-1.16e %-1.16e\n", d.boxlo[dim], d.boxhi[dim]);
-    out += buf;
-  }
+  dumpio::append_frame_header(out, engine_, "ATOMS", nrows);
   out += "ITEM: " + label_ + " " + columns_ + "\n";
 
   std::vector<std::int64_t> order(nrows);

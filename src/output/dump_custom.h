@@ -80,6 +80,10 @@ std::string first_error(MPI_Comm comm, const std::string& local_error);
 /// "cannot write 'file': reason" with the system's reason for errno.
 std::string open_error(const std::string& file);
 
+/// Append the LAMMPS text-dump frame header from "ITEM: TIMESTEP" to the
+/// box bounds: `count_item` is "ATOMS" (dump custom) or "ENTRIES" (dump local).
+void append_frame_header(std::string& out, const Engine& e, const char* count_item, std::int64_t nrows);
+
 /// The printf formats of the columns of a text dump (dump custom, dump
 /// local): `dump_modify format` and `precision`, then one format per column.
 class ColumnFormats {

@@ -233,22 +233,8 @@ class DumpLocal : public Dump {
   }
 
   void write_frame(std::FILE* fp, const std::vector<double>& rows, std::int64_t nrows) const {
-    const Domain& d = *engine_.domain;
     std::string out;
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "ITEM: TIMESTEP\n%lld\nITEM: NUMBER OF ENTRIES\n%lld\nITEM: BOX BOUNDS",
-                  static_cast<long long>(engine_.update->ntimestep), static_cast<long long>(nrows));
-    out += buf;
-    for (int dim = 0; dim < 3; ++dim) {
-      out += ' ';
-      out += d.boundary[dim][0];
-      out += d.boundary[dim][1];
-    }
-    out += '\n';
-    for (int dim = 0; dim < 3; ++dim) {
-      std::snprintf(buf, sizeof buf, "%-1.16e %-1.16e\n", d.boxlo[dim], d.boxhi[dim]);
-      out += buf;
-    }
+    dumpio::append_frame_header(out, engine_, "ENTRIES", nrows);
     out += "ITEM: " + label_ + " " + columns_ + "\n";
     const int ncols = static_cast<int>(values_.size());
     std::vector<std::int64_t> order(nrows);
