@@ -640,7 +640,10 @@ def main(argv=None):
     if a.cmd == "merge":
         return cmd_merge(a)
     if a.cmd == "picture":
+        # the picture run works in its own folder: every path absolute
         a.granary = os.path.abspath(a.granary)
+        a.data = os.path.abspath(a.data)
+        a.work = os.path.abspath(a.work)
         return cmd_picture(a)
     print("\n".join(study_cases()))
     return 0

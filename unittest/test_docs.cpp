@@ -38,7 +38,8 @@ const std::map<std::string, std::string> kAliases = {
     {"particledistribution/discrete/massbased", "particledistribution/discrete"},
     {"particledistribution/discrete/numberbased", "particledistribution/discrete"},
     {"contact/atom/gran", "contact/atom"},
-    {"coord/gran", "contact/atom"}};
+    {"coord/gran", "contact/atom"},
+    {"heat/gran/conduction", "heat/gran"}};
 
 // The Syntax section of a page (up to the next "## " heading).
 std::string syntax_section(const std::string& text) {

@@ -83,7 +83,7 @@ class Selection {
 void cmd_set(Engine& e, const Args& a) {
   const char* usage =
       "set atom|type|group|region ID keyword value ...  (keywords: type, type/fraction, diameter, density, "
-      "mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, omega, image)";
+      "mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, omega, image, property/atom NAME values)";
   begin(e, a, 4, "set", usage);
   const Selection sel(e, a[0], a[1], "set");
   Particles& p = *e.particles;
@@ -94,16 +94,47 @@ void cmd_set(Engine& e, const Args& a) {
     std::vector<double> v;
     std::vector<std::string> var;  // per value: variable name or ""
     std::vector<bool> null;        // image components given as NULL
+    int field = -1;                // property/atom: the per-particle field
   };
   std::vector<Setting> settings;
-  static const std::vector<std::string> keys = {
-      "type", "type/fraction", "diameter", "density", "mass",  "x",    "y", "z", "vx", "vy",
-      "vz",   "omegax",        "omegay",   "omegaz",  "omega", "image"};
+  static const std::vector<std::string> keys = {"type",
+                                                "type/fraction",
+                                                "diameter",
+                                                "density",
+                                                "mass",
+                                                "x",
+                                                "y",
+                                                "z",
+                                                "vx",
+                                                "vy",
+                                                "vz",
+                                                "omegax",
+                                                "omegay",
+                                                "omegaz",
+                                                "omega",
+                                                "image",
+                                                "property/atom",
+                                                "property/peratom"};
   for (std::size_t k = 2; k < a.size();) {
     Setting s;
     s.key = a[k];
     std::size_t nval = 1;
     if (s.key == "omega" || s.key == "image" || s.key == "type/fraction") nval = 3;
+    if (s.key == "property/atom" || s.key == "property/peratom") {
+      // a per-particle property of fix property/atom (or of a fix that owns
+      // one, e.g. Temp and heatSource of fix heat/gran): its name, then its values
+      if (k + 1 >= a.size()) throw InputError("set " + s.key + " needs a property name and its value(s)");
+      const std::string& name = a[k + 1];
+      s.field = p.find_field(name);
+      if (s.field < 0 || !p.extras[s.field].settable) {
+        throw InputError("set " + s.key + ": no per-particle property '" + name +
+                         "'; define it first with fix property/atom (or the fix that owns it, e.g. fix "
+                         "heat/gran for Temp and heatSource)");
+      }
+      s.key = "property/atom";
+      ++k;  // the name; the values follow as for any keyword
+      nval = static_cast<std::size_t>(p.extras[s.field].ncomp);
+    }
     if (std::find(keys.begin(), keys.end(), s.key) == keys.end()) {
       const std::string hint = did_you_mean(s.key, keys);
       throw InputError("unknown set keyword '" + s.key + "'" + (hint.empty() ? "" : "; " + hint) +
@@ -200,6 +231,10 @@ void cmd_set(Engine& e, const Args& a) {
         p.omega[i][key[5] - 'x'] = value(0, i);
       } else if (key == "omega") {
         p.omega[i] = Vec3(value(0, i), value(1, i), value(2, i));
+      } else if (key == "property/atom") {
+        double* dst = &p.extras[s.field].data[static_cast<std::size_t>(i) * s.v.size()];
+        for (std::size_t c = 0; c < s.v.size(); ++c)
+          dst[c] = value(c, i);
       } else if (key == "image") {
         int img[3];
         Particles::image_unpack(p.image[i], img[0], img[1], img[2]);

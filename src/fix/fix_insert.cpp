@@ -127,7 +127,8 @@ struct NewSphere {
 
 /// Append owned particles. Runs in pre_exchange of a reneighbouring step, when
 /// the contact history has been saved by particle ids and the ghosts are gone.
-void add_owned(Engine& e, const std::vector<NewSphere>& add) {
+void add_owned(Engine& e, const std::vector<NewSphere>& add,
+               const std::vector<std::pair<int, double>>& fields) {
   Particles& p = *e.particles;
   const int nadd = static_cast<int>(add.size());
   if (nadd == 0) return;
@@ -149,8 +150,9 @@ void add_owned(Engine& e, const std::vector<NewSphere>& add) {
     p.rmass[i] = Particles::sphere_mass(s.radius, s.density);
     p.body[i] = s.body;
     p.image[i] = Particles::image_pack(0, 0, 0);
-    for (auto& f : p.extras)
-      std::fill_n(f.data.begin() + static_cast<std::size_t>(i) * f.ncomp, f.ncomp, 0.0);
+    p.init_extras(i);
+    for (const auto& [k, v] : fields)
+      p.extras[k].data[i] = v;
   }
   p.nlocal += nadd;
   p.map_clear();
@@ -265,7 +267,8 @@ FixInsert::FixInsert(Engine& engine, const Args& args, const std::map<std::strin
       ntry_mc_ = parse_int(value(), what + " ntry_mc");
       if (ntry_mc_ < 1) throw InputError(what + ": ntry_mc must be at least 1");
     } else if (w == "set_property") {
-      throw InputError(what + ": set_property is not supported (Granary has no fix property/atom)");
+      const std::string name = value();
+      set_property_.emplace_back(name, parse_double(value(), what + " set_property " + name));
     } else if (style_keywords.count(w)) {
       const int nv = style_keywords.at(w);
       Args vals;
@@ -321,6 +324,17 @@ Region& FixInsert::region() const {
 
 void FixInsert::init() {
   const std::string what = label();
+  set_fields_.clear();
+  for (const auto& [name, v] : set_property_) {
+    const Particles& p = *engine_.particles;
+    const int k = p.find_field(name);
+    if (k < 0 || !p.extras[k].settable || p.extras[k].ncomp != 1)
+      throw InputError(
+          what + ": set_property " + name +
+          " names no scalar per-particle property; define it with fix property/atom (or the fix that "
+          "owns it, e.g. fix heat/gran for Temp) before the run");
+    set_fields_.emplace_back(k, v);
+  }
   FixParticleDistributionDiscrete& d = dist();
   for (int i = 0; i < d.ntemplates(); ++i)
     d.templ(i).init();
@@ -654,7 +668,7 @@ FixInsert::Result FixInsert::insert(long long n) {
     res.volume += tp.volume;
   }
   res.placed = static_cast<long long>(placed.size());
-  add_owned(e, mine);
+  add_owned(e, mine, set_fields_);
   p.natoms += nspheres;
 
   if (!bodies.empty()) {

@@ -36,6 +36,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fix/fix.h"
@@ -107,6 +108,10 @@ class FixInsert : public Fix {
 
   std::map<std::string, Args> style_values_;
   std::string dist_id_, region_id_;
+  /// set_property NAME value: scalar fix property/atom values of the inserted
+  /// particles (names here, field indices found at init)
+  std::vector<std::pair<std::string, double>> set_property_;
+  std::vector<std::pair<int, double>> set_fields_;
   long long seed_ = 0;
   int maxattempt_ = 50;
   int insert_every_ = 0;     // 0: once

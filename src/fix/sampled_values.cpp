@@ -29,7 +29,8 @@ SampledValue parse_sampled_value(const std::string& w, const std::string& what, 
     if (v.kind == 'v' || v.id.back() != ']' || lb == 0)
       throw InputError(what + ": value '" + w + "' is malformed; use c_ID, c_ID[i], f_ID, f_ID[i] or v_name");
     v.col = static_cast<int>(parse_int(v.id.substr(lb + 1, v.id.size() - lb - 2), what + " index of " + w));
-    if (v.col < 1) throw InputError(what + ": the index in '" + w + "' must be >= 1");
+    // [0] is the per-atom vector itself (LIGGGHTS' f_Temp[0] of a property/atom)
+    if (v.col < 0) throw InputError(what + ": the index in '" + w + "' must be >= 1 (or 0 for a vector)");
     v.id.resize(lb);
   }
   return v;

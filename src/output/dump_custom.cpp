@@ -89,7 +89,8 @@ DumpFields::DumpFields(Engine& engine, const Args& words, const std::string& wha
       }
       if (!col.empty()) {
         const long long c = parse_int(col, "column index of " + w);
-        if (c < 1) throw InputError(what_ + ": column index of '" + w + "' must be >= 1");
+        // [0] is the per-atom vector itself (LIGGGHTS' f_Temp[0] of a property/atom)
+        if (c < 0) throw InputError(what_ + ": column index of '" + w + "' must be >= 1 (or 0 for a vector)");
         f.col = static_cast<int>(c);
       }
       fields.push_back(f);

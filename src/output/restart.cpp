@@ -211,7 +211,7 @@ std::string particles_section(Engine& e) {
     mine.push_back(static_cast<double>(p.body[i]));
     mine.push_back(p.image[i]);
     for (const auto& f : p.extras) {
-      if (!f.exchange) continue;
+      if (!f.exchange || !f.restart) continue;
       const double* src = &f.data[static_cast<std::size_t>(i) * f.ncomp];
       mine.insert(mine.end(), src, src + f.ncomp);
     }
@@ -223,7 +223,7 @@ std::string particles_section(Engine& e) {
   std::vector<std::string> names;
   std::vector<int> ncomp;
   for (const auto& f : p.extras) {
-    if (!f.exchange) continue;
+    if (!f.exchange || !f.restart) continue;
     names.push_back(f.name);
     ncomp.push_back(f.ncomp);
     per += f.ncomp;

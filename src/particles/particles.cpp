@@ -63,10 +63,19 @@ int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, 
   rmass[i] = sphere_mass(radius_, density_);
   body[i] = -1;
   image[i] = image_pack(0, 0, 0);
-  for (auto& e : extras)
-    std::fill_n(e.data.begin() + static_cast<std::size_t>(i) * e.ncomp, e.ncomp, 0.0);
+  init_extras(i);
   ++nlocal;
   return i;
+}
+
+void Particles::init_extras(int i) {
+  for (auto& e : extras) {
+    const auto at = e.data.begin() + static_cast<std::size_t>(i) * e.ncomp;
+    if (e.init.size() == static_cast<std::size_t>(e.ncomp))
+      std::copy(e.init.begin(), e.init.end(), at);
+    else
+      std::fill_n(at, e.ncomp, 0.0);
+  }
 }
 
 void Particles::copy(int from, int to) {
@@ -291,7 +300,8 @@ void Particles::release_field(const std::string& name) {
   ExtraField& e = extras[k];
   e.name.clear();
   e.ncomp = 0;
-  e.ghost = e.exchange = e.history = false;
+  e.ghost = e.exchange = e.history = e.settable = false;
+  e.init.clear();
   std::vector<double>().swap(e.data);
 }
 

@@ -25,6 +25,9 @@ struct ExtraField {
   bool ghost = false;        // copied to ghosts when they are built (borders)
   bool exchange = true;      // migrates with the particle
   bool history = false;      // contact history: not advanced by the force pass at run setup
+  bool restart = true;       // written to restart files (fields that migrate only)
+  bool settable = false;     // a property the set command may write (fix property/atom)
+  std::vector<double> init;  // values of a new particle (add_local), ncomp of them; empty: zeros
   std::vector<double> data;  // ncomp values per particle
 };
 
@@ -60,6 +63,9 @@ class Particles {
   void resize(int n);
   /// Append an owned particle (only when there are no ghosts). Returns its index.
   int add_local(tagint id_, int type_, const Vec3& x_, double radius_, double density_);
+  /// Set the extra fields of slot i to the values of a new particle (each
+  /// field's `init`, zeros when it has none).
+  void init_extras(int i);
   /// Copy particle `from` over slot `to` (all fields incl. extras).
   void copy(int from, int to);
   /// Remove owned particle i by moving the last owned one into its slot (ghosts are dropped).

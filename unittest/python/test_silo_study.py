@@ -236,6 +236,19 @@ class SiloStudyDriver(unittest.TestCase):
         self.assertEqual(sorted(s["cases"]), sorted(CASES))
         self.assertEqual(s["cases"]["r0_phi0"]["ratio"], 1.0)
 
+    def test_picture_with_relative_paths(self):
+        # as tools/demo.sh calls it: --data and --work relative to the current folder
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        r = subprocess.run([sys.executable, os.path.join(TOOLS, "silo_study.py"), "picture", "--case", CASES[0],
+                            "--granary", GRANARY, "--data", os.path.join("ref", "data"), "--work",
+                            os.path.join("ref", "work"), "--out", "clog.png"],
+                           cwd=self.tmp, capture_output=True, text=True, timeout=600)
+        log = read(os.path.join(self.ref, "work", CASES[0], "picture", "log"))
+        self.assertNotIn("ERROR", log)  # the run found its restart file and meshes
+        self.assertIn("Read restart file", log)
+        if r.returncode == 0:
+            self.assertTrue(os.path.exists(os.path.join(self.ref, "work", CASES[0], "picture", "clog_particles.vtp")))
+
 
 class CaseNames(unittest.TestCase):
     def test_names(self):
