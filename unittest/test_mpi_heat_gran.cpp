@@ -239,6 +239,13 @@ TEST_CASE("fix property/atom: defaults for every particle, set, f_ID[0], and err
     local += v;
   MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_SUM, s.e.world);
   CHECK(sum == 1.0 + 1.0 + 4.0);
+  // f_ID[0] (the vector) in compute reduce and in atom-style variables
+  s.cmds({"set atom * diameter 0.002 density 2500", "variable t2 atom 2*f_tag[0]",
+          "compute red all reduce sum f_tag[0] v_t2 f_uf[3]", "run 0"});
+  CHECK(s.e.compute_value("red", 1) == 1.5 + 7.0 + 1.5);
+  CHECK(s.e.compute_value("red", 2) == 2 * (1.5 + 7.0 + 1.5));
+  CHECK(s.e.compute_value("red", 3) == 2.0 + 2.0 + 5.0);
+  s.cmd("uncompute red");
   // particles inserted by an insertion fix start with the defaults too, or
   // with the value of set_property
   s.cmds(

@@ -118,7 +118,8 @@ void ComputeReduce::add_input(const std::string& word) {
         all_columns = true;
       } else {
         in.col = static_cast<int>(parse_int(idx, "the column of " + word));
-        if (in.col < 1) throw InputError("columns are numbered from 1 in '" + word + "'");
+        // [0] is the per-atom vector itself (LIGGGHTS' f_Temp[0] of a property/atom)
+        if (in.col < 0) throw InputError("columns are numbered from 1 in '" + word + "' (0: the vector)");
       }
     }
     in.name = rest;

@@ -639,8 +639,11 @@ Val eval_ref(const Node& n, Ctx& ctx) {
   for (const auto& k : n.kids) {
     idx.push_back(to_index(ctx, eval_scalar(*k, ctx), "an index"));
   }
+  // in an atom-style formula c_ID[0] and f_ID[0] are the per-atom vector
+  // itself (LIGGGHTS' f_Temp[0] of a property/atom)
+  const bool vector_zero = ctx.atom && (n.ref == 'c' || n.ref == 'f') && idx.size() == 1 && idx[0] == 0;
   for (long long i : idx) {
-    if (i < 1)
+    if (i < 1 && !vector_zero)
       throw EvalError("index " + std::to_string(i) + " of " + std::string(1, n.ref) + "_" + n.name +
                       " must be 1 or larger");
   }
