@@ -45,6 +45,18 @@ std::vector<std::string> scene() {
           "group two id 1 2"};
 }
 
+/// 343 particles on a simple cubic lattice of 1 cm (7 x 7 x 7) in a 0.1 m box.
+std::vector<std::string> lattice_block() {
+  return {"units si",
+          "atom_style granular",
+          "boundary f f f",
+          "region reg block 0 0.1 0 0.1 0 0.1 units box",
+          "create_box 1 reg",
+          "lattice sc 0.01",
+          "region fill block 0.02 0.08 0.02 0.08 0.02 0.08 units box",
+          "create_atoms 1 region fill"};
+}
+
 }  // namespace
 
 TEST_CASE("displace_atoms move, ramp and rotate give the positions they must", "[displace_atoms][mpi]") {
@@ -76,9 +88,8 @@ TEST_CASE("displace_atoms move, ramp and rotate give the positions they must", "
 TEST_CASE("displace_atoms random: uniform displacements from the seed, the same on any number of ranks",
           "[displace_atoms][mpi]") {
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
-  s.cmds({"units si", "atom_style granular", "boundary f f f", "region reg block 0 0.1 0 0.1 0 0.1 units box",
-          "create_box 1 reg", "lattice sc 0.01", "region fill block 0.02 0.08 0.02 0.08 0.02 0.08 units box",
-          "create_atoms 1 region fill", "set atom * diameter 0.002 density 2500"});
+  s.cmds(lattice_block());
+  s.cmd("set atom * diameter 0.002 density 2500");
   const int n = static_cast<int>(s.e.particles->natoms);
   REQUIRE(n > 100);
   std::vector<Vec3> before(n + 1), after(n + 1);
@@ -101,9 +112,8 @@ TEST_CASE("displace_atoms random: uniform displacements from the seed, the same 
   CHECK(std::fabs(sum.x() / n) < 0.005 * 3 / std::sqrt(3.0 * n));  // mean 0 within 3 standard errors
   // the same seed from the same positions gives the same displacements
   granary::test::ScriptEngine t(MPI_COMM_WORLD);
-  t.cmds({"units si", "atom_style granular", "boundary f f f", "region reg block 0 0.1 0 0.1 0 0.1 units box",
-          "create_box 1 reg", "lattice sc 0.01", "region fill block 0.02 0.08 0.02 0.08 0.02 0.08 units box",
-          "create_atoms 1 region fill", "displace_atoms all random 0.005 0.0025 0 48271 units box"});
+  t.cmds(lattice_block());
+  t.cmd("displace_atoms all random 0.005 0.0025 0 48271 units box");
   for (int id = 1; id <= n; id += 7)
     CHECK(where(t.e, id) == after[id]);
 }

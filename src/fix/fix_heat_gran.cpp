@@ -115,12 +115,10 @@ class FixHeatGran : public Fix {
 
   void init() override {
     const Particles& p = *engine_.particles;
-    temp_ = FieldRef(p, "Temp");
-    source_ = FieldRef(p, "heatSource");
-    flux_ = FieldRef(p, "heatFlux");
     temp_index_ = p.find_field("Temp");
+    source_index_ = p.find_field("heatSource");
     flux_index_ = p.find_field("heatFlux");
-    if (p.find_field("Temp") < 0 || p.find_field("heatSource") < 0 || p.find_field("heatFlux") < 0)
+    if (temp_index_ < 0 || source_index_ < 0 || flux_index_ < 0)
       throw InputError(
           "fix " + id + " " + style +
           ": its per-particle properties Temp, heatSource and heatFlux were removed (unfix); define "
@@ -130,16 +128,22 @@ class FixHeatGran : public Fix {
     const GlobalProperty& k = m.require_property("thermalConductivity", by);
     const GlobalProperty& c = m.require_property("thermalCapacity", by);
     const int nt = p.ntypes;
-    conductivity_.assign(nt + 1, 0.0);
+    std::vector<double> conductivity(nt + 1, 0.0);
     capacity_.assign(nt + 1, 0.0);
     for (int t = 1; t <= nt; ++t) {
-      conductivity_[t] = k.per_type(t);
+      conductivity[t] = k.per_type(t);
       capacity_[t] = c.per_type(t);
-      if (!(conductivity_[t] > 0.0) || !(capacity_[t] > 0.0))
+      if (!(conductivity[t] > 0.0) || !(capacity_[t] > 0.0))
         throw InputError(by +
                          ": thermalConductivity and thermalCapacity must be positive for every type (type " +
                          std::to_string(t) + ")");
     }
+    // per type pair: 4 k_i k_j / (k_i + k_j), and the overlap factor of area_correction
+    conductance_.assign(static_cast<std::size_t>(nt + 1) * (nt + 1), 0.0);
+    for (int a = 1; a <= nt; ++a)
+      for (int b = 1; b <= nt; ++b)
+        conductance_[static_cast<std::size_t>(a) * (nt + 1) + b] =
+            4.0 * conductivity[a] * conductivity[b] / (conductivity[a] + conductivity[b]);
     correction_.assign(static_cast<std::size_t>(nt + 1) * (nt + 1), 1.0);
     if (area_correction_) {
       if (area_ != Area::Overlap)
@@ -202,8 +206,8 @@ class FixHeatGran : public Fix {
           } else {
             area = area_value_;
           }
-          const double ki = conductivity_[p.type[i]], kj = conductivity_[p.type[j]];
-          const double h = 4.0 * ki * kj / (ki + kj) * std::sqrt(area);
+          const double h =
+              conductance_[static_cast<std::size_t>(p.type[i]) * nt1 + p.type[j]] * std::sqrt(area);
           const double q = h * (temp[j] - temp[i]);  // into i
           flux[i] += q;
           if (j < p.nlocal || newton) flux[j] -= q;
@@ -215,10 +219,9 @@ class FixHeatGran : public Fix {
 
   void final_integrate() override {
     Particles& p = *engine_.particles;
-    double* temp = temp_.data(p);
-    const double* flux = flux_.data(p);
-    const double* source = source_.data(p);
-    if (!temp || !flux || !source) return;  // no particles here
+    double* temp = p.extras[temp_index_].data.data();
+    const double* flux = p.extras[flux_index_].data.data();
+    const double* source = p.extras[source_index_].data.data();
     const double dt = engine_.update->dt;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
@@ -230,11 +233,10 @@ class FixHeatGran : public Fix {
   /// all particles, also those outside the group (its manual says the group).
   double compute_scalar() override {
     const Particles& p = *engine_.particles;
-    const double* temp = temp_.data(p);
     double local = 0.0, all = 0.0;
-    if (temp && !capacity_.empty())
+    if (temp_index_ >= 0 && !capacity_.empty())
       for (int i = 0; i < p.nlocal; ++i)
-        local += p.rmass[i] * capacity_[p.type[i]] * temp[i];
+        local += p.rmass[i] * capacity_[p.type[i]] * p.extras[temp_index_].data[i];
     MPI_Allreduce(&local, &all, 1, MPI_DOUBLE, MPI_SUM, engine_.world);
     return all;
   }
@@ -261,9 +263,8 @@ class FixHeatGran : public Fix {
   Area area_ = Area::Overlap;
   double area_value_ = 0.0;
   bool area_correction_ = false;
-  FieldRef temp_, source_, flux_;
-  int temp_index_ = -1, flux_index_ = -1;
-  std::vector<double> conductivity_, capacity_, correction_;
+  int temp_index_ = -1, source_index_ = -1, flux_index_ = -1;  // fields, found at init
+  std::vector<double> capacity_, conductance_, correction_;
 };
 
 }  // namespace
