@@ -31,7 +31,9 @@ Usage:
                                     LIGGGHTS (the `liggghts` on PATH, or --liggghts EXE;
                                     --liggghts "" for Granary only) on copies whose runs
                                     are cut to --steps steps, and write the tutorial
-                                    section (with --only PATTERN...: print, do not write)
+                                    section (with --only PATTERN...: print, do not write;
+                                    with --only PATTERN... --update: rerun those scripts and
+                                    write the section with the other rows as committed)
   liggghts_coverage.py --check-tutorials
                                     exit 1 unless the tutorial section lists every script
 Exit status 77: the LIGGGHTS manual (or the tutorials) is not installed.
@@ -635,11 +637,17 @@ def run_tutorials(tutorial_dir, binary, liggghts, timeout, only=None, cap=RUN_CA
     return results
 
 
+class Recorded(str):
+    """A result kept from the committed tutorial section (its cell text, as written)."""
+
+
 def describe(result):
     if result is None:
         return "runs"
     if result == "not run":
         return "not run"
+    if isinstance(result, Recorded):
+        return str(result)
     line, command, message = result
     where = f"line {line}: `{command}`" if line else ""
     return f"stops at {where} ({message})" if where else f"stops ({message})"
@@ -670,6 +678,31 @@ def tutorial_usage(tutorial_dir):
                 if script.as_posix() not in used.setdefault(key, []):
                     used[key].append(script.as_posix())
     return used
+
+
+def recorded_tutorials(section):
+    """[(script, granary, liggghts)] from a committed tutorial section: "runs" is None,
+    "not run" stays, any other cell is kept as Recorded text."""
+    def result(cell):
+        cell = cell.strip().replace("\\|", "|")
+        if cell == "runs":
+            return None
+        if cell == "not run":
+            return "not run"
+        return Recorded(cell)
+    out = []
+    for m in re.finditer(r"^\| `([^`]+)` \| (.*) \| (.*) \|$", section, re.M):
+        lg, g = re.split(r"(?<!\\) \| ", m.group(2) + " | " + m.group(3))[:2]
+        out.append((Path(m.group(1)), result(g), result(lg)))
+    return out
+
+
+def merge_tutorials(recorded, fresh):
+    """The recorded results with the freshly run scripts replaced (new scripts added), in script order."""
+    by_script = {r[0].as_posix(): r for r in recorded}
+    for r in fresh:
+        by_script[r[0].as_posix()] = r
+    return sorted(by_script.values(), key=lambda r: r[0])
 
 
 def render_tutorials(results, usage, names, cap=RUN_CAP, loop_cap=LOOP_CAP):
@@ -715,7 +748,10 @@ def main(argv=None):
                     help="check that the tutorial section lists every tutorial script")
     ap.add_argument("--liggghts", default=shutil.which("liggghts"), help="LIGGGHTS executable (with --tutorials)")
     ap.add_argument("--only", nargs="*", help="with --tutorials: only scripts whose path contains one of these "
-                                              "(printed, not written)")
+                                              "(printed, not written, unless --update)")
+    ap.add_argument("--update", action="store_true",
+                    help="with --tutorials --only: write the section with these scripts' rows replaced and "
+                         "the other rows kept as committed")
     ap.add_argument("--timeout", type=float, default=600, help="seconds per tutorial run")
     ap.add_argument("--steps", type=int, default=RUN_CAP, help="with --tutorials: most steps per run command")
     ap.add_argument("--granary", help="granary executable (default: $GRANARY_BINARY, build/granary)")
@@ -741,8 +777,11 @@ def main(argv=None):
             return 1 if problems else 0
         binary = granary_binary(args.granary)
         results = run_tutorials(args.tutorial_dir, binary, args.liggghts, args.timeout, args.only, args.steps)
-        if args.only:
+        if args.only and not args.update:
             return 0
+        if args.only:
+            recorded = recorded_tutorials(current_section(target.read_text(), BEGIN_TUT, END_TUT) or "")
+            results = merge_tutorials(recorded, results)
         section = render_tutorials(results, tutorial_usage(args.tutorial_dir), granary_names(binary), args.steps)
         target.write_text(replace_section(target.read_text(), BEGIN_TUT, END_TUT, section))
         print(f"wrote the tutorial section of {target}")

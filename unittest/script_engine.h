@@ -39,6 +39,18 @@ struct ScriptEngine {
   const granary::Particles& p() const { return *e.particles; }
 };
 
+/// This process's rank in MPI_COMM_WORLD and the number of ranks.
+inline int world_rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+inline int world_size() {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
 /// Position and velocity of particle `id`, wherever it lives (collective).
 /// Returns false unless exactly one rank owns it.
 inline bool particle_state(granary::Engine& e, long long id, granary::Vec3& x, granary::Vec3& v) {

@@ -39,7 +39,8 @@ const std::map<std::string, std::string> kAliases = {
     {"particledistribution/discrete/numberbased", "particledistribution/discrete"},
     {"contact/atom/gran", "contact/atom"},
     {"coord/gran", "contact/atom"},
-    {"heat/gran/conduction", "heat/gran"}};
+    {"heat/gran/conduction", "heat/gran"},
+    {"hard_particles", "soft_particles"}};
 
 // The Syntax section of a page (up to the next "## " heading).
 std::string syntax_section(const std::string& text) {

@@ -187,6 +187,9 @@ TEST_CASE("settings with a bad value are rejected with the accepted values", "[e
              Contains("unknown neigh_modify keyword 'evrey'") && Contains("expected every, delay, check"));
   CHECK_THAT(input_error(s, "boundary f x f"), Contains("boundary letter 'x' is not one of p f s m"));
   CHECK_THAT(input_error(s, "thermo_modify lost maybe"), Contains("lost takes error, warn or ignore"));
+  CHECK_THAT(input_error(s, "soft_particles maybe"), Contains("soft_particles"));
+  CHECK_THAT(input_error(s, "hard_particles"), Contains("hard_particles yes|no"));
+  s.cmds({"soft_particles yes", "hard_particles on"});  // accepted (Granary limits no Young's modulus)
   s.cmd("region half block INF INF 0 1 0 1 units box");
   CHECK_THAT(input_error(s, "create_box 1 half"),
              Contains("create_box needs a bounded region") && Contains("'half' has no finite bounds"));
@@ -195,6 +198,21 @@ TEST_CASE("settings with a bad value are rejected with the accepted values", "[e
   CHECK_THAT(input_error(s, "create_box 1 nowhere"), Contains("unknown region 'nowhere'"));
   // the box was never made
   CHECK_THAT(input_error(s, "run 1"), Contains("run needs a simulation box"));
+}
+
+// Sizes that would overflow a count (found by fuzz_run: 5000000 types squared)
+// are refused with the limit, and a wrong value count names the product.
+TEST_CASE("property/global refuses absurd sizes and names the value count it needs", "[errors]") {
+  Sim s;
+  s.cmd("region b block 0 1 0 1 0 1 units box");
+  s.cmd("create_box 2 b");
+  CHECK_THAT(input_error(s, "fix m all property/global coefficientFriction peratomtypepair 5000000 0.3"),
+             Contains("size 5000000 is too large (at most 100000)"));
+  CHECK_THAT(input_error(s, "fix m all property/global k matrix 3000000000 1"), Contains("is too large"));
+  CHECK_THAT(input_error(s, "fix m all property/global coefficientFriction peratomtypepair 3 0.3"),
+             Contains("needs 9 values (3 x 3), got 1"));
+  CHECK_THAT(input_error(s, "fix m all property/global coefficientFriction peratomtypepair 0 0.3"),
+             Contains("needs a positive size"));
 }
 
 // ---------------------------------------------------------------- timestep

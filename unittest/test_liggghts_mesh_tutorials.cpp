@@ -1,5 +1,5 @@
 // The LIGGGHTS 3.8 tutorials meshGran, conveyor, insert_stream,
-// movingMeshGran, heatTransfer_1, heatTransfer_2 and packing (package
+// movingMeshGran, heatTransfer_1, heatTransfer_2, packing and hydrogel_default (package
 // liggghts-doc) run in Granary, in shortened form, and agree with LIGGGHTS
 // where the comparison is deterministic (statistically where the random
 // packings differ; each test says which).
@@ -32,6 +32,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -72,7 +73,7 @@ void write_text(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-/// Copy the input file and meshes of tutorial `name` into a fresh directory
+/// Copy the input file, meshes and data files of tutorial `name` into a fresh directory
 /// (with an empty post/); "" (and a warning) when the package is missing.
 std::string copy_tutorial(const std::string& name, const std::string& input) {
   const std::string listing = shell("dpkg -L liggghts-doc 2>/dev/null");
@@ -85,7 +86,8 @@ std::string copy_tutorial(const std::string& name, const std::string& input) {
     if (at == std::string::npos) continue;
     const std::string rel = line.substr(at + key.size());
     const bool wanted = rel == input || rel == input + ".gz" ||
-                        (rel.rfind("meshes/", 0) == 0 && rel.find(".stl") != std::string::npos);
+                        (rel.rfind("meshes/", 0) == 0 && rel.find(".stl") != std::string::npos) ||
+                        rel.rfind("data/", 0) == 0;
     if (wanted) files.push_back(line);
   }
   if (files.empty()) {
@@ -95,7 +97,7 @@ std::string copy_tutorial(const std::string& name, const std::string& input) {
   auto t = granary::test::temp_template("granary_tut_");
   REQUIRE(mkdtemp(t.data()) != nullptr);
   const std::string dir = t.data();
-  REQUIRE(std::system(("mkdir -p '" + dir + "/meshes' '" + dir + "/post'").c_str()) == 0);
+  REQUIRE(std::system(("mkdir -p '" + dir + "/meshes' '" + dir + "/data' '" + dir + "/post'").c_str()) == 0);
   for (const std::string& f : files) {
     std::string rel = f.substr(f.find(key) + key.size());
     const bool gz = rel.size() > 3 && rel.compare(rel.size() - 3, 3, ".gz") == 0;
@@ -498,5 +500,53 @@ TEST_CASE("LIGGGHTS tutorial packing: particles grown by fix adapt", "[liggghts]
   CHECK(n > 250);
   CHECK(rmax == Approx(0.0111488147949157).epsilon(1e-12));
   CHECK(rmin == Approx(0.00696800924682228).epsilon(1e-12));
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// hydrogel_multicontact/in.hydrogel_default: 514 soft spheres (Y = 23.3 kPa,
+// soft_particles yes) read with read_data from the tutorial's data file
+// (measured positions of Brodu et al. 2015), compressed by a mesh piston
+// (fix mesh/surface/stress moved by move/mesh); fix ave/time writes the mean
+// piston force every 100 steps. Cut to the first 10,000 steps of the
+// compression (the piston speed is unchanged) and without the VTK dumps. The
+// start is deterministic (the same particles in both programs), so the force
+// follows LIGGGHTS' closely: LIGGGHTS 3.8's mean z force at steps 1000, 2500,
+// 5000, 7500 and 10000 (stored from `liggghts -in in.hydrogel_default`, whose
+// first 10,000 steps are those of the cut script): 0.0111372, 0.0434536,
+// 0.208029, 0.439749, 0.769013 N. Tolerance 0.1 % (Granary: 0.011137,
+// 0.0434537, 0.20803, 0.439749, 0.769013 N).
+TEST_CASE("LIGGGHTS tutorial hydrogel_default: read_data and a mesh piston on soft spheres",
+          "[liggghts][tutorial][read_data]") {
+  const std::string dir = copy_tutorial("hydrogel_multicontact", "in.hydrogel_default");
+  if (dir.empty()) return;
+  std::string text = read_text(dir + "/in.hydrogel_default");
+  const auto cut = text.find("unfix piston_move");
+  REQUIRE(cut != std::string::npos);
+  text.resize(cut);
+  replace_line(text, "run ${ts_move} upto", "run 10000 upto");
+  replace_line(text, "dump dmp all", "");
+  replace_line(text, "dump dmp2 all", "");
+  write_text(dir + "/in.short", text);
+  run_granary(dir, "in.short", [&](granary::test::ScriptEngine& s) { CHECK(s.p().natoms == 514); });
+  std::map<long long, double> fz;
+  {
+    std::istringstream in(read_text(dir + "/post/piston_force_default.txt"));
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream w(line);
+      long long step;
+      double fx, fy, f;
+      if (w >> step >> fx >> fy >> f) fz[step] = f;
+    }
+  }
+  CHECK(fz.size() == 100);
+  const std::map<long long, double> liggghts = {
+      {1000, 0.0111372}, {2500, 0.0434536}, {5000, 0.208029}, {7500, 0.439749}, {10000, 0.769013}};
+  for (const auto& kv : liggghts) {
+    INFO("step " << kv.first);
+    REQUIRE(fz.count(kv.first) == 1);
+    CHECK(fz[kv.first] == Approx(kv.second).epsilon(1e-3));
+  }
   std::system(("rm -rf '" + dir + "'").c_str());
 }

@@ -3,6 +3,7 @@
 #include <vtkDataArray.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkPolyDataReader.h>
 #include <vtkSmartPointer.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -382,6 +383,53 @@ TEST_CASE("dump mesh/vtk writes the triangles, normals and velocity as VTK PolyD
   CHECK_FALSE(std::filesystem::exists(path("mesh_now.pvd")));
   CHECK(std::filesystem::last_write_time(path("mesh_.pvd")) == pvd_time);
   CHECK(std::filesystem::file_size(path("mesh_.pvd")) == pvd_size);
+}
+
+// A 1 cm sphere resting on the floor (gravity, 2000 steps of 10 us): the
+// legacy .vtk frame (LIGGGHTS' file name) holds the same triangles; on every
+// triangle stress_components x area = force and pressure = -stress . normal;
+// the summed force carries the sphere's weight. A .pvd list is refused for
+// legacy frames.
+TEST_CASE("dump mesh/vtk with a .vtk name writes legacy VTK with the stress components", "[mesh]") {
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmds({"fix cad all mesh/surface file " + floor_file() + " type 2",
+          "fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad",
+          "fix gravi all gravity 9.81 vector 0 0 -1", "create_atoms 1 single 0.001 0.002 0.00499 units box",
+          "set group all diameter 0.01 density 2500", "fix integr all nve/sphere",
+          "dump d all mesh/vtk 2000 " + path("legacy_*.vtk") + " id stress stresscomponents cad",
+          "run 2000"});
+  const auto& mesh = mesh_fix(s, "cad").mesh;
+  REQUIRE(std::filesystem::exists(path("legacy_2000.vtk")));
+  CHECK_FALSE(std::filesystem::exists(path("legacy_.pvd")));
+  auto reader = vtkSmartPointer<vtkPolyDataReader>::New();
+  reader->SetFileName(path("legacy_2000.vtk").c_str());
+  reader->Update();
+  vtkPolyData* pd = reader->GetOutput();
+  REQUIRE(pd->GetNumberOfPolys() == mesh.ntri());
+  vtkDataArray* force = pd->GetCellData()->GetArray("force");
+  vtkDataArray* stress = pd->GetCellData()->GetArray("stress_components");
+  vtkDataArray* area = pd->GetCellData()->GetArray("area");
+  vtkDataArray* pressure = pd->GetCellData()->GetArray("pressure");
+  REQUIRE(force);
+  REQUIRE(stress);
+  REQUIRE(area);
+  REQUIRE(pressure);
+  Vec3 total(0, 0, 0);
+  for (int t = 0; t < mesh.ntri(); ++t) {
+    const double* f = force->GetTuple3(t);
+    const Vec3 fv(f[0], f[1], f[2]);
+    const double* sc = stress->GetTuple3(t);
+    const Vec3 sv(sc[0], sc[1], sc[2]);
+    const double a = area->GetTuple1(t);
+    CHECK((sv * a - fv).norm() <= 1e-12 * std::max(1.0, fv.norm()));
+    CHECK(pressure->GetTuple1(t) == Approx(-sv.dot(mesh.normal(t))).margin(1e-9));
+    total += fv;
+  }
+  const double weight = 2500 * 4.0 / 3.0 * 3.14159265358979323846 * 0.005 * 0.005 * 0.005 * 9.81;
+  CHECK(total.z() == Approx(-weight).epsilon(0.05));  // at rest after the first bounces (restitution 0.5)
+  CHECK_THROWS_WITH(s.cmd("dump_modify d pvd " + path("legacy.pvd")),
+                    Catch::Contains("legacy .vtk files cannot be listed in a .pvd"));
 }
 
 TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_restart", "[mesh][restart]") {

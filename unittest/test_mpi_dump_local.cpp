@@ -26,16 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
+using granary::test::world_rank;
+using granary::test::world_size;
 
 std::string fresh_dir(const std::string& name) {
   const std::string dir = "dump_local_np" + std::to_string(world_size()) + "/" + name;

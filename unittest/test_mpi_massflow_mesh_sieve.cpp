@@ -32,16 +32,8 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kG = 9.81;
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
+using granary::test::world_rank;
+using granary::test::world_size;
 
 // The sieve: the square -70..70 mm in x and y at z = 2.2 mm, two triangles
 // whose shared diagonal runs under a row of spheres; written once per rank

@@ -44,16 +44,8 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kG = 9.81;
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
+using granary::test::world_rank;
+using granary::test::world_size;
 
 // A fresh output directory per test and rank count (ctest may run counts at
 // once), with a floor mesh: the square -20..20 mm in x and y at z = 0, 4 x 4

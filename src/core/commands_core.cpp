@@ -103,6 +103,21 @@ void cmd_newton(Engine& e, const Args& a) {
   if (a.size() == 2) parse_bool(a[1], "newton bond setting");
 }
 
+// LIGGGHTS refuses youngsModulus below 5e6 (si) unless "soft_particles yes"
+// and above 1e9 unless "hard_particles yes". Granary has no such limits (the
+// timestep checks catch a stiffness the timestep cannot resolve), so both
+// commands are accepted for LIGGGHTS scripts and change nothing.
+void cmd_particle_stiffness_limit(const std::string& cmd, const Args& a) {
+  require_args(a, 1, 1, cmd + " yes|no");
+  parse_bool(a[0], cmd);
+}
+void cmd_soft_particles(Engine&, const Args& a) {
+  cmd_particle_stiffness_limit("soft_particles", a);
+}
+void cmd_hard_particles(Engine&, const Args& a) {
+  cmd_particle_stiffness_limit("hard_particles", a);
+}
+
 void cmd_dimension(Engine& e, const Args& a) {
   require_args(a, 1, 1, "dimension 3");
   if (a[0] != "3") throw InputError("only 3d simulations are supported");
@@ -180,6 +195,8 @@ GRANARY_COMMAND("atom_modify", cmd_atom_modify);
 GRANARY_COMMAND("boundary", cmd_boundary);
 GRANARY_COMMAND("newton", cmd_newton);
 GRANARY_COMMAND("dimension", cmd_dimension);
+GRANARY_COMMAND("soft_particles", cmd_soft_particles);
+GRANARY_COMMAND("hard_particles", cmd_hard_particles);
 GRANARY_COMMAND("create_box", cmd_create_box);
 GRANARY_COMMAND("region", cmd_region);
 GRANARY_COMMAND("fix", cmd_fix);

@@ -64,6 +64,9 @@ FixPropertyGlobal::FixPropertyGlobal(Engine& engine, const Args& args) : Fix(eng
                                " of property " + name);
     if (n < 1)
       throw InputError("property/global " + name + ": " + kind + " needs a positive size, got " + args[5]);
+    if (n > 100000)
+      throw InputError("property/global " + name + ": " + kind + " size " + args[5] +
+                       " is too large (at most 100000)");
     ncols = static_cast<int>(n);
     first = 6;
   } else if (kind != "scalar" && kind != "vector" && kind != "peratomtype") {
@@ -82,8 +85,8 @@ FixPropertyGlobal::FixPropertyGlobal(Engine& engine, const Args& args) : Fix(eng
   if (n == 0) throw InputError("property/global " + name + " " + kind + " needs at least one value");
   if (kind == "peratomtypepair" && n != static_cast<std::size_t>(ncols) * ncols) {
     throw InputError("property/global " + name + " peratomtypepair " + std::to_string(ncols) + " needs " +
-                     std::to_string(ncols * ncols) + " values (" + std::to_string(ncols) + " x " +
-                     std::to_string(ncols) + "), got " + std::to_string(n));
+                     std::to_string(static_cast<long long>(ncols) * ncols) + " values (" +
+                     std::to_string(ncols) + " x " + std::to_string(ncols) + "), got " + std::to_string(n));
   }
   if (kind == "matrix" && n % static_cast<std::size_t>(ncols) != 0) {
     throw InputError("property/global " + name + " matrix with " + std::to_string(ncols) +

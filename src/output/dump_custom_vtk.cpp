@@ -10,7 +10,6 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
-#include <vtkPolyDataWriter.h>
 #include <vtkSmartPointer.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkUnstructuredGrid.h>
@@ -276,19 +275,10 @@ std::string DumpCustomVTK::write_index(const std::string& frame, const std::stri
 
 std::string DumpCustomVTK::write_legacy(const std::string& frame, const std::vector<double>& rows,
                                         std::int64_t nrows) {
-  return replace_file_by_name(frame, [&](const std::string& temp) -> std::string {
-    auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
-    w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
-    if (options_.binary)
-      w->SetFileTypeToBinary();
-    else
-      w->SetFileTypeToASCII();
-    w->SetHeader(("Granary dump " + id + ", step " + std::to_string(engine_.update->ntimestep)).c_str());
-    w->SetInputData(build_dataset<vtkPolyData>(rows, nrows, fields_.ncols(), arrays_, engine_.update->time(),
-                                               engine_.update->ntimestep));
-    w->SetFileName(temp.c_str());
-    return w->Write() ? "" : "VTK could not write '" + frame + "'";
-  });
+  return vtkio::write_legacy_polydata(
+      build_dataset<vtkPolyData>(rows, nrows, fields_.ncols(), arrays_, engine_.update->time(),
+                                 engine_.update->ntimestep),
+      frame, "Granary dump " + id + ", step " + std::to_string(engine_.update->ntimestep), options_.binary);
 }
 
 void DumpCustomVTK::write() {

@@ -1,10 +1,12 @@
-// `dump ID group mesh/vtk N file.vtp [output face] [id] [vel] [area] [mesh-IDs ...]`:
-// the triangles of fix mesh/surface walls as VTK XML PolyData. Meshes are
+// `dump ID group mesh/vtk N file.vtp|file.vtk [output face] [id] [vel] [area] [stress]
+// [stresscomponents] [mesh-IDs ...]`: the triangles of fix mesh/surface walls
+// as VTK XML PolyData (or legacy VTK for a .vtk name). Meshes are
 // replicated on every rank, so rank 0 writes the whole frame; per-triangle
 // forces are summed over the ranks first. Cell data: mesh (index of the mesh
 // in the dump's list, from 0), normal, velocity, force (of the particles on
 // the triangle on the last step), area, pressure and shear_stress (the
-// normal and tangential force over the area); velocity is that of the wall
+// normal and tangential force over the area), stress_components (the force
+// over the area, a vector); velocity is that of the wall
 // material at the triangle's centroid (rotation and surface_vel included); field data TimeValue and Step.
 // A .pvd collection lists every frame with its simulated time. The group is
 // ignored. See doc/commands/dump.md.
@@ -45,9 +47,11 @@ class DumpMeshVTK : public Dump {
  public:
   DumpMeshVTK(Engine& engine, const Args& args) : Dump(engine, args) {
     const std::string where = "dump " + id + " mesh/vtk";
-    if (vtkio::extension(filename) != ".vtp") {
-      throw InputError(where + ": needs a file name ending in .vtp (VTK XML PolyData), got '" + filename +
-                       "'; e.g. post/mesh_*.vtp");
+    const std::string ext = vtkio::extension(filename);
+    if (ext != ".vtp" && ext != ".vtk") {
+      throw InputError(where +
+                       ": needs a file name ending in .vtp (VTK XML PolyData) or .vtk (legacy VTK), got '" +
+                       filename + "'; e.g. post/mesh_*.vtp");
     }
     if (filename.find('%') != std::string::npos)
       throw InputError(where + ": writes one file per frame on rank 0; '%' is not allowed in '" + filename +
@@ -58,19 +62,20 @@ class DumpMeshVTK : public Dump {
         if (k + 1 >= args.size() || args[k + 1] != "face")
           throw InputError(where + ": only 'output face' is supported (values per triangle)");
         ++k;
-      } else if (w == "id" || w == "vel" || w == "area" || w == "stress") {
-        // LIGGGHTS' dump identifiers: the mesh index, velocity, area and force are always written
+      } else if (w == "id" || w == "vel" || w == "area" || w == "stress" || w == "stresscomponents") {
+        // LIGGGHTS' dump identifiers: the mesh index, velocity, area, force and stresses are always written
       } else if (engine.modify->find_fix(w)) {
         FixMeshSurface::find(*engine.modify, w, where);
         mesh_ids_.push_back(w);
       } else {
-        throw InputError(
-            where + ": '" + w +
-            "' is neither the ID of a fix mesh/surface nor one of output, id, vel, area, stress");
+        throw InputError(where + ": '" + w +
+                         "' is neither the ID of a fix mesh/surface nor one of output, id, vel, area, "
+                         "stress, stresscomponents");
       }
     }
     dumpio::check_directory(engine.world, filename, "dump " + id);
-    pvd_.path = vtkio::pvd_name(filename, id);
+    legacy_ = ext == ".vtk";
+    if (!legacy_) pvd_.path = vtkio::pvd_name(filename, id);
   }
 
   void single_file() override {
@@ -87,6 +92,10 @@ class DumpMeshVTK : public Dump {
       if (v == "no" || v == "off" || v == "none") {
         pvd_.path.clear();
       } else {
+        if (legacy_)
+          throw InputError(where +
+                           ": legacy .vtk files cannot be listed in a .pvd (ParaView reads XML files from "
+                           "a collection); write .vtp frames or use 'pvd no'");
         if (vtkio::extension(v) != ".pvd")
           throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
         dumpio::check_directory(engine_.world, v, where);
@@ -145,6 +154,7 @@ class DumpMeshVTK : public Dump {
     auto area = vtkio::named_array<vtkDoubleArray>("area", 1, ncells);
     auto pressure = vtkio::named_array<vtkDoubleArray>("pressure", 1, ncells);
     auto shear = vtkio::named_array<vtkDoubleArray>("shear_stress", 1, ncells);
+    auto traction = vtkio::named_array<vtkDoubleArray>("stress_components", 3, ncells);
     vtkIdType p0 = 0, cell = 0;
     for (std::size_t mi = 0; mi < list.size(); ++mi) {
       const TriMesh& mesh = list[mi]->mesh;
@@ -172,6 +182,8 @@ class DumpMeshVTK : public Dump {
         const double fn = f.dot(mesh.normal(t));
         pressure->SetValue(cell, -fn / a);
         shear->SetValue(cell, (f - fn * mesh.normal(t)).norm() / a);
+        const Vec3 tr = f / a;
+        traction->SetTypedTuple(cell, tr.data());
       }
       p0 += mesh.nnodes();
     }
@@ -182,13 +194,14 @@ class DumpMeshVTK : public Dump {
     ds->SetPoints(points);
     ds->SetPolys(cells);
     for (vtkDataArray* a :
-         std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area, pressure, shear})
+         std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area, pressure, shear, traction})
       ds->GetCellData()->AddArray(a);
     return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep, options_,
                                        pvd_);
   }
 
   std::vector<std::string> mesh_ids_;
+  bool legacy_ = false;
   vtkio::WriteOptions options_;
   vtkio::PvdCollection pvd_;
 };

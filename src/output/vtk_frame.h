@@ -7,6 +7,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkPolyData.h>
+#include <vtkPolyDataWriter.h>
 #include <vtkSmartPointer.h>
 #include <vtkTypeInt64Array.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -43,11 +44,35 @@ inline void add_time_step(vtkDataObject* ds, double time, std::int64_t step) {
   ds->GetFieldData()->AddArray(cycle);
 }
 
-/// Write `ds` to `frame` (.vtp) with its time and step, then list it in `pvd`
-/// (when that has a path). Returns "" or an error message naming the file.
+/// Write `ds` to `frame` as legacy VTK PolyData, file version 4.2 (binary,
+/// big-endian, or ASCII), under a temporary name renamed when complete.
+/// Returns "" or an error message naming the file.
+inline std::string write_legacy_polydata(vtkPolyData* ds, const std::string& frame, const std::string& header,
+                                         bool binary) {
+  return replace_file_by_name(frame, [&](const std::string& temp) -> std::string {
+    auto w = vtkSmartPointer<vtkPolyDataWriter>::New();
+    w->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
+    if (binary)
+      w->SetFileTypeToBinary();
+    else
+      w->SetFileTypeToASCII();
+    w->SetHeader(header.c_str());
+    w->SetInputData(ds);
+    w->SetFileName(temp.c_str());
+    return w->Write() ? "" : "VTK could not write '" + frame + "'";
+  });
+}
+
+/// Write `ds` to `frame` with its time and step: VTK XML PolyData (.vtp),
+/// then listed in `pvd` (when that has a path), or legacy VTK PolyData
+/// (write_legacy_polydata) when `frame` ends in .vtk (never listed:
+/// ParaView's .pvd reader reads XML files only). Returns "" or an error
+/// message naming the file.
 inline std::string write_polydata_frame(vtkPolyData* ds, const std::string& frame, double time,
                                         std::int64_t step, const WriteOptions& options, PvdCollection& pvd) {
   add_time_step(ds, time, step);
+  if (extension(frame) == ".vtk")
+    return write_legacy_polydata(ds, frame, "Granary, step " + std::to_string(step), options.binary);
   // written under a temporary name, then renamed: a frame is complete or absent
   const std::string err = replace_file_by_name(frame, [&](const std::string& temp) -> std::string {
     auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();

@@ -215,6 +215,32 @@ class TutorialSection(unittest.TestCase):
                          "variable n equal 50000\nrun 100\nrun 1000\nrun 1000\nrun 3100 upto\n"
                          "variable a loop 3\nfix 1 all nve/sphere\n")
 
+    def test_update_keeps_the_other_rows_as_committed(self):
+        # --tutorials --only X --update: the committed section read back and
+        # rendered with no fresh results is the committed section; a fresh
+        # result replaces its script's row only and is counted in the summary
+        section = lc.current_section((REPO / "doc" / "liggghts_compatibility.md").read_text(),
+                                     lc.BEGIN_TUT, lc.END_TUT)
+        recorded = lc.recorded_tutorials(section)
+        self.assertGreater(len(recorded), 20)
+        names = lc.granary_names(lc.granary_binary(BINARY))
+        usage = lc.tutorial_usage(lc.TUTORIAL_DIR) if lc.TUTORIAL_DIR.is_dir() else {}
+        if usage:
+            self.assertEqual(lc.render_tutorials(lc.merge_tutorials(recorded, []), usage, names), section)
+        script = next(r[0] for r in recorded if r[1] is None and r[2] is None)
+        fresh = [(script, (12, "fix x all nosuch", "unknown fix style 'nosuch'"), None)]
+        merged = lc.merge_tutorials(recorded, fresh)
+        self.assertEqual(len(merged), len(recorded))
+        out = lc.render_tutorials(merged, usage, names)
+        self.assertIn(f"| `{script.as_posix()}` | runs | stops at line 12: `fix x all nosuch` "
+                      f"(unknown fix style 'nosuch') |", out)
+        ran = sum(1 for r in recorded if r[2] is None)
+        both = sum(1 for r in recorded if r[2] is None and r[1] is None)
+        self.assertIn(f"LIGGGHTS 3.8 runs {ran} of them to their end, Granary {both - 1} of those", out)
+        others = [line for line in out.splitlines() if line.startswith("| `") and script.as_posix() not in line]
+        self.assertEqual(others, [line for line in section.splitlines()
+                                  if line.startswith("| `") and script.as_posix() not in line])
+
 
 if __name__ == "__main__":
     if not (DOC_DIR / "Section_commands.html").is_file():
