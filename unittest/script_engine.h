@@ -104,7 +104,10 @@ inline std::string materials(int ntypes, double Y, double nu, double e, double m
 
 }  // namespace granary::test
 
+#include <stdlib.h>
+
 #include <filesystem>
+#include <stdexcept>
 
 namespace granary::test {
 
@@ -115,6 +118,22 @@ inline std::vector<char> temp_template(const std::string& prefix) {
   std::vector<char> buf(t.begin(), t.end());
   buf.push_back('\0');
   return buf;
+}
+
+/// A fresh directory made by rank 0 of MPI_COMM_WORLD, its name known to
+/// every rank (collective). The caller removes it.
+inline std::string shared_temp_dir(const std::string& prefix) {
+  std::string dir;
+  if (world_rank() == 0) {
+    auto t = temp_template(prefix);
+    if (mkdtemp(t.data())) dir = t.data();
+  }
+  int n = static_cast<int>(dir.size());
+  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  dir.resize(n);
+  if (n) MPI_Bcast(&dir[0], n, MPI_CHAR, 0, MPI_COMM_WORLD);
+  if (dir.empty()) throw std::runtime_error("could not create a temporary directory for " + prefix);
+  return dir;
 }
 
 }  // namespace granary::test

@@ -32,21 +32,6 @@ namespace {
 using granary::test::world_rank;
 using granary::test::world_size;
 
-/// A fresh directory made by rank 0, its name known to every rank.
-std::string shared_dir() {
-  std::string dir;
-  if (world_rank() == 0) {
-    auto t = granary::test::temp_template("granary_data_");
-    REQUIRE(mkdtemp(t.data()) != nullptr);
-    dir = t.data();
-  }
-  int n = static_cast<int>(dir.size());
-  MPI_Bcast(&n, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  dir.resize(n);
-  MPI_Bcast(&dir[0], n, MPI_CHAR, 0, MPI_COMM_WORLD);
-  return dir;
-}
-
 void write_text(const std::string& path, const std::string& text) {
   if (world_rank() == 0) std::ofstream(path) << text;
   MPI_Barrier(MPI_COMM_WORLD);
@@ -143,7 +128,7 @@ Velocities
 }  // namespace
 
 TEST_CASE("write_data then read_data gives the same particles on any rank count", "[data_file][mpi]") {
-  const std::string dir = shared_dir();
+  const std::string dir = granary::test::shared_temp_dir("granary_data_");
   granary::test::ScriptEngine a(MPI_COMM_WORLD);
   a.cmds({"units si", "atom_style granular", "boundary p p f", "region reg block 0 0.1 0 0.1 0 0.1 units box",
           "create_box 3 reg", "lattice sc 0.01", "region fill block 0.02 0.08 0.02 0.08 0.02 0.06 units box",
@@ -187,7 +172,7 @@ TEST_CASE("write_data then read_data gives the same particles on any rank count"
 
 TEST_CASE("read_data reads a hand-written LIGGGHTS data file and its particles fly as they must",
           "[data_file][mpi]") {
-  const std::string dir = shared_dir();
+  const std::string dir = granary::test::shared_temp_dir("granary_data_");
   write_text(dir + "/hand.data", kHandWritten);
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
   s.cmds({"units si", "atom_style granular", "boundary p p f", "read_data " + dir + "/hand.data"});
@@ -226,7 +211,7 @@ TEST_CASE("read_data reads a hand-written LIGGGHTS data file and its particles f
 
 TEST_CASE("read_data refuses a malformed file with its name and line and creates nothing",
           "[data_file][mpi]") {
-  const std::string dir = shared_dir();
+  const std::string dir = granary::test::shared_temp_dir("granary_data_");
   const std::string head = "title\n\n2 atoms\n1 atom types\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n\n";
   const std::string atoms = "Atoms\n\n1 1 0.1 1000 0.5 0.5 0.5\n2 1 0.1 1000 0.2 0.5 0.5\n";
   struct Case {

@@ -18,6 +18,8 @@ class Compute {
   virtual ~Compute() = default;
 
   virtual void init() {}
+  /// Called by uncompute before the compute is deleted (release per-particle fields here).
+  virtual void uncomputed() {}
   /// Global scalar (collective: every rank calls it together).
   virtual double compute_scalar() { return 0.0; }
   /// Global vector into `vector` (collective).

@@ -106,6 +106,7 @@ Compute* Modify::add_compute(const Args& args) {
 void Modify::delete_compute(const std::string& id) {
   for (auto it = computes.begin(); it != computes.end(); ++it) {
     if ((*it)->id == id) {
+      (*it)->uncomputed();
       computes.erase(it);
       return;
     }

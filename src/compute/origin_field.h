@@ -1,0 +1,64 @@
+// The original positions of compute displace/atom and compute msd: a
+// per-particle field of 3 values (unwrapped across periodic boundaries with
+// the image flags) that migrates with its particle and is written to restart
+// files under the compute's ID, so that the compute defined again with the
+// same ID after read_restart goes on from the same origins. Every particle
+// present when the compute is defined gets its current position; a particle
+// created later (insertion, create_atoms) has none until the compute is next
+// evaluated, which gives it its position then.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/engine.h"
+#include "domain/groups.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+class OriginField {
+ public:
+  OriginField(Engine& engine, const std::string& compute_id)
+      : engine_(engine), name_("origin/" + compute_id) {
+    Particles& p = *engine.particles;
+    const bool restored = p.find_field(name_) >= 0;  // read from a restart file
+    field_ = p.add_field(name_, 3, false, true);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    p.extras[field_].init = {nan, nan, nan};
+    if (!restored) {
+      for (int i = 0; i < p.nlocal; ++i)
+        set(i, engine.groups->unwrapped(i));
+    }
+  }
+
+  /// Give particles created since the last call their current position.
+  void fill_new() {
+    const Particles& p = *engine_.particles;
+    for (int i = 0; i < p.nlocal; ++i)
+      if (std::isnan(data()[3 * static_cast<std::size_t>(i)])) set(i, engine_.groups->unwrapped(i));
+  }
+
+  Vec3 operator()(int i) const {
+    const double* d = data() + 3 * static_cast<std::size_t>(i);
+    return Vec3(d[0], d[1], d[2]);
+  }
+
+  void release() { engine_.particles->release_field(name_); }
+
+ private:
+  double* data() const { return engine_.particles->extras[field_].data.data(); }
+  void set(int i, const Vec3& x) {
+    double* d = data() + 3 * static_cast<std::size_t>(i);
+    d[0] = x[0];
+    d[1] = x[1];
+    d[2] = x[2];
+  }
+
+  Engine& engine_;
+  std::string name_;
+  int field_ = -1;
+};
+
+}  // namespace granary
