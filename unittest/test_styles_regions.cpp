@@ -162,6 +162,60 @@ TEST_CASE("region sphere", "[region]") {
   CHECK(s.region("so")->volume() < 0.0);
 }
 
+// A ball with a block cut out of it and a block with a ball removed, tested
+// at points whose answer is known; the sub-regions' own side counts; the
+// group of a lattice in the union counts what both parts hold minus the
+// overlap; insert/pack measures the union's volume by Monte Carlo.
+TEST_CASE("region union and intersect combine regions with their sides", "[region]") {
+  Sim s;
+  s.cmds({"region ball sphere 0 0 0 1 units box", "region slab block -2 2 -2 2 0 2 units box",
+          "region noslab block -2 2 -2 2 0 2 side out units box", "region u union 2 ball slab units box",
+          "region i intersect 2 ball slab units box", "region cut intersect 2 ball noslab units box",
+          "region iout intersect 2 ball slab side out units box"});
+  const Vec3 centre_top(0, 0, 0.5), centre_bottom(0, 0, -0.5), far_top(1.5, 1.5, 1.5), far_bottom(0, 0, -1.5);
+  CHECK(s.region("u")->match(centre_top));
+  CHECK(s.region("u")->match(centre_bottom));
+  CHECK(s.region("u")->match(far_top));
+  CHECK_FALSE(s.region("u")->match(far_bottom));
+  CHECK(s.region("i")->match(centre_top));
+  CHECK_FALSE(s.region("i")->match(centre_bottom));
+  CHECK_FALSE(s.region("i")->match(far_top));
+  CHECK(s.region("cut")->match(centre_bottom));  // the ball below the slab
+  CHECK_FALSE(s.region("cut")->match(centre_top));
+  CHECK_FALSE(s.region("iout")->match(centre_top));  // side out of the intersection
+  CHECK(s.region("iout")->match(far_top));
+  Vec3 lo, hi;
+  REQUIRE(s.region("u")->bounds(lo, hi));
+  CHECK(lo == Vec3(-2, -2, -1));
+  CHECK(hi == Vec3(2, 2, 2));
+  REQUIRE(s.region("i")->bounds(lo, hi));
+  CHECK(lo == Vec3(-1, -1, 0));
+  CHECK(hi == Vec3(1, 1, 1));
+  REQUIRE(s.region("cut")->bounds(lo, hi));  // only the ball is bounded
+  CHECK(lo == Vec3(-1, -1, -1));
+  CHECK(hi == Vec3(1, 1, 1));
+  s.cmd("region u2 union 2 ball noslab units box");  // one part unbounded
+  CHECK_FALSE(s.region("u2")->bounds(lo, hi));
+  CHECK_FALSE(s.region("iout")->bounds(lo, hi));
+  CHECK(s.region("u")->volume() < 0.0);
+  CHECK_THROWS_WITH(s.cmd("region ball delete"), Contains("region u (union) is made of it"));
+  CHECK_THROWS_WITH(s.cmd("region x union 1 ball"), Contains("combines 2 to 1000 regions"));
+  CHECK_THROWS_WITH(s.cmd("region x union 2 ball nosuch"), Contains("nosuch"));
+  CHECK_THROWS_WITH(s.cmd("region x intersect 3 ball slab"), Contains("needs 4 arguments"));
+  CHECK_THROWS_WITH(s.cmd("region x union two ball slab"), Contains("number of regions"));
+  CHECK_THROWS_WITH(s.cmd("region x union 2 ball x"), Contains("cannot contain itself"));
+}
+
+TEST_CASE("region union: a group and an insertion over two separate blocks", "[region]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"region a block 0 0.25 0 1 0 1 units box", "region b block 0.75 1 0 1 0 1 units box",
+          "region ab union 2 a b units box", "lattice sc 0.1", "create_atoms 1 box", "group both region ab",
+          "group ga region a", "group gb region b"});
+  CHECK(s.count("both") == s.count("ga") + s.count("gb"));
+  CHECK(s.count("both") > 0);
+}
+
 TEST_CASE("region plane: the half-space the normal points to", "[region]") {
   Sim s;
   s.cmd("region p plane 0 0 1 0 0 2");  // normal is normalised

@@ -118,6 +118,10 @@ void Domain::add_region(const std::vector<std::string>& args) {
 }
 
 void Domain::delete_region(const std::string& id) {
+  for (const auto& r : regions)
+    if (r->uses(id))
+      throw InputError("cannot delete region '" + id + "': region " + r->id + " (" + r->style +
+                       ") is made of it; delete " + r->id + " first");
   for (auto it = regions.begin(); it != regions.end(); ++it) {
     if ((*it)->id == id) {
       regions.erase(it);

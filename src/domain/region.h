@@ -29,6 +29,8 @@ class Region {
   virtual bool bounds(Vec3& lo, Vec3& hi) const = 0;
   /// Volume of the shape where finite (for volume fractions), else -1.
   virtual double volume() const { return -1.0; }
+  /// True when this region is made of region `other` (union, intersect).
+  virtual bool uses(const std::string& other) const { return false; }
 
   /// A point of the region's surface seen from a point x in the region: the
   /// distance r from x to it and the vector del = x - point (|del| = r).
