@@ -326,3 +326,48 @@ TEST_CASE("dump custom: unwritable paths and bad fields give clear errors", "[du
   e.input->one("dump v all custom 1 " + dir + "/v.txt id v_eq");
   CHECK_THROWS_WITH(e.input->one("run 0"), Contains("not an atom-style variable"));
 }
+
+// dump xyz: the count, "Atoms. Timestep: N", then type x y z (%g), as
+// LIGGGHTS 3.8 writes it; the same text from the same script (sorted by id),
+// compared with LIGGGHTS run live when it is installed.
+TEST_CASE("dump xyz writes the count, the step line and type x y z as LIGGGHTS does", "[dump][xyz]") {
+  const std::string dir = fresh_dir("xyz");
+  const std::string script =
+      "units si\natom_style granular\natom_modify map array\nboundary p f f\nnewton off\n"
+      "communicate single vel yes\nregion box block 0 0.01 0 0.01 0 0.01 units box\ncreate_box 2 box\n"
+      "create_atoms 1 single 0.005 0.005 0.005\ncreate_atoms 2 single 0.009 0.005 0.002\n"
+      "create_atoms 1 single 0.001 0.008 0.007\nset atom 1 diameter 0.001 density 2500\n"
+      "set atom 2 diameter 0.0012 density 2000\nset atom 3 diameter 0.001 density 2500\n"
+      "dump x all xyz 1 frames.xyz\ndump_modify x sort id\n"
+      "fix m1 all property/global youngsModulus peratomtype 7e6 7e6\n"
+      "fix m2 all property/global poissonsRatio peratomtype 0.3 0.3\n"
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.9 0.9 0.9 0.9\n"
+      "fix m4 all property/global coefficientFriction peratomtypepair 2 0.3 0.3 0.3 0.3\n"
+      "pair_style gran model hertz tangential history\npair_coeff * *\nvelocity all set 0.3 0.1 0.2\n"
+      "timestep 1e-6\nfix integr all nve/sphere\nrun 1\n";
+  std::ofstream(dir + "/in.xyz") << script;
+  const std::string run_granary =
+      "cd " + dir + " && " + GRANARY_BINARY + " -in in.xyz -log none > /dev/null 2>&1";
+  REQUIRE(std::system(run_granary.c_str()) == 0);
+  const std::vector<std::string> expect = {"3",
+                                           "Atoms. Timestep: 0",
+                                           "1 0.005 0.005 0.005",
+                                           "2 0.009 0.005 0.002",
+                                           "1 0.001 0.008 0.007",
+                                           "3",
+                                           "Atoms. Timestep: 1",
+                                           "1 0.0050003 0.0050001 0.0050002",
+                                           "2 0.0090003 0.0050001 0.0020002",
+                                           "1 0.0010003 0.0080001 0.0070002"};
+  CHECK(read_lines(dir + "/frames.xyz") == expect);
+  if (std::system("command -v liggghts > /dev/null 2>&1") == 0) {
+    fs::rename(dir + "/frames.xyz", dir + "/granary.xyz");
+    REQUIRE(std::system(("cd " + dir + " && liggghts -in in.xyz -log none > /dev/null 2>&1").c_str()) == 0);
+    CHECK(read_lines(dir + "/frames.xyz") == expect);
+  }
+  granary::test::ScriptEngine s;
+  setup_bed(s.e);
+  CHECK_THROWS_WITH(s.cmd("dump bad all xyz 1 " + dir + "/b.xyz id x"), Contains("xyz takes no fields"));
+  s.cmd("dump ok all xyz 1 " + dir + "/ok.xyz");
+  CHECK_THROWS_WITH(s.cmd("dump_modify ok time yes"), Contains("not available for dump xyz"));
+}

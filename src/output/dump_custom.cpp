@@ -518,7 +518,11 @@ void DumpCustom::write_frame(std::FILE* fp, const std::vector<double>& rows, std
   }
   dumpio::append_frame_header(out, engine_, "ATOMS", nrows);
   out += "ITEM: " + label_ + " " + columns_ + "\n";
+  append_rows(fp, out, rows, nrows, stride);
+}
 
+void DumpCustom::append_rows(std::FILE* fp, std::string& out, const std::vector<double>& rows,
+                             std::int64_t nrows, int stride) {
   std::vector<std::int64_t> order(nrows);
   std::iota(order.begin(), order.end(), 0);
   if (sort_ != 0) {

@@ -125,9 +125,17 @@ class DumpCustom : public Dump {
   int modify_param(const Args& args, std::size_t k) override;
   void finish() override;
 
+ protected:
+  /// One frame: the header, then the rows in the dump's sort order. Styles
+  /// with another text layout (dump xyz) write their own header here.
+  virtual void write_frame(std::FILE* fp, const std::vector<double>& rows, std::int64_t nrows, int stride);
+  /// Append the rows in the dump's sort order (`stride` values per row, the
+  /// id last when sorting by id), writing `out` to fp as it grows.
+  void append_rows(std::FILE* fp, std::string& out, const std::vector<double>& rows, std::int64_t nrows,
+                   int stride);
+
  private:
   void build_formats();
-  void write_frame(std::FILE* fp, const std::vector<double>& rows, std::int64_t nrows, int stride);
 
   DumpFields fields_;
   bool multifile_ = false;  // '*' in the file name: one file per frame
