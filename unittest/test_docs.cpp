@@ -40,7 +40,8 @@ const std::map<std::string, std::string> kAliases = {
     {"contact/atom/gran", "contact/atom"},
     {"coord/gran", "contact/atom"},
     {"heat/gran/conduction", "heat/gran"},
-    {"hard_particles", "soft_particles"}};
+    {"hard_particles", "soft_particles"},
+    {"lineforce", "planeforce"}};
 
 // The Syntax section of a page (up to the next "## " heading).
 std::string syntax_section(const std::string& text) {

@@ -5,18 +5,18 @@
 // over the group of dx^2, dy^2, dz^2 and |d|^2, a global vector of 4 [m^2];
 // with com yes the displacement of the group's centre of mass is taken out
 // first (the original centre from the original positions of the group's
-// particles). Original positions: origin_field.h.
+// particles). Original positions: domain/origin_field.h.
 #include <mpi.h>
 
 #include <cmath>
 #include <memory>
 
 #include "compute/compute.h"
-#include "compute/origin_field.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "domain/groups.h"
+#include "domain/origin_field.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -29,7 +29,7 @@ class ComputeDisplaceAtom : public Compute {
     require_args(args, 3, 3, "compute ID group-ID displace/atom");
     peratom_flag = true;
     peratom_cols = 4;
-    origin_ = std::make_unique<OriginField>(engine, id);
+    origin_ = std::make_unique<OriginField>(engine, "origin/" + id);
   }
 
   void uncomputed() override { origin_->release(); }
@@ -64,7 +64,7 @@ class ComputeMSD : public Compute {
     }
     size_vector = 4;
     vector.assign(4, 0.0);
-    origin_ = std::make_unique<OriginField>(engine, id);
+    origin_ = std::make_unique<OriginField>(engine, "origin/" + id);
   }
 
   void uncomputed() override { origin_->release(); }

@@ -1,11 +1,11 @@
-// The original positions of compute displace/atom and compute msd: a
-// per-particle field of 3 values (unwrapped across periodic boundaries with
-// the image flags) that migrates with its particle and is written to restart
-// files under the compute's ID, so that the compute defined again with the
-// same ID after read_restart goes on from the same origins. Every particle
-// present when the compute is defined gets its current position; a particle
-// created later (insertion, create_atoms) has none until the compute is next
-// evaluated, which gives it its position then.
+// Original positions kept per particle (compute displace/atom, compute msd,
+// fix spring/self): a per-particle field of 3 values (unwrapped across
+// periodic boundaries with the image flags) that migrates with its particle
+// and is written to restart files under its name, so that the style defined
+// again with the same ID after read_restart goes on from the same origins.
+// Every particle present when the style is defined gets its current
+// position; a particle created later (insertion, create_atoms) has none until
+// fill_new() gives it its position then.
 #pragma once
 
 #include <cmath>
@@ -20,8 +20,8 @@ namespace granary {
 
 class OriginField {
  public:
-  OriginField(Engine& engine, const std::string& compute_id)
-      : engine_(engine), name_("origin/" + compute_id) {
+  /// `name`: the field's name, unique to its style and ID (e.g. "origin/ID").
+  OriginField(Engine& engine, const std::string& name) : engine_(engine), name_(name) {
     Particles& p = *engine.particles;
     const bool restored = p.find_field(name_) >= 0;  // read from a restart file
     field_ = p.add_field(name_, 3, false, true);
