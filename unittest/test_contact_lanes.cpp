@@ -49,8 +49,9 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   // Every field, by position: a field added to ModelSpec stops this from
   // compiling until it is drawn here as well.
   auto& [normal, tangential, rolling, cohesion, damping, tangential_reduce, limit_force, tangential_damping,
-         kt_to_kn_user] = spec;
-  normal = pick(2) ? NormalModel::Hooke : NormalModel::Hertz;
+         kt_to_kn_user, absolute_damping] = spec;
+  normal = std::array{NormalModel::Hertz, NormalModel::Hooke, NormalModel::HertzStiffness,
+                      NormalModel::HookeStiffness}[pick(4)];
   tangential =
       std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}[pick(3)];
   rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}[pick(3)];
@@ -60,6 +61,7 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   limit_force = pick(2);
   tangential_damping = pick(2);
   kt_to_kn_user = pick(2);
+  absolute_damping = pick(2);
   // half of the specs hot ones, so the compiled kernels are compared often
   if (pick(2)) {
     normal = NormalModel::Hertz;
@@ -132,6 +134,10 @@ Sample random_contact(std::mt19937_64& rng, const Sample* first) {
                                   0.05 + 0.95 * u(rng), u(rng), 0.3 * u(rng), 0.1 + u(rng));
   pm.dissipative_time = 1e-6 * u(rng);
   pm.cohesion_energy_density = u(rng) < 0.5 ? 1e5 * u(rng) : 1e8 * u(rng);
+  pm.kn = 1e2 + 1e4 * u(rng);
+  pm.kt = 1e2 + 1e4 * u(rng);
+  pm.gamman = 1e2 * u(rng);
+  pm.gammat = 1e2 * u(rng);
   set_material(q.mat, 0, pm);
   q.v_rel = v3((u(rng) < 0.5 ? 1e-3 : 1.0) * u(rng) * unit(rng));
   q.shear = v3((u(rng) < 0.5 ? 1e-8 : 1e-5) * u(rng) * unit(rng));
@@ -181,7 +187,11 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
        pack(a.rolling_friction, b.rolling_friction),
        pack(a.char_velocity, b.char_velocity),
        pack(a.cohesion_energy_density, b.cohesion_energy_density),
-       pack(a.dissipative_time, b.dissipative_time)};
+       pack(a.dissipative_time, b.dissipative_time),
+       pack(a.kn, b.kn),
+       pack(a.kt, b.kt),
+       pack(a.gamman, b.gamman),
+       pack(a.gammat, b.gammat)};
   PreparedT<D2> q;
   prepare<K>(spec, g, m, q);
   V3<D2> shear = pack(s[0].shear, s[1].shear), roll = pack(s[0].roll, s[1].roll);

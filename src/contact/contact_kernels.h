@@ -77,6 +77,7 @@ struct RuntimeKernel {
 template <class S>
 struct MaterialT {
   S Y_eff, G_eff, beta, friction, rolling_friction, char_velocity, cohesion_energy_density, dissipative_time;
+  S kn, kt, gamman, gammat;  ///< the stiffness models' coefficients as given
 };
 
 template <class S>
@@ -89,6 +90,10 @@ template <class S>
   lane::set(m.char_velocity, l, p.char_velocity);
   lane::set(m.cohesion_energy_density, l, p.cohesion_energy_density);
   lane::set(m.dissipative_time, l, p.dissipative_time);
+  lane::set(m.kn, l, p.kn);
+  lane::set(m.kt, l, p.kt);
+  lane::set(m.gamman, l, p.gamman);
+  lane::set(m.gammat, l, p.gammat);
 }
 
 /// The geometry of W contacts: what prepare() reads.
@@ -173,6 +178,20 @@ template <class K, class S>
       q.gamma_n = -2.0 * kSqrtFiveSixths * m.beta * root_n;
       q.gamma_t = -2.0 * kSqrtFiveSixths * m.beta * root_t;
     }
+  } else if (K::normal(spec) == NormalModel::HookeStiffness) {
+    // The spring and dashpot as given; the dashpots scale with the effective
+    // mass unless absolute_damping is on.
+    q.kn = m.kn;
+    q.kt = m.kt;
+    q.gamma_n = spec.absolute_damping ? m.gamman : S(m.gamman * g.m_eff);
+    q.gamma_t = spec.absolute_damping ? m.gammat : S(m.gammat * g.m_eff);
+  } else if (K::normal(spec) == NormalModel::HertzStiffness) {
+    // The given coefficients times sqrt(delta R*) (the dashpots also times m*).
+    const S root = sqrt(S(g.overlap * g.r_eff));
+    q.kn = m.kn * root;
+    q.kt = m.kt * root;
+    q.gamma_n = m.gamman * g.m_eff * root;
+    q.gamma_t = m.gammat * g.m_eff * root;
   } else {
     // Linear spring whose stiffness gives the Hertz maximum overlap at the
     // characteristic impact velocity V:

@@ -52,8 +52,11 @@ bool on_off(const std::vector<std::string>& args, std::size_t pos) {
 // The sub-models of each slot, by the name scripts use. "off" (no sub-model)
 // is accepted besides these in the tangential, rolling_friction and cohesion
 // slots, "default" (= sphere) in the surface slot.
-const std::vector<std::pair<std::string, NormalModel>> kNormalNames = {{"hertz", NormalModel::Hertz},
-                                                                       {"hooke", NormalModel::Hooke}};
+const std::vector<std::pair<std::string, NormalModel>> kNormalNames = {
+    {"hertz", NormalModel::Hertz},
+    {"hooke", NormalModel::Hooke},
+    {"hertz/stiffness", NormalModel::HertzStiffness},
+    {"hooke/stiffness", NormalModel::HookeStiffness}};
 const std::vector<std::pair<std::string, TangentialModel>> kTangentialNames = {
     {"history", TangentialModel::History}, {"no_history", TangentialModel::NoHistory}};
 const std::vector<std::pair<std::string, RollingModel>> kRollingNames = {{"cdt", RollingModel::Cdt},
@@ -82,8 +85,6 @@ std::string join(const std::vector<std::string>& names) {
 // LIGGGHTS sub-models that exist there but are not implemented here.
 bool is_known_unsupported(const std::string& slot, const std::string& name) {
   static const std::vector<std::pair<std::string, std::string>> known = {
-      {"model", "hertz/stiffness"},
-      {"model", "hooke/stiffness"},
       {"model", "hooke/hysteresis"},
       {"rolling_friction", "epsd"},
       {"rolling_friction", "epsd3"},
@@ -142,7 +143,7 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
   spec.rolling = RollingModel::None;        // LIGGGHTS default "rolling_friction off"
   bool seen_model = false, seen_tangential = false, seen_rolling = false;
   bool seen_cohesion = false, seen_surface = false, seen_kt_to_kn = false, seen_damping = false;
-  bool seen_reduce = false;
+  bool seen_reduce = false, seen_absolute = false;
 
   auto once = [](bool& seen, const std::string& word) {
     if (seen) fail("'" + word + "' given twice");
@@ -186,6 +187,9 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     } else if (w == "ktToKnUser") {
       spec.kt_to_kn_user = on_off(args, pos);
       seen_kt_to_kn = true;
+    } else if (w == "absolute_damping") {
+      spec.absolute_damping = on_off(args, pos);
+      seen_absolute = true;
     } else if (is_unsupported_setting(w)) {
       if (on_off(args, pos)) fail("'" + w + " on' is not supported (only 'off')");
     } else {
@@ -194,6 +198,8 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     pos += 2;
   }
   if (seen_kt_to_kn && spec.normal != NormalModel::Hooke) fail("'ktToKnUser' applies only to 'model hooke'");
+  if (seen_absolute && spec.normal != NormalModel::HookeStiffness)
+    fail("'absolute_damping' applies only to 'model hooke/stiffness'");
   if (spec.damping == DampingModel::Viscoelastic && spec.normal != NormalModel::Hertz)
     fail("'damping viscoelastic' applies only to 'model hertz'");
   if (seen_reduce && spec.cohesion == CohesionModel::None)
@@ -211,7 +217,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> model_names() {
 }
 
 std::string model_words(const ModelSpec& spec) {
-  std::string s = spec.normal == NormalModel::Hooke ? "model hooke" : "model hertz";
+  std::string s = "model " + names_of(kNormalNames)[static_cast<std::size_t>(spec.normal)];
   switch (spec.tangential) {
     case TangentialModel::None:
       s += " tangential off";
@@ -239,6 +245,7 @@ std::string model_words(const ModelSpec& spec) {
   if (spec.tangential_reduce) s += " tangential_reduce on";
   if (!spec.tangential_damping) s += " tangential_damping off";
   if (spec.kt_to_kn_user) s += " ktToKnUser on";
+  if (spec.absolute_damping) s += " absolute_damping on";
   return s;
 }
 

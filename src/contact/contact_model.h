@@ -21,8 +21,10 @@ namespace granary::contact {
 
 using Vec3 = Eigen::Vector3d;
 
-/// Normal force law ("model hertz" / "model hooke").
-enum class NormalModel { Hertz, Hooke };
+/// Normal force law ("model hertz" / "model hooke", and the stiffness forms
+/// "model hertz/stiffness" / "model hooke/stiffness", whose spring and dashpot
+/// coefficients are given directly as kn, kt, gamman, gammat).
+enum class NormalModel { Hertz, Hooke, HertzStiffness, HookeStiffness };
 /// Tangential force law: "tangential off", "tangential no_history", "tangential history".
 enum class TangentialModel { None, NoHistory, History };
 /// Rolling resistance: "rolling_friction off", "rolling_friction cdt", "rolling_friction epsd2".
@@ -52,7 +54,15 @@ struct ModelSpec {
   bool tangential_damping = true;
   /// Hooke only: kt = 2/7 kn instead of kt = kn ("ktToKnUser on").
   bool kt_to_kn_user = false;
+  /// hooke/stiffness only: the dashpots are gamman_abs, gammat_abs as given
+  /// instead of gamman m*, gammat m* ("absolute_damping on").
+  bool absolute_damping = false;
 };
+
+/// Whether the normal model takes its coefficients from kn, kt, gamman, gammat.
+inline bool stiffness_model(NormalModel n) {
+  return n == NormalModel::HertzStiffness || n == NormalModel::HookeStiffness;
+}
 
 /// Number of history doubles per contact this model needs
 /// (tangential history: 3 for the shear displacement, epsd2: 3 for the spring torque).
@@ -126,6 +136,9 @@ struct PairMaterial {
   double cohesion_energy_density = 0.0;
   /// damping viscoelastic: dissipativeTimeConstant A [s] of Brilliantov et al. (1996)
   double dissipative_time = 0.0;
+  /// hooke/stiffness, hertz/stiffness: the property/global values kn, kt,
+  /// gamman, gammat (or gamman_abs, gammat_abs with absolute_damping on)
+  double kn = 0.0, kt = 0.0, gamman = 0.0, gammat = 0.0;
 };
 
 /// Mix the properties of type i and type j. Throws std::invalid_argument for

@@ -36,19 +36,24 @@ TimestepGuard::State TimestepGuard::measure() {
   double all[2];
   MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_MAX, e.world);
   vmax_seen_ = std::max(vmax_seen_, all[0]);
-  State s{e.update->dt, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-          vmax_seen_, -all[1]};
+  State s{e.update->dt,
+          std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity(),
+          vmax_seen_,
+          -all[1],
+          std::numeric_limits<double>::infinity()};
   if (e.force->pair) {
     const ContactTimes times = e.force->pair->contact_times(vmax_seen_, ~0);
     s.t_rayleigh = times.rayleigh;
     s.t_hertz = times.hertz;
+    s.t_spring = times.spring;
   }
   return s;
 }
 
 void TimestepGuard::start_run() {
   // each warning once for a timestep (a script's many short runs repeat none)
-  if (engine_.update->dt != warned_dt_) warned_rayleigh_ = warned_hertz_ = false;
+  if (engine_.update->dt != warned_dt_) warned_rayleigh_ = warned_hertz_ = warned_spring_ = false;
   warned_dt_ = engine_.update->dt;
   check_now(true);
 }
@@ -97,6 +102,8 @@ void TimestepGuard::check_now(bool at_setup) {
   warn_once(warned_hertz_, s.t_hertz,
             std::string("the Hertz time of an impact at ") + speed + ", the highest speed seen",
             "such impacts are poorly resolved");
+  warn_once(warned_spring_, s.t_spring, "the contact time pi sqrt(m/(2 kn)) of the stiffest linear spring",
+            "contacts are poorly resolved");
 }
 
 std::string TimestepGuard::explain_loss() {
@@ -104,7 +111,15 @@ std::string TimestepGuard::explain_loss() {
   State s = measure();
   s.t_rayleigh = std::min(s.t_rayleigh, last_.t_rayleigh);
   s.t_hertz = std::min(s.t_hertz, last_.t_hertz);
+  s.t_spring = std::min(s.t_spring, last_.t_spring);
   char buf[512];
+  if (s.dt > kWarnFraction * (1.0 + 1e-9) * s.t_spring) {
+    std::snprintf(buf, sizeof buf,
+                  "the timestep %g s is %.3g%% of the contact time of the stiffest linear spring; above %g%% "
+                  "contacts are not resolved and particles pass through walls: reduce the timestep",
+                  s.dt, 100 * s.dt / s.t_spring, 100 * kWarnFraction);
+    return buf;
+  }
   if (s.dt > kWarnFraction * (1.0 + 1e-9) * std::min(s.t_rayleigh, s.t_hertz)) {
     std::snprintf(buf, sizeof buf,
                   "the timestep %g s is %.3g%% of the Rayleigh time and %.3g%% of the Hertz time at the "

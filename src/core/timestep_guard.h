@@ -28,7 +28,7 @@ class TimestepGuard {
 
  private:
   struct State {
-    double dt, t_rayleigh, t_hertz, vmax, rmin;
+    double dt, t_rayleigh, t_hertz, vmax, rmin, t_spring;
   };
   static constexpr double kInf = 1e308;
   State measure();
@@ -37,8 +37,8 @@ class TimestepGuard {
   double vmax_seen_ = 0.0;  // highest speed seen in the simulation
   double warned_dt_ = 0.0;  // the timestep the warnings were given for
   std::int64_t next_check_ = 0, natoms_checked_ = -1;
-  State last_{0.0, kInf, kInf, 0.0, 0.0};  // at the last check
-  bool warned_rayleigh_ = false, warned_hertz_ = false;
+  State last_{0.0, kInf, kInf, 0.0, 0.0, kInf};  // at the last check
+  bool warned_rayleigh_ = false, warned_hertz_ = false, warned_spring_ = false;
 };
 
 }  // namespace granary

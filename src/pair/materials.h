@@ -16,7 +16,9 @@ class MaterialTable {
  public:
   /// Read youngsModulus, poissonsRatio (peratomtype), coefficientRestitution,
   /// coefficientFriction, coefficientRollingFriction (peratomtypepair) and
-  /// characteristicVelocity (scalar, Hooke only). `user` names the style for messages.
+  /// characteristicVelocity (scalar, Hooke only); with hooke/stiffness and
+  /// hertz/stiffness kn, kt, gamman, gammat (peratomtypepair; gamman_abs and
+  /// gammat_abs with absolute_damping on). `user` names the style for messages.
   void build(Engine& engine, const contact::ModelSpec& spec, const std::string& user);
   const contact::PairMaterial& operator()(int ti, int tj) const { return table_[ti * stride_ + tj]; }
   int ntypes() const { return stride_ - 1; }
@@ -34,6 +36,11 @@ class MaterialTable {
 /// particle's type (all particles); Hertz time of an impact at speed vmax,
 /// 2.87 (m^2 / (r Y*^2 vmax))^(1/5) with the particle's own mass and radius and
 /// Y* of its type with itself (LIGGGHTS 3.8's estimate; particles of groupbit).
-ContactTimes contact_times(Engine& engine, const MaterialTable& materials, double vmax, int groupbit);
+/// With hertz/stiffness the Hertz time takes Y* = 3 kn / 4 (the same force
+/// law); with hooke/stiffness the contact time of two equal particles of a
+/// type, pi sqrt(m / (2 kn)), is the `spring` time instead. The Rayleigh time
+/// needs youngsModulus and poissonsRatio (optional with the stiffness models).
+ContactTimes contact_times(Engine& engine, const MaterialTable& materials, const contact::ModelSpec& spec,
+                           double vmax, int groupbit);
 
 }  // namespace granary

@@ -15,6 +15,8 @@ class ContactHistory;
 struct ContactTimes {
   double rayleigh = std::numeric_limits<double>::infinity();  ///< smallest Rayleigh time
   double hertz = std::numeric_limits<double>::infinity();     ///< smallest Hertz time at the given speed
+  double spring =
+      std::numeric_limits<double>::infinity();  ///< linear springs (hooke/stiffness): contact time
 };
 
 class Pair {

@@ -25,7 +25,7 @@ class PairGranular : public Pair {
   void history_swap_signs(double* signs) const override { contact::history_swap_signs(spec_, signs); }
   ContactHistory* history() override { return history_size() > 0 ? &history_ : nullptr; }
   ContactTimes contact_times(double vmax, int groupbit) override {
-    return granary::contact_times(engine_, materials_, vmax, groupbit);
+    return granary::contact_times(engine_, materials_, spec(), vmax, groupbit);
   }
 
   const contact::ModelSpec& spec() const { return spec_; }
