@@ -69,7 +69,8 @@ TEST_CASE("cohesion sjkr and damping viscoelastic parse and round-trip", "[conta
   CHECK(parse({"cohesion", "sjkr", "tangential_reduce", "on"}).tangential_reduce);
   CHECK_THROWS_AS(parse({"model", "hooke", "damping", "viscoelastic"}), std::invalid_argument);
   CHECK_THROWS_AS(parse({"tangential_reduce", "on"}), std::invalid_argument);
-  CHECK_THROWS_AS(parse({"cohesion", "sjkr2"}), std::invalid_argument);
+  CHECK(parse({"cohesion", "sjkr2"}).cohesion == CohesionModel::Sjkr2);
+  CHECK_THROWS_AS(parse({"cohesion", "sjkr3"}), std::invalid_argument);
   CHECK_THROWS_AS(parse({"damping", "linear"}), std::invalid_argument);
 }
 
@@ -320,5 +321,79 @@ TEST_CASE("cohesion sjkr agrees with LIGGGHTS 3.8", "[contact][cohesion][liggght
         CHECK(p.omega[a].y() == Approx(k.wy1).epsilon(1e-10));
       }
     }
+  }
+}
+
+// Two unequal spheres of different types meeting off-centre and a sphere
+// thrown at a wall/gran plane, with cohesion sjkr or sjkr2 and
+// tangential_reduce off or on: LIGGGHTS 3.8's x1, vx1, vy1, vx2, wz2, z3, vz3,
+// wy3 after 20000 steps (thermo %22.16g of the same script,
+// `liggghts -in in.coh -var coh sjkr2 [-var extra tangential_reduce -var extrav on]`).
+// This pins the sjkr2 areas (2 pi delta 2R* between spheres, 2 pi delta r at
+// a wall) and the Coulomb limit |fn - F_coh| of tangential_reduce on.
+TEST_CASE("cohesion sjkr2 and tangential_reduce on agree with LIGGGHTS 3.8",
+          "[contact][cohesion][liggghts]") {
+  struct Case {
+    std::string words;
+    double x1, vx1, vy1, vx2, wz2, z3, vz3, wy3;
+  };
+  const std::vector<Case> cases = {
+      {"cohesion sjkr2", -0.0008025329010321989, -0.05112230782395526, 0.004227191886594043,
+       -0.1485264953364144, 89.70612587391004, -0.008813032398959579, 3.889929706558027e-10,
+       41.62244573329499},
+      {"cohesion sjkr2 tangential_reduce on", -0.0008039364310280829, -0.05122284706035888,
+       0.00418513873256319, -0.1482286013026211, 88.87377900134901, -0.008813032398959579,
+       3.889929706558027e-10, 41.62244573329499},
+      {"cohesion sjkr tangential_reduce on", -0.001124247944043546, -0.05573024971139217,
+       -0.002915183620197392, -0.1348733341884653, 55.43141991540045, -0.008590650845028271,
+       9.300047732902751e-10, 39.8872287919813}};
+  for (const Case& c : cases) {
+    INFO(c.words);
+    granary::test::ScriptEngine s;
+    const std::string wall_words = c.words.substr(0, c.words.find(" tangential_reduce"));
+    s.cmds({"units si",
+            "atom_style granular",
+            "atom_modify map array",
+            "boundary f f f",
+            "newton off",
+            "communicate single vel yes",
+            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box",
+            "create_box 2 box",
+            "fix m1 all property/global youngsModulus peratomtype 5e6 6e6",
+            "fix m2 all property/global poissonsRatio peratomtype 0.3 0.25",
+            "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.6 0.6 0.7",
+            "fix m4 all property/global coefficientFriction peratomtypepair 2 0.3 0.4 0.4 0.5",
+            "fix m5 all property/global cohesionEnergyDensity peratomtypepair 2 3e5 4e5 4e5 5e5",
+            "pair_style gran model hertz tangential history " + c.words,
+            "pair_coeff * *",
+            "fix wall all wall/gran model hertz tangential history " + wall_words +
+                " primitive type 2 zplane -0.01",
+            "create_atoms 1 single 0 0 0",
+            "create_atoms 2 single 0.0035 0.001 0",
+            "create_atoms 1 single 0.02 0 -0.007",
+            "set atom 1 diameter 0.004 density 2500",
+            "set atom 2 diameter 0.003 density 2000",
+            "set atom 3 diameter 0.004 density 2500",
+            "velocity all set 0 0 0",
+            "set atom 2 vx -0.3 vy 0.05",
+            "set atom 3 vx 0.1 vz -0.3",
+            "timestep 1e-6",
+            "fix integr all nve/sphere",
+            "run 20000"});
+    const auto& p = s.p();
+    int k[4];
+    for (int i = 0; i < p.nlocal; ++i)
+      k[p.id[i]] = i;
+    auto same = [](double g, double l, double margin) {
+      CHECK(g == Approx(l).epsilon(1e-12).margin(margin));
+    };
+    same(p.x[k[1]].x(), c.x1, 0);
+    same(p.v[k[1]].x(), c.vx1, 0);
+    same(p.v[k[1]].y(), c.vy1, 0);
+    same(p.v[k[2]].x(), c.vx2, 0);
+    same(p.omega[k[2]].z(), c.wz2, 0);
+    same(p.x[k[3]].z(), c.z3, 0);
+    same(p.v[k[3]].z(), c.vz3, 1e-14);  // at rest on the wall: round-off
+    same(p.omega[k[3]].y(), c.wy3, 0);
   }
 }

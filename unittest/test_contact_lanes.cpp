@@ -55,7 +55,7 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   tangential =
       std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}[pick(3)];
   rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}[pick(3)];
-  cohesion = pick(2) ? CohesionModel::Sjkr : CohesionModel::None;
+  cohesion = std::array{CohesionModel::None, CohesionModel::Sjkr, CohesionModel::Sjkr2}[pick(3)];
   damping = pick(2) ? DampingModel::Viscoelastic : DampingModel::Restitution;
   tangential_reduce = pick(2);
   limit_force = pick(2);
@@ -263,7 +263,7 @@ void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
       if (spec.rolling == RollingModel::Cdt && e(o.r.torque_i - o.r.torque_j).norm() == 0.0)
         ++counts.tiny_spin;
       if (spec.rolling == RollingModel::Epsd2 && e(o.roll).norm() < e(s[l].roll).norm()) ++counts.capped;
-      if (spec.cohesion == CohesionModel::Sjkr && o.r.fn < 0.0) ++counts.pulled;
+      if (spec.cohesion != CohesionModel::None && o.r.fn < 0.0) ++counts.pulled;
     }
   }
 }

@@ -98,7 +98,8 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
              Catch::Contains("unknown tangential model 'sticky'"));
   CHECK_THAT(parse_error("model hertz rolling_friction epsd"),
              Catch::Contains("'rolling_friction epsd' is not supported"));
-  CHECK_THAT(parse_error("model hertz cohesion sjkr2"), Catch::Contains("'cohesion sjkr2' is not supported"));
+  CHECK_THAT(parse_error("model hertz cohesion washino/capillary/viscous"),
+             Catch::Contains("'cohesion washino/capillary/viscous' is not supported"));
   CHECK_THAT(parse_error("model hooke damping viscoelastic"), Catch::Contains("only to 'model hertz'"));
   CHECK_THAT(parse_error("model hertz tangential"), Catch::Contains("missing value after"));
   CHECK_THAT(parse_error("model hertz limitForce yes"),
@@ -132,7 +133,7 @@ TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][pars
   // The lists in the messages are the same names ("off" where it is allowed).
   CHECK_THAT(parse_error("model hertz tangential sticky"),
              Catch::Contains("(supported: history, no_history, off)"));
-  CHECK_THAT(parse_error("model hertz cohesion x"), Catch::Contains("(supported: sjkr, off)"));
+  CHECK_THAT(parse_error("model hertz cohesion x"), Catch::Contains("(supported: sjkr, sjkr2, off)"));
   CHECK_THAT(parse_error("model hertz surface multicontact"),
              Catch::Contains("'surface multicontact' is not supported (supported: default (= sphere))"));
 }

@@ -192,7 +192,7 @@ TEST_CASE("command line: -list-styles prints every registered name", "[input][cl
   require("model", {"hertz", "hooke", "hertz/stiffness", "hooke/stiffness"});
   require("tangential", {"history", "no_history"});
   require("rolling_friction", {"cdt", "epsd2"});
-  require("cohesion", {"sjkr"});
+  require("cohesion", {"sjkr", "sjkr2"});
   require("surface", {"sphere"});
   CHECK(listed.count({"tangential", "off"}) == 0);  // "off" is no sub-model
   CHECK(listed.count({"model", "hooke/hysteresis"}) == 0);

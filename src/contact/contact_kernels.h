@@ -119,7 +119,7 @@ struct PreparedT {
   S friction, rolling_friction;
   lane::V3<S> omega_j;  ///< spin of the partner
   S spin;               ///< cdt: |omega_i - omega_j|
-  S f_coh;              ///< sjkr: the cohesive pull (>= 0); unset without cohesion
+  S f_coh;              ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
 };
 
 /// Forces and torques of W contacts.
@@ -214,6 +214,11 @@ template <class K, class S>
   q.omega_j = g.omega_j;
   if (K::cohesion(spec) == CohesionModel::Sjkr)
     q.f_coh = sjkr_force(g, m);
+  else if (K::cohesion(spec) == CohesionModel::Sjkr2)
+    // sjkr2: A = 2 pi delta 2R* between spheres; against a wall 2 pi delta r
+    // (LIGGGHTS 3.8, measured: not 2 pi delta 2r)
+    q.f_coh =
+        m.cohesion_energy_density * (2.0 * M_PI) * g.overlap * select(g.r_j > 0.0, S(2.0 * g.r_eff), g.r_eff);
   else if constexpr (!K::compiled)
     q.f_coh = lane::splat<S>(0.0);  // read by no one; set so that the value is defined
   // The contact point lies in the middle of the overlap region, at distance
@@ -250,11 +255,12 @@ template <class K, class S>
   if (K::limit_force(spec)) fn = select(fn < 0.0, splat<S>(0.0), fn);
   // Cohesion pulls the bodies together after limitForce (which forbids only
   // the attraction of the dashpot). By default the Coulomb and rolling limits
-  // below see the contact force without it (LIGGGHTS "tangential_reduce off").
+  // below see the contact force without it (LIGGGHTS "tangential_reduce off");
+  // with "tangential_reduce on" they see |fn - F_coh| (LIGGGHTS 3.8, measured).
   S fn_total = fn;
-  if (K::cohesion(spec) == CohesionModel::Sjkr) {
+  if (K::cohesion(spec) != CohesionModel::None) {
     fn_total = fn - q.f_coh;
-    if (spec.tangential_reduce) fn = select(fn_total < 0.0, splat<S>(0.0), fn_total);  // net compression
+    if (spec.tangential_reduce) fn = fn_total;
   }
   V force = fn_total * n;
   V torque_i = lane::zero3<S>(), torque_j = lane::zero3<S>(), ft = lane::zero3<S>();

@@ -61,7 +61,8 @@ const std::vector<std::pair<std::string, TangentialModel>> kTangentialNames = {
     {"history", TangentialModel::History}, {"no_history", TangentialModel::NoHistory}};
 const std::vector<std::pair<std::string, RollingModel>> kRollingNames = {{"cdt", RollingModel::Cdt},
                                                                          {"epsd2", RollingModel::Epsd2}};
-const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjkr", CohesionModel::Sjkr}};
+const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjkr", CohesionModel::Sjkr},
+                                                                           {"sjkr2", CohesionModel::Sjkr2}};
 const std::vector<std::pair<std::string, DampingModel>> kDampingNames = {
     {"restitution", DampingModel::Restitution}, {"viscoelastic", DampingModel::Viscoelastic}};
 const std::vector<std::string> kSurfaceNames = {"sphere"};
@@ -88,7 +89,6 @@ bool is_known_unsupported(const std::string& slot, const std::string& name) {
       {"model", "hooke/hysteresis"},
       {"rolling_friction", "epsd"},
       {"rolling_friction", "epsd3"},
-      {"cohesion", "sjkr2"},
       {"cohesion", "easo/capillary/viscous"},
       {"cohesion", "washino/capillary/viscous"},
       {"surface", "superquadric"},
@@ -203,7 +203,7 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
   if (spec.damping == DampingModel::Viscoelastic && spec.normal != NormalModel::Hertz)
     fail("'damping viscoelastic' applies only to 'model hertz'");
   if (seen_reduce && spec.cohesion == CohesionModel::None)
-    fail("'tangential_reduce' applies only with a cohesion model ('cohesion sjkr')");
+    fail("'tangential_reduce' applies only with a cohesion model ('cohesion sjkr' or 'sjkr2')");
   return spec;
 }
 
@@ -240,6 +240,7 @@ std::string model_words(const ModelSpec& spec) {
       break;
   }
   if (spec.cohesion == CohesionModel::Sjkr) s += " cohesion sjkr";
+  if (spec.cohesion == CohesionModel::Sjkr2) s += " cohesion sjkr2";
   if (spec.damping == DampingModel::Viscoelastic) s += " damping viscoelastic";
   if (spec.limit_force) s += " limitForce on";
   if (spec.tangential_reduce) s += " tangential_reduce on";

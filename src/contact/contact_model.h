@@ -29,8 +29,10 @@ enum class NormalModel { Hertz, Hooke, HertzStiffness, HookeStiffness };
 enum class TangentialModel { None, NoHistory, History };
 /// Rolling resistance: "rolling_friction off", "rolling_friction cdt", "rolling_friction epsd2".
 enum class RollingModel { None, Cdt, Epsd2 };
-/// Cohesion: "cohesion off", "cohesion sjkr" (simplified JKR, F = k * contact area).
-enum class CohesionModel { None, Sjkr };
+/// Cohesion: "cohesion off", "cohesion sjkr" (simplified JKR, F = k * contact
+/// area, the area of the circle where the spheres intersect), "cohesion sjkr2"
+/// (the same with the area 2 pi delta 2R*).
+enum class CohesionModel { None, Sjkr, Sjkr2 };
 /// Normal (and tangential) damping of the Hertz model: "damping restitution"
 /// (LIGGGHTS' constant coefficient of restitution, the default) or
 /// "damping viscoelastic" (Brilliantov et al. 1996: dashpot proportional to the

@@ -50,7 +50,7 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     gt = &modify.require_property("gammat" + suffix, user);
   }
   const GlobalProperty* coh = nullptr;
-  if (spec.cohesion == contact::CohesionModel::Sjkr) {
+  if (spec.cohesion != contact::CohesionModel::None) {
     coh = &modify.require_property("cohesionEnergyDensity", user);
   }
   const GlobalProperty* diss = nullptr;
