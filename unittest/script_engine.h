@@ -51,6 +51,21 @@ inline int world_size() {
   return n;
 }
 
+/// The head of a script both Granary and LIGGGHTS 3.8 run: granular atoms,
+/// fixed boundaries, newton off and ghost velocities (as LIGGGHTS' granular
+/// pair styles require), and the box `region box block B units box` with
+/// `ntypes` atom types.
+inline std::vector<std::string> liggghts_head(const std::string& block, int ntypes) {
+  return {"units si",
+          "atom_style granular",
+          "atom_modify map array",
+          "boundary f f f",
+          "newton off",
+          "communicate single vel yes",
+          "region box block " + block + " units box",
+          "create_box " + std::to_string(ntypes) + " box"};
+}
+
 /// Position and velocity of particle `id`, wherever it lives (collective).
 /// Returns false unless exactly one rank owns it.
 inline bool particle_state(granary::Engine& e, long long id, granary::Vec3& x, granary::Vec3& v) {

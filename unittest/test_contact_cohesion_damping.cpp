@@ -351,15 +351,8 @@ TEST_CASE("cohesion sjkr2 and tangential_reduce on agree with LIGGGHTS 3.8",
     INFO(c.words);
     granary::test::ScriptEngine s;
     const std::string wall_words = c.words.substr(0, c.words.find(" tangential_reduce"));
-    s.cmds({"units si",
-            "atom_style granular",
-            "atom_modify map array",
-            "boundary f f f",
-            "newton off",
-            "communicate single vel yes",
-            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box",
-            "create_box 2 box",
-            "fix m1 all property/global youngsModulus peratomtype 5e6 6e6",
+    s.cmds(granary::test::liggghts_head("-0.05 0.05 -0.05 0.05 -0.05 0.05", 2));
+    s.cmds({"fix m1 all property/global youngsModulus peratomtype 5e6 6e6",
             "fix m2 all property/global poissonsRatio peratomtype 0.3 0.25",
             "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.6 0.6 0.7",
             "fix m4 all property/global coefficientFriction peratomtypepair 2 0.3 0.4 0.4 0.5",

@@ -35,14 +35,7 @@ const std::vector<std::string> kMaterials = {
     "fix m7 all property/global gammat_abs peratomtypepair 2 0.005 0.006 0.006 0.007"};
 
 std::vector<std::string> head() {
-  return {"units si",
-          "atom_style granular",
-          "atom_modify map array",
-          "boundary f f f",
-          "newton off",
-          "communicate single vel yes",
-          "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box",
-          "create_box 2 box"};
+  return granary::test::liggghts_head("-0.05 0.05 -0.05 0.05 -0.05 0.05", 2);
 }
 
 struct State {
