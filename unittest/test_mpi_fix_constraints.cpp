@@ -1,10 +1,10 @@
-// fix planeforce, lineforce, nve/noforce and spring/self on free particles,
+// fix planeforce, lineforce, nve/noforce, spring/self and move on free particles,
 // on any number of ranks, against their closed-form motion: under gravity
 // along (0, 1, 1) a sphere with planeforce 0 0 1 falls along y only and one
 // with lineforce 1 1 0 along the line; nve/noforce moves with its velocity
 // whatever the force; spring/self makes a harmonic oscillator whose energy
 // is conserved, in the chosen directions only, and keeps its anchors across a
-// restart.
+// restart; fix move linear, wiggle and rotate give LIGGGHTS 3.8's motion.
 #include <mpi.h>
 
 #include <catch2/catch.hpp>
@@ -125,6 +125,106 @@ TEST_CASE("spring/self makes harmonic oscillators in the chosen directions and k
   CHECK(s.e.particles->find_field("spring/self/tie") < 0);
   CHECK_THROWS_WITH(s.cmd("fix bad all spring/self -1"), Contains("must be positive"));
   CHECK_THROWS_WITH(s.cmd("fix bad all spring/self 1 xw"), Contains("directions must be"));
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (granary::test::world_rank() == 0) std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+std::vector<std::string> move_scene() {
+  std::vector<std::string> s = granary::test::liggghts_head("-0.05 0.05 -0.05 0.05 -0.05 0.05", 1);
+  const std::vector<std::string> rest = {
+      "fix m1 all property/global youngsModulus peratomtype 5e6",
+      "fix m2 all property/global poissonsRatio peratomtype 0.3",
+      "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
+      "fix m4 all property/global coefficientFriction peratomtypepair 1 0.4",
+      "pair_style gran model hertz tangential history",
+      "pair_coeff * *",
+      "create_atoms 1 single -0.03 0 0.02",
+      "create_atoms 1 single 0 0 0",
+      "create_atoms 1 single 0.0041 0.001 0",
+      "create_atoms 1 single 0.02 0 -0.02",
+      "set atom * diameter 0.004 density 2500",
+      "group a1 id 1",
+      "group a2 id 2",
+      "group a3 id 3",
+      "group a4 id 4",
+      "velocity a3 set -0.1 0 0",
+      "fix grav all gravity 9.81 vector 0 0 -1",
+      "timestep 1e-6"};
+  s.insert(s.end(), rest.begin(), rest.end());
+  return s;
+}
+
+const std::vector<std::string> kMoves = {
+    "fix mv1 a1 move linear 0.1 0 NULL", "fix mv2 a2 move wiggle 0.002 0 0 0.01",
+    "fix mv4 a4 move rotate 0 0 0 0 0 1 0.05", "fix integr a3 nve/sphere"};
+
+void check_move_state(granary::Engine& e) {
+  // LIGGGHTS 3.8 after 20000 steps of the same script (thermo %22.16g)
+  Vec3 v1, v2, v3, v4;
+  const Vec3 x1 = position(e, 1, &v1), x2 = position(e, 2, &v2), x3 = position(e, 3, &v3),
+             x4 = position(e, 4, &v4);
+  CHECK(x1.x() == Approx(-0.028).epsilon(1e-14));               // linear 0.1 m/s in x
+  CHECK(x1.z() == Approx(0.01803800000000018).epsilon(1e-13));  // NULL z: falls under gravity
+  CHECK(std::fabs(x2.x()) < 1e-15);                             // wiggle: a whole period
+  CHECK(v2.x() == Approx(1.256637061435917).epsilon(1e-13));
+  CHECK(x3.x() == Approx(0.04029059184767045).epsilon(1e-12));  // knocked by the wiggling sphere
+  CHECK(v3.x() == Approx(1.851189127731431).epsilon(1e-12));
+  CHECK(x4.x() == Approx(-0.01618033988749895).epsilon(1e-13));  // rotate: 0.4 of a turn
+  CHECK(x4.y() == Approx(0.01175570504584946).epsilon(1e-13));
+  CHECK(v4.y() == Approx(-2.033281476926104).epsilon(1e-13));
+  double w[4] = {0, 0, 0, 0}, all[4];
+  const auto& p = *e.particles;
+  for (int i = 0; i < p.nlocal; ++i)
+    w[p.id[i] - 1] = p.omega[i].z();
+  MPI_Allreduce(w, all, 4, MPI_DOUBLE, MPI_SUM, e.world);
+  CHECK(all[1] == 0.0);  // a wiggling sphere does not spin (torque ignored)
+  CHECK(all[2] == Approx(107.0028266860977).epsilon(1e-12));
+  CHECK(all[3] == Approx(125.6637061435917).epsilon(1e-13));  // rotate sets the spin: 2 pi / 0.05
+}
+
+}  // namespace
+
+// fix move linear (with a NULL component under gravity), wiggle and rotate,
+// and a free sphere knocked by the wiggling one: LIGGGHTS 3.8's positions,
+// velocities and spins, on any rank count, and the same after a restart in the
+// middle (the fixes defined again with their IDs keep their origins and start
+// time).
+TEST_CASE("fix move linear, wiggle and rotate follow LIGGGHTS 3.8 and continue across a restart",
+          "[fix][mpi][move][restart]") {
+  {
+    granary::test::ScriptEngine s(MPI_COMM_WORLD);
+    s.cmds(move_scene());
+    s.cmds(kMoves);
+    s.cmd("run 20000");
+    check_move_state(s.e);
+  }
+  const std::string dir = granary::test::shared_temp_dir("granary_move_");
+  {
+    granary::test::ScriptEngine s(MPI_COMM_WORLD);
+    s.cmds(move_scene());
+    s.cmds(kMoves);
+    s.cmds({"run 12000", "write_restart " + dir + "/move.restart"});
+  }
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds({"read_restart " + dir + "/move.restart", "fix m1 all property/global youngsModulus peratomtype 5e6",
+          "fix m2 all property/global poissonsRatio peratomtype 0.3",
+          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
+          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.4",
+          "pair_style gran model hertz tangential history", "pair_coeff * *",
+          "fix grav all gravity 9.81 vector 0 0 -1"});
+  s.cmds(kMoves);
+  s.cmd("run 8000");
+  check_move_state(s.e);
+  CHECK_THROWS_WITH(s.cmd("fix bad all move variable v_a NULL NULL NULL NULL NULL"),
+                    Contains("variable style is not supported"));
+  CHECK_THROWS_WITH(s.cmd("fix bad all move wiggle 1 0 0 0"), Contains("period must be positive"));
+  CHECK_THROWS_WITH(s.cmd("fix bad all move rotate 0 0 0 0 0 0 1"), Contains("axis must not be zero"));
+  CHECK_THROWS_WITH(s.cmd("fix bad all move wobble 1 0 0"), Contains("unknown fix move style"));
+  CHECK(s.e.particles->find_field("move/mv1") >= 0);
+  s.cmd("unfix mv1");
+  CHECK(s.e.particles->find_field("move/mv1") < 0);
   MPI_Barrier(MPI_COMM_WORLD);
   if (granary::test::world_rank() == 0) std::filesystem::remove_all(dir);
 }

@@ -79,6 +79,12 @@ class Fix {
   bool time_integrate = false;  // integrates positions (nve/sphere, multisphere, ...)
 
  protected:
+  /// The number of particles of the group that are spheres of clumps (collective).
+  long long clump_spheres_in_group() const;
+  /// InputError unless the group holds no spheres of clumps (for fixes that
+  /// move particles, which fix multisphere moves as bodies).
+  void require_free_spheres() const;
+
   Engine& engine_;
   Args args_;
 };

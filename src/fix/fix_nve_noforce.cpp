@@ -2,8 +2,6 @@
 // velocity, x += dt v, which forces do not change (LAMMPS/LIGGGHTS: for
 // particles whose velocity another fix sets). Spheres of clumps are moved by
 // their body; a group that holds some is refused at the start of a run.
-#include <mpi.h>
-
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -24,19 +22,7 @@ class FixNveNoforce : public Fix {
 
   unsigned hooks() const override { return INITIAL_INTEGRATE; }
 
-  void setup() override {
-    const Particles& p = *engine_.particles;
-    long long mine = 0, all = 0;
-    for (int i = 0; i < p.nlocal; ++i)
-      if ((p.mask[i] & groupbit) && p.body[i] >= 0) ++mine;
-    MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, engine_.world);
-    if (all > 0) {
-      throw InputError(
-          "fix " + id + " (nve/noforce): " + std::to_string(all) +
-          " particles of its group are spheres of clumps, which fix multisphere moves; give it a "
-          "group of free spheres");
-    }
-  }
+  void setup() override { require_free_spheres(); }
 
   void initial_integrate() override {
     Particles& p = *engine_.particles;

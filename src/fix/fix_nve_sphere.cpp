@@ -29,11 +29,7 @@ class FixNveSphere : public Fix {
   // multisphere here, while LIGGGHTS 3.8 integrates them a second time.
   void setup() override {
     if (noted_) return;
-    const Particles& p = *engine_.particles;
-    long long mine = 0, all = 0;
-    for (int i = 0; i < p.nlocal; ++i)
-      if ((p.mask[i] & groupbit) && p.body[i] >= 0) ++mine;
-    MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, engine_.world);
+    const long long all = clump_spheres_in_group();
     if (all == 0) return;
     noted_ = true;
     engine_.logger->print(
