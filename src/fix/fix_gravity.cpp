@@ -3,7 +3,8 @@
 // Adds m g to the force of every particle of the group after the pair forces.
 // MAG [m/s^2] and the vector components may be equal-style variables (v_name),
 // evaluated every step. The direction is normalised. The scalar output is the
-// gravitational potential energy -sum m g.x of the group [J].
+// gravitational potential energy -sum m g.x of the group [J]; the vector
+// (f_ID[1..3]) the acceleration of gravity [m/s^2].
 #include <mpi.h>
 
 #include <cmath>
@@ -77,6 +78,7 @@ class FixGravity : public Fix {
       throw InputError("fix " + id + " gravity: the direction vector must not be zero");
     }
     scalar_flag = true;
+    size_vector = 3;
   }
 
   unsigned hooks() const override { return POST_FORCE; }
@@ -94,6 +96,9 @@ class FixGravity : public Fix {
     for (int i = 0; i < n; ++i)
       if (mask[i] & bit) f[i] += rmass[i] * acc;
   }
+
+  /// The acceleration of gravity (x, y, z) [m/s^2] (read by fix buoyancy).
+  double compute_vector(int i) override { return i >= 0 && i < 3 ? acceleration()[i] : 0.0; }
 
   /// Gravitational potential energy of the group (collective).
   double compute_scalar() override {

@@ -27,7 +27,6 @@ class FixPlaneForce : public Fix {
   }
 
   unsigned hooks() const override { return POST_FORCE; }
-  void setup() override { post_force(); }
 
   void post_force() override {
     Particles& p = *engine_.particles;

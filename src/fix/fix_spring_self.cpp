@@ -44,7 +44,6 @@ class FixSpringSelf : public Fix {
   }
 
   unsigned hooks() const override { return POST_FORCE; }
-  void setup() override { post_force(); }
   void unfixed() override { origin_->release(); }
 
   void post_force() override {
