@@ -67,7 +67,6 @@ class FixBuoyancy : public Fix {
     gravity_id_ = g->id;
   }
 
-
   void post_force() override {
     Fix* g = engine_.modify->fix_or_error(gravity_id_, "fix " + id + " buoyancy");
     Vec3 acc;
