@@ -3,6 +3,9 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 namespace granary {
@@ -54,6 +57,16 @@ std::vector<T> gather_to_root(MPI_Comm comm, const std::vector<T>& mine) {
   MPI_Gatherv(mine.data(), count, mpi_type<T>(), all.data(), counts.data(), displs.data(), mpi_type<T>(), 0,
               comm);
   return all;
+}
+
+/// Rank 0's string `s` on every rank (in pieces of at most 1 GiB).
+inline void bcast_string(MPI_Comm comm, std::string& s) {
+  std::uint64_t n = s.size();
+  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, comm);
+  s.resize(n);
+  const std::uint64_t chunk = 1u << 30;
+  for (std::uint64_t off = 0; off < n; off += chunk)
+    MPI_Bcast(&s[off], static_cast<int>(std::min(chunk, n - off)), MPI_CHAR, 0, comm);
 }
 
 }  // namespace granary

@@ -411,22 +411,9 @@ void cmd_read_data(Engine& e, const Args& a) {
     }
   }
   // every rank parses the same text: the same error everywhere, or the same particles
-  std::string msg = problem;
-  {
-    std::uint64_t n = msg.size();
-    MPI_Bcast(&n, 1, MPI_UINT64_T, 0, e.world);
-    msg.resize(n);
-    if (n) MPI_Bcast(&msg[0], static_cast<int>(n), MPI_CHAR, 0, e.world);
-  }
-  if (!msg.empty()) throw InputError(msg);
-  {
-    std::uint64_t n = text.size();
-    MPI_Bcast(&n, 1, MPI_UINT64_T, 0, e.world);
-    text.resize(n);
-    const std::uint64_t chunk = 1u << 30;
-    for (std::uint64_t off = 0; off < n; off += chunk)
-      MPI_Bcast(&text[off], static_cast<int>(std::min(chunk, n - off)), MPI_CHAR, 0, e.world);
-  }
+  bcast_string(e.world, problem);
+  if (!problem.empty()) throw InputError(problem);
+  bcast_string(e.world, text);
   DataFile d = Parser(file, text, Particles::kMaxTypes).parse();
   text.clear();
   text.shrink_to_fit();
@@ -575,10 +562,7 @@ void cmd_write_data(Engine& e, const Args& a) {
     });
     if (!problem.empty()) problem = "write_data: " + problem;
   }
-  std::uint64_t n = problem.size();
-  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, e.world);
-  problem.resize(n);
-  if (n) MPI_Bcast(&problem[0], static_cast<int>(n), MPI_CHAR, 0, e.world);
+  bcast_string(e.world, problem);
   if (!problem.empty()) throw InputError(problem);
   MPI_Bcast(&count, 1, MPI_LONG_LONG, 0, e.world);
   e.logger->print("Wrote data file " + file + ": " + std::to_string(count) + " atoms at step " +

@@ -135,20 +135,10 @@ class Reader {
   std::size_t pos_ = 0;
 };
 
-void bcast_string(Engine& e, std::string& s) {
-  std::uint64_t n = s.size();
-  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, e.world);
-  s.resize(n);
-  const std::uint64_t chunk = 1u << 30;
-  for (std::uint64_t off = 0; off < n; off += chunk) {
-    MPI_Bcast(&s[off], static_cast<int>(std::min(chunk, n - off)), MPI_CHAR, 0, e.world);
-  }
-}
-
 // Raise the same InputError on every rank when rank 0 found a problem.
 void agree(Engine& e, const std::string& problem_on_rank0) {
   std::string msg = problem_on_rank0;
-  bcast_string(e, msg);
+  bcast_string(e.world, msg);
   if (!msg.empty()) throw InputError(msg);
 }
 
@@ -474,8 +464,8 @@ void read_restart(Engine& e, const std::string& file) {
     names.push_back(kv.first);
   names.resize(n);
   for (std::uint32_t k = 0; k < n; ++k) {
-    bcast_string(e, names[k]);
-    bcast_string(e, fs.sections[names[k]]);
+    bcast_string(e.world, names[k]);
+    bcast_string(e.world, fs.sections[names[k]]);
   }
 
   // Parse everything before changing any state, so a bad file changes nothing.
