@@ -36,11 +36,10 @@ class ComputeDisplaceAtom : public Compute {
 
   void compute_peratom() override {
     const Particles& p = *engine_.particles;
-    origin_->fill_new();
     array_atom.assign(4, std::vector<double>(p.nlocal, 0.0));
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
-      const Vec3 d = engine_.groups->unwrapped(i) - (*origin_)(i);
+      const Vec3 d = engine_.groups->unwrapped(i) - origin_->at(i);
       for (int c = 0; c < 3; ++c)
         array_atom[c][i] = d[c];
       array_atom[3][i] = d.norm();
@@ -71,14 +70,13 @@ class ComputeMSD : public Compute {
 
   void compute_vector() override {
     const Particles& p = *engine_.particles;
-    origin_->fill_new();
     // the displacement of the group's centre of mass (com yes)
     Vec3 drift(0, 0, 0);
     if (com_) {
       double local[7] = {0, 0, 0, 0, 0, 0, 0};
       for (int i = 0; i < p.nlocal; ++i) {
         if (!(p.mask[i] & groupbit)) continue;
-        const Vec3 xu = engine_.groups->unwrapped(i), x0 = (*origin_)(i);
+        const Vec3 xu = engine_.groups->unwrapped(i), x0 = origin_->at(i);
         for (int c = 0; c < 3; ++c) {
           local[c] += p.rmass[i] * xu[c];
           local[3 + c] += p.rmass[i] * x0[c];
@@ -92,7 +90,7 @@ class ComputeMSD : public Compute {
     double local[5] = {0, 0, 0, 0, 0};
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
-      const Vec3 d = engine_.groups->unwrapped(i) - (*origin_)(i)-drift;
+      const Vec3 d = engine_.groups->unwrapped(i) - origin_->at(i) - drift;
       for (int c = 0; c < 3; ++c)
         local[c] += d[c] * d[c];
       local[3] += d.squaredNorm();

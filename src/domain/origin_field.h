@@ -4,8 +4,8 @@
 // and is written to restart files under its name, so that the style defined
 // again with the same ID after read_restart goes on from the same origins.
 // Every particle present when the style is defined gets its current
-// position; a particle created later (insertion, create_atoms) has none until
-// fill_new() gives it its position then.
+// position; a particle created later (insertion, create_atoms) gets its
+// position when the style first asks for its origin.
 #pragma once
 
 #include <cmath>
@@ -33,15 +33,11 @@ class OriginField {
     }
   }
 
-  /// Give particles created since the last call their current position.
-  void fill_new() {
-    const Particles& p = *engine_.particles;
-    for (int i = 0; i < p.nlocal; ++i)
-      if (std::isnan(data()[3 * static_cast<std::size_t>(i)])) set(i, engine_.groups->unwrapped(i));
-  }
-
-  Vec3 operator()(int i) const {
-    const double* d = data() + 3 * static_cast<std::size_t>(i);
+  /// The original position of owned particle i; a particle that has none yet
+  /// (created after the style) gets its current position now.
+  Vec3 at(int i) {
+    double* d = data() + 3 * static_cast<std::size_t>(i);
+    if (std::isnan(d[0])) set(i, engine_.groups->unwrapped(i));
     return Vec3(d[0], d[1], d[2]);
   }
 

@@ -108,7 +108,6 @@ class FixMove : public Fix {
   void initial_integrate() override {
     Particles& p = *engine_.particles;
     const Domain& dom = *engine_.domain;
-    origin_->fill_new();
     const double dt = engine_.update->dt, dtf = 0.5 * dt;
     const double t = engine_.update->time() - t0_;  // at the end of this step
     const double w = style_ == kLinear ? 0.0 : 2.0 * M_PI / period_;
@@ -118,7 +117,7 @@ class FixMove : public Fix {
       int im[3];
       Particles::image_unpack(p.image[i], im[0], im[1], im[2]);
       const Vec3 shift(im[0] * dom.prd[0], im[1] * dom.prd[1], im[2] * dom.prd[2]);
-      const Vec3 x0 = (*origin_)(i);
+      const Vec3 x0 = origin_->at(i);
       if (style_ == kRotate) {
         const Vec3 r = x0 - point_;
         const Vec3 xu = point_ + r * c + axis_.cross(r) * s + axis_ * (axis_.dot(r) * (1.0 - c));

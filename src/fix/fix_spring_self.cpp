@@ -48,11 +48,10 @@ class FixSpringSelf : public Fix {
 
   void post_force() override {
     Particles& p = *engine_.particles;
-    origin_->fill_new();
     energy_ = 0.0;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
-      const Vec3 d = engine_.groups->unwrapped(i) - (*origin_)(i);
+      const Vec3 d = engine_.groups->unwrapped(i) - origin_->at(i);
       for (int c = 0; c < 3; ++c) {
         if (!on_[c]) continue;
         p.f[i][c] -= k_ * d[c];
