@@ -291,7 +291,8 @@ TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact",
   // updated histories mirror images (1e-12 relative).
   const PairMaterial mat = mix_materials(kY, kNu, 2 * kY, 0.2, 0.6, 0.3, 0.1, 0.9);
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
-    for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
+    for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
+                               TangentialModel::MindlinDeresiewicz}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
         for (bool limit : {false, true}) {
           ModelSpec spec = spec_of(nm, tm, rm);

@@ -52,8 +52,8 @@ ModelSpec random_spec(std::mt19937_64& rng) {
          kt_to_kn_user, absolute_damping] = spec;
   normal = std::array{NormalModel::Hertz, NormalModel::Hooke, NormalModel::HertzStiffness,
                       NormalModel::HookeStiffness}[pick(4)];
-  tangential =
-      std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}[pick(3)];
+  tangential = std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
+                          TangentialModel::MindlinDeresiewicz}[pick(4)];
   rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}[pick(3)];
   cohesion = std::array{CohesionModel::None, CohesionModel::Sjkr, CohesionModel::Sjkr2}[pick(3)];
   damping = pick(2) ? DampingModel::Viscoelastic : DampingModel::Restitution;
@@ -76,6 +76,7 @@ struct Sample {
   GeometryT<double> g;
   MaterialT<double> mat;
   V3<double> v_rel, shear, roll;
+  SlipT<double> slip;
 };
 
 Vec3 unit(std::mt19937_64& rng) {
@@ -142,20 +143,25 @@ Sample random_contact(std::mt19937_64& rng, const Sample* first) {
   q.v_rel = v3((u(rng) < 0.5 ? 1e-3 : 1.0) * u(rng) * unit(rng));
   q.shear = v3((u(rng) < 0.5 ? 1e-8 : 1e-5) * u(rng) * unit(rng));
   q.roll = v3((u(rng) < 0.5 ? 1e-9 : 1e-5) * u(rng) * unit(rng));
+  // mindlin_deresiewicz: a force at a reversal either way, the last kt or none
+  q.slip.turn = u(rng) < 0.3 ? 0.0 : 2e-5 * (u(rng) - 0.5);
+  q.slip.t_max = u(rng) < 0.3 ? 0.0 : 2e-5 * u(rng);
+  q.slip.kt_prev = u(rng) < 0.3 ? 0.0 : 1e2 + 1e5 * u(rng);
   return q;
 }
 
 struct Out {
   ResultT<double> r;
   V3<double> shear, roll;
+  SlipT<double> slip;
 };
 
 template <class K>
 Out one_lane(const ModelSpec& spec, const Sample& s, double dt) {
   PreparedT<double> q;
   prepare<K>(spec, s.g, s.mat, q);
-  Out o{{}, s.shear, s.roll};
-  interact<K>(spec, q, s.g.omega_i, s.v_rel, dt, o.shear, o.roll, o.r);
+  Out o{{}, s.shear, s.roll, s.slip};
+  interact<K>(spec, q, s.g.omega_i, s.v_rel, dt, o.shear, o.slip, o.roll, o.r);
   return o;
 }
 
@@ -195,8 +201,10 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
   PreparedT<D2> q;
   prepare<K>(spec, g, m, q);
   V3<D2> shear = pack(s[0].shear, s[1].shear), roll = pack(s[0].roll, s[1].roll);
+  SlipT<D2> slip{pack(s[0].slip.turn, s[1].slip.turn), pack(s[0].slip.t_max, s[1].slip.t_max),
+                 pack(s[0].slip.kt_prev, s[1].slip.kt_prev)};
   ResultT<D2> r;
-  interact<K>(spec, q, g.omega_i, pack(s[0].v_rel, s[1].v_rel), dt, shear, roll, r);
+  interact<K>(spec, q, g.omega_i, pack(s[0].v_rel, s[1].v_rel), dt, shear, slip, roll, r);
   for (int l = 0; l < 2; ++l) {
     auto v = [l](const V3<D2>& x) { return V3<double>{x.x[l], x.y[l], x.z[l]}; };
     out[l].r.force = v(r.force);
@@ -206,6 +214,7 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
     out[l].r.fn = r.fn[l];
     out[l].shear = v(shear);
     out[l].roll = v(roll);
+    out[l].slip = {slip.turn[l], slip.t_max[l], slip.kt_prev[l]};
   }
 }
 
@@ -216,11 +225,13 @@ Vec3 e(const V3<double>& a) {
 bool same(const Out& a, const Out& b) {
   return same(e(a.r.force), e(b.r.force)) && same(e(a.r.torque_i), e(b.r.torque_i)) &&
          same(e(a.r.torque_j), e(b.r.torque_j)) && same(e(a.r.ft), e(b.r.ft)) && same(a.r.fn, b.r.fn) &&
-         same(e(a.shear), e(b.shear)) && same(e(a.roll), e(b.roll));
+         same(e(a.shear), e(b.shear)) && same(e(a.roll), e(b.roll)) && same(a.slip.turn, b.slip.turn) &&
+         same(a.slip.t_max, b.slip.t_max) && same(a.slip.kt_prev, b.slip.kt_prev);
 }
 
 struct Counts {
   int hot = 0, runtime = 0, slip = 0, stick = 0, apart = 0, wall = 0, tiny_spin = 0, capped = 0, pulled = 0;
+  int partial = 0;  ///< mindlin_deresiewicz contacts below the Coulomb limit
 };
 
 void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
@@ -255,8 +266,11 @@ void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
       }
       counts.wall += s[l].g.r_j == 0.0;
       const double ft = e(o.r.ft).norm();
-      if (spec.tangential == TangentialModel::History) {
+      if (spec.tangential == TangentialModel::History ||
+          spec.tangential == TangentialModel::MindlinDeresiewicz) {
         const double fn_limit = std::abs(o.r.fn);
+        if (spec.tangential == TangentialModel::MindlinDeresiewicz && ft < s[l].mat.friction * fn_limit)
+          ++counts.partial;
         (ft >= (1.0 - 1e-9) * s[l].mat.friction * fn_limit && fn_limit > 0.0 ? counts.slip : counts.stick) +=
             1;
       }
@@ -278,12 +292,14 @@ TEST_CASE("Contact formulas: two lanes give one lane's bits, compiled kernels th
     check_spec(random_spec(rng), rng, counts);
   INFO("hot " << counts.hot << " runtime " << counts.runtime << " slip " << counts.slip << " stick "
               << counts.stick << " apart " << counts.apart << " wall " << counts.wall << " tiny spin "
-              << counts.tiny_spin << " capped " << counts.capped << " pulled " << counts.pulled);
+              << counts.tiny_spin << " capped " << counts.capped << " pulled " << counts.pulled
+              << " partial slip " << counts.partial);
   // every branch of the formulas was taken, by both kinds of kernel
   CHECK(counts.hot > 10000);
   CHECK(counts.runtime > 10000);
   CHECK(counts.slip > 1000);
   CHECK(counts.stick > 1000);
+  CHECK(counts.partial > 1000);
   CHECK(counts.apart > 1000);
   CHECK(counts.wall > 1000);
   CHECK(counts.tiny_spin > 100);

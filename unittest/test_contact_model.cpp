@@ -132,7 +132,7 @@ TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][pars
   CHECK(parse_all("model hooke").normal == NormalModel::Hooke);
   // The lists in the messages are the same names ("off" where it is allowed).
   CHECK_THAT(parse_error("model hertz tangential sticky"),
-             Catch::Contains("(supported: history, no_history, off)"));
+             Catch::Contains("(supported: history, no_history, mindlin_deresiewicz, off)"));
   CHECK_THAT(parse_error("model hertz cohesion x"), Catch::Contains("(supported: sjkr, sjkr2, off)"));
   CHECK_THAT(parse_error("model hertz surface multicontact"),
              Catch::Contains("'surface multicontact' is not supported (supported: default (= sphere))"));

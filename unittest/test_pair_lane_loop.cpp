@@ -198,6 +198,11 @@ TEST_CASE("Pair loop equals contact::evaluate pair by pair (run-time slots: epsd
   compare_loops("gran model hertz tangential history rolling_friction epsd2 cohesion sjkr", "off");
 }
 
+TEST_CASE("Pair loop equals contact::evaluate pair by pair (run-time slots: mindlin_deresiewicz, epsd2)",
+          "[pair][lanes]") {
+  compare_loops("gran model hertz tangential mindlin_deresiewicz rolling_friction epsd2", "off");
+}
+
 TEST_CASE("Pair loop equals contact::evaluate pair by pair (run-time slots: hooke)", "[pair][lanes]") {
   compare_loops("gran model hooke tangential history rolling_friction cdt", "on");
 }

@@ -146,3 +146,30 @@ TEST_CASE("oblique impact agrees with Kharaz et al. (2001) with tangential histo
   // Coulomb-only sliding misses the tangential compliance: it must do worse.
   CHECK(mean_coulomb > mean_history);
 }
+
+TEST_CASE(
+    "oblique impact: partial slip (mindlin_deresiewicz) loses tangential energy where the contact sticks") {
+  // Below about 5 degrees the contact sticks for the whole impact: tangential
+  // history's elastic spring returns its energy (et = 0.986, measured 0.80 and
+  // 0.75 at 2.2 and 4.2 degrees); Mindlin-Deresiewicz micro-slip dissipates
+  // part of it (measured here: et = 0.933 and 0.858). So the model must come
+  // closer to the data at both angles, and reduce the distance by at least a
+  // third at 4.2 degrees; above 30 degrees, where the contact slides through
+  // most of the impact, both models agree within 0.01.
+  const auto data = read_csv("tangential_restitution.csv");
+  int sticking = 0;
+  for (const auto& d : data) {
+    const Rebound h = impact(d.angle, "history");
+    const Rebound m = impact(d.angle, "mindlin_deresiewicz");
+    INFO("incidence " << d.angle << ": measured " << d.value << ", history " << h.et << ", partial slip "
+                      << m.et);
+    if (d.angle < 5.0) {
+      ++sticking;
+      CHECK(std::fabs(m.et - d.value) < std::fabs(h.et - d.value));
+      CHECK(m.et < h.et - 0.03);
+      if (d.angle > 4.0) CHECK(std::fabs(m.et - d.value) < (2.0 / 3.0) * std::fabs(h.et - d.value));
+    }
+    if (d.angle > 30.0) CHECK(m.et == Approx(h.et).margin(0.01));
+  }
+  CHECK(sticking == 2);
+}

@@ -41,8 +41,8 @@ constexpr double kSqrtFiveSixths = 0.91287092917527685576;  // sqrt(5/6)
 /// Relative rolling spins below this fraction of |omega_i| + |omega_j| count as
 /// zero in the cdt model (round-off of equal spins, never real rolling).
 constexpr double kRollingSpinTolerance = 1e-10;
-/// Most history doubles any model needs (shear 3 + epsd2 torque 3).
-constexpr int kMaxHistory = 6;
+/// Most history doubles any model needs (mindlin_deresiewicz 3 + 3, epsd2 torque 3).
+constexpr int kMaxHistory = 9;
 
 /// Sub-model slots fixed at compile time. Every query takes the spec so that
 /// the formula text is the same as for RuntimeKernel; here it is ignored.
@@ -56,6 +56,7 @@ struct Kernel {
   static constexpr bool limit_force(const ModelSpec&) { return Limit; }
   static constexpr HistoryLayout kLayout = history_layout_of(T, R);
   static constexpr int shear_offset(const ModelSpec&) { return kLayout.shear; }
+  static constexpr int slip_offset(const ModelSpec&) { return kLayout.slip; }
   static constexpr int rolling_offset(const ModelSpec&) { return kLayout.rolling; }
   static constexpr int history_size(const ModelSpec&) { return kLayout.size; }
 };
@@ -69,6 +70,7 @@ struct RuntimeKernel {
   static CohesionModel cohesion(const ModelSpec& s) { return s.cohesion; }
   static bool limit_force(const ModelSpec& s) { return s.limit_force; }
   static int shear_offset(const ModelSpec& s) { return history_layout(s).shear; }
+  static int slip_offset(const ModelSpec& s) { return history_layout(s).slip; }
   static int rolling_offset(const ModelSpec& s) { return history_layout(s).rolling; }
   static int history_size(const ModelSpec& s) { return history_layout(s).size; }
 };
@@ -120,6 +122,14 @@ struct PreparedT {
   lane::V3<S> omega_j;  ///< spin of the partner
   S spin;               ///< cdt: |omega_i - omega_j|
   S f_coh;              ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
+};
+
+/// The loading state of mindlin_deresiewicz contacts (history slot `slip`).
+template <class S>
+struct SlipT {
+  S turn;     ///< tangential force at the last reversal, signed along the stored force [N]
+  S t_max;    ///< the largest force reached on the virgin curve [N]
+  S kt_prev;  ///< kt of the last step (0 at first touch) [N/m]
 };
 
 /// Forces and torques of W contacts.
@@ -235,14 +245,16 @@ template <class K, class S>
 
 /// Second stage: forces and torques of W contacts from the first stage's `q`,
 /// the spins of the particles i, the relative velocity of the centres `v_rel`
-/// (v_i - v_j; a wall: v_i minus the wall's velocity) and the timestep `dt`. `shear` (tangential history)
-/// and `roll` (epsd2 spring torque) are the contacts' history, updated in
-/// place; a slot the model does not use is left alone. A lane whose overlap is
-/// not positive gets a zero result and a zero history.
+/// (v_i - v_j; a wall: v_i minus the wall's velocity) and the timestep `dt`. `shear` (tangential history,
+/// mindlin_deresiewicz), `slip` (mindlin_deresiewicz) and `roll` (epsd2 spring
+/// torque) are the contacts' history, updated in place; a slot the model does
+/// not use is left alone. A lane whose overlap is not positive gets a zero
+/// result and a zero history.
 template <class K, class S>
 [[gnu::always_inline]] inline void interact(const ModelSpec& spec, const PreparedT<S>& q,
                                             const lane::V3<S>& omega_i, const lane::V3<S>& v_rel, double dt,
-                                            lane::V3<S>& shear, lane::V3<S>& roll, ResultT<S>& out) {
+                                            lane::V3<S>& shear, SlipT<S>& slip, lane::V3<S>& roll,
+                                            ResultT<S>& out) {
   using lane::select;
   using lane::splat;
   using V = lane::V3<S>;
@@ -265,6 +277,7 @@ template <class K, class S>
   V force = fn_total * n;
   V torque_i = lane::zero3<S>(), torque_j = lane::zero3<S>(), ft = lane::zero3<S>();
   V s_new = shear;
+  SlipT<S> slip_new = slip;
 
   const TangentialModel tm = K::tangential(spec);
   if (tm != TangentialModel::None) {
@@ -297,6 +310,56 @@ template <class K, class S>
         ft = ft - q.gamma_t * vt;  // stick: spring + dashpot
       }
       s_new = s;
+    } else if (tm == TangentialModel::MindlinDeresiewicz) {
+      // Partial slip (Mindlin & Deresiewicz 1953) with Masing's rules, in
+      // incremental form along the tangential force F: the force grows by
+      // -theta kt dt vt, with kt the stiffness of the no-slip contact and
+      //   theta = (1 - T/(mu Fn))^(1/3)            on the virgin curve,
+      //   theta = (1 - |T - T*|/(2 mu Fn))^(1/3)   after a reversal at T*,
+      // T = |F| and T* signed along F. The virgin curve is Mindlin's first
+      // loading; a reversal starts a branch of twice the virgin curve (Masing),
+      // which joins the virgin curve again where the force passes the largest
+      // force reached on it (T_max). So the contact softens to 0 at the
+      // Coulomb limit, and a load cycle below the limit traces a hysteresis
+      // loop: the micro-slip in the rim of the contact circle. Only the last
+      // reversal is remembered (nested loops are not). When the contact grows
+      // or shrinks, F, T* and T_max scale with kt (with the contact radius):
+      // far from the limit (theta = 1) the force is tangential history's,
+      // -kt times the accumulated displacement.
+      V F = shear - dot(shear, n) * n;  // into the current tangent plane
+      const S scale =
+          select(slip.kt_prev > 0.0, S(q.kt / select(slip.kt_prev > 0.0, slip.kt_prev, splat<S>(1.0))),
+                 splat<S>(1.0));
+      F = scale * F;
+      S turn = scale * slip.turn;
+      S t_max = scale * slip.t_max;
+      const V dd = dt * vt;
+      const S T = lane::sqrt(dot(F, F));
+      const auto grows = -dot(dd, F) >= 0.0;  // a fresh contact (F = 0) grows
+      // a reversal of the loading: the force there is the new T*
+      turn = select(grows, select(turn > T, T, turn), select(turn < T, T, turn));
+      const auto virgin = lane::mask_and(grows, T >= t_max);
+      const S limit = select(ft_max > 0.0, ft_max, splat<S>(1.0));
+      S x = select(virgin, S(T / limit), S(lane::abs(S(T - turn)) / (2.0 * limit)));
+      x = select(ft_max > 0.0, x, splat<S>(1.0));
+      x = select(x > 1.0, splat<S>(1.0), x);
+      const S theta = lane::cbrt(S(1.0 - x));
+      V F_new = F - (theta * q.kt) * dd;
+      // the force passed through zero: T* is measured along the other way now
+      turn = select(dot(F_new, F) < 0.0, S(-turn), turn);
+      // Coulomb: a slipping contact keeps the limit force, no damping
+      const S mag = lane::sqrt(dot(F_new, F_new));
+      const auto slipping = mag > ft_max;
+      F_new = select(slipping, V((ft_max / select(mag > 0.0, mag, splat<S>(1.0))) * F_new), F_new);
+      const S mag_new = select(slipping, ft_max, mag);
+      ft = select(slipping, F_new, V(F_new - q.gamma_t * vt));
+      s_new = F_new;
+      slip_new.turn = turn;
+      // full slip wipes the memory of the loading: the contact is on the
+      // virgin curve at the limit, where the next reversal starts its branch
+      slip_new.t_max =
+          select(slipping, ft_max, select(virgin, select(mag_new > t_max, mag_new, t_max), t_max));
+      slip_new.kt_prev = q.kt;
     } else {
       // no_history: pure viscous friction, limited by Coulomb:
       // -min(gamma_t |vt|, mu |Fn|) vt/|vt|
@@ -363,7 +426,13 @@ template <class K, class S>
   out.torque_j = select(touching, torque_j, zero);
   out.ft = select(touching, ft, zero);
   out.fn = select(touching, fn_total, splat<S>(0.0));
-  if (tm == TangentialModel::History) shear = select(touching, s_new, zero);
+  if (tm == TangentialModel::History || tm == TangentialModel::MindlinDeresiewicz)
+    shear = select(touching, s_new, zero);
+  if (tm == TangentialModel::MindlinDeresiewicz) {
+    slip.turn = select(touching, slip_new.turn, splat<S>(0.0));
+    slip.t_max = select(touching, slip_new.t_max, splat<S>(0.0));
+    slip.kt_prev = select(touching, slip_new.kt_prev, splat<S>(0.0));
+  }
   if (rm == RollingModel::Epsd2) roll = select(touching, roll_new, zero);
 }
 
@@ -394,12 +463,19 @@ template <class K>
   set_material(mat, 0, m);
   PreparedT<double> q;
   prepare<K>(spec, g, mat, q);
-  const int so = K::shear_offset(spec), ro = K::rolling_offset(spec);
+  const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
   V shear = so >= 0 ? V{history[so], history[so + 1], history[so + 2]} : lane::zero3<double>();
+  SlipT<double> slip =
+      po >= 0 ? SlipT<double>{history[po], history[po + 1], history[po + 2]} : SlipT<double>{0.0, 0.0, 0.0};
   V roll = ro >= 0 ? V{history[ro], history[ro + 1], history[ro + 2]} : lane::zero3<double>();
   ResultT<double> r;
-  interact<K>(spec, q, g.omega_i, v3(c.v_rel), c.dt, shear, roll, r);
+  interact<K>(spec, q, g.omega_i, v3(c.v_rel), c.dt, shear, slip, roll, r);
   if (so >= 0) lane::store(shear, 0, history + so);
+  if (po >= 0) {
+    history[po] = slip.turn;
+    history[po + 1] = slip.t_max;
+    history[po + 2] = slip.kt_prev;
+  }
   if (ro >= 0) lane::store(roll, 0, history + ro);
   out.force = lane::get(r.force, 0);
   out.torque_i = lane::get(r.torque_i, 0);

@@ -20,11 +20,14 @@ int history_size(const ModelSpec& spec) {
 
 void history_swap_signs(const ModelSpec& spec, double* signs) {
   // Both stored vectors are odd under i <-> j: the shear displacement is the
-  // integral of the relative contact-point velocity of i with respect to j,
-  // and the rolling spring torque is the torque on i (j carries its negative).
-  const int n = history_size(spec);
-  for (int h = 0; h < n; ++h)
+  // integral of the relative contact-point velocity of i with respect to j
+  // (mindlin_deresiewicz: the tangential force on i), and the rolling spring
+  // torque is the torque on i (j carries its negative). The loading state of
+  // mindlin_deresiewicz is measured along the stored force: even.
+  const HistoryLayout layout = history_layout(spec);
+  for (int h = 0; h < layout.size; ++h)
     signs[h] = -1.0;
+  if (layout.slip >= 0) signs[layout.slip] = signs[layout.slip + 1] = signs[layout.slip + 2] = 1.0;
 }
 
 // ---------------------------------------------------------------------------
@@ -58,7 +61,9 @@ const std::vector<std::pair<std::string, NormalModel>> kNormalNames = {
     {"hertz/stiffness", NormalModel::HertzStiffness},
     {"hooke/stiffness", NormalModel::HookeStiffness}};
 const std::vector<std::pair<std::string, TangentialModel>> kTangentialNames = {
-    {"history", TangentialModel::History}, {"no_history", TangentialModel::NoHistory}};
+    {"history", TangentialModel::History},
+    {"no_history", TangentialModel::NoHistory},
+    {"mindlin_deresiewicz", TangentialModel::MindlinDeresiewicz}};
 const std::vector<std::pair<std::string, RollingModel>> kRollingNames = {{"cdt", RollingModel::Cdt},
                                                                          {"epsd2", RollingModel::Epsd2}};
 const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjkr", CohesionModel::Sjkr},
@@ -227,6 +232,9 @@ std::string model_words(const ModelSpec& spec) {
       break;
     case TangentialModel::History:
       s += " tangential history";
+      break;
+    case TangentialModel::MindlinDeresiewicz:
+      s += " tangential mindlin_deresiewicz";
       break;
   }
   switch (spec.rolling) {

@@ -25,8 +25,13 @@ using Vec3 = Eigen::Vector3d;
 /// "model hertz/stiffness" / "model hooke/stiffness", whose spring and dashpot
 /// coefficients are given directly as kn, kt, gamman, gammat).
 enum class NormalModel { Hertz, Hooke, HertzStiffness, HookeStiffness };
-/// Tangential force law: "tangential off", "tangential no_history", "tangential history".
-enum class TangentialModel { None, NoHistory, History };
+/// Tangential force law: "tangential off", "tangential no_history",
+/// "tangential history" (Hertz-Mindlin without micro-slip: the elastic spring
+/// kt times the accumulated displacement, capped by Coulomb), and
+/// "tangential mindlin_deresiewicz" (partial slip: the tangent stiffness falls
+/// as the force nears the Coulomb limit and after every reversal of the
+/// loading, so small tangential oscillations lose energy; Granary only).
+enum class TangentialModel { None, NoHistory, History, MindlinDeresiewicz };
 /// Rolling resistance: "rolling_friction off", "rolling_friction cdt", "rolling_friction epsd2".
 enum class RollingModel { None, Cdt, Epsd2 };
 /// Cohesion: "cohesion off", "cohesion sjkr" (simplified JKR, F = k * contact
@@ -66,24 +71,36 @@ inline bool stiffness_model(NormalModel n) {
   return n == NormalModel::HertzStiffness || n == NormalModel::HookeStiffness;
 }
 
-/// Number of history doubles per contact this model needs
-/// (tangential history: 3 for the shear displacement, epsd2: 3 for the spring torque).
+/// Number of history doubles per contact this model needs (tangential history:
+/// 3 for the shear displacement; mindlin_deresiewicz: 3 for the elastic
+/// tangential force and 3 for its loading state; epsd2: 3 for the spring torque).
 int history_size(const ModelSpec&);
 
 /// Where each sub-model keeps its values inside one contact's history array
 /// (-1 when that sub-model stores nothing).
 struct HistoryLayout {
-  int shear = -1;    ///< tangential displacement vector [m], 3 doubles
+  /// tangential history: the displacement vector [m]; mindlin_deresiewicz:
+  /// the elastic tangential force on i [N]; 3 doubles
+  int shear = -1;
+  /// mindlin_deresiewicz: the force at the last reversal of the loading,
+  /// signed along the stored force [N], the largest force reached on the
+  /// virgin curve [N], and the stiffness kt of the last step [N/m]; 3 doubles
+  int slip = -1;
   int rolling = -1;  ///< epsd2 rolling spring torque acting on i [N m], 3 doubles
   int size = 0;      ///< total number of doubles (== history_size)
 };
 /// The layout for a tangential and a rolling sub-model: [shear x,y,z if
-/// tangential history][rolling torque x,y,z if epsd2]. The one definition, used
+/// tangential history or mindlin_deresiewicz][reversal force, last kt if
+/// mindlin_deresiewicz][rolling torque x,y,z if epsd2]. The one definition, used
 /// by history_layout() and by the kernels (compile-time for the compiled ones).
 constexpr HistoryLayout history_layout_of(TangentialModel t, RollingModel r) {
   HistoryLayout layout;
-  if (t == TangentialModel::History) {
+  if (t == TangentialModel::History || t == TangentialModel::MindlinDeresiewicz) {
     layout.shear = layout.size;
+    layout.size += 3;
+  }
+  if (t == TangentialModel::MindlinDeresiewicz) {
+    layout.slip = layout.size;
     layout.size += 3;
   }
   if (r == RollingModel::Epsd2) {
@@ -97,7 +114,9 @@ inline HistoryLayout history_layout(const ModelSpec& spec) {
 }
 
 /// Sign applied to each history value when the roles of i and j are swapped
-/// (-1 for the shear displacement and the rolling torque), used when history
+/// (-1 for the shear displacement or force and the rolling torque, +1 for the
+/// mindlin_deresiewicz loading state, which is measured along the stored
+/// force and so turns with it), used when history
 /// stored for (i,j) is looked up as (j,i). `signs` has history_size() entries.
 void history_swap_signs(const ModelSpec&, double* signs);
 

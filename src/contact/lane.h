@@ -82,6 +82,9 @@ using Mask = std::conditional_t<std::is_same_v<S, double>, bool, M2>;
 [[gnu::always_inline]] inline double pow(double a, double b) {
   return std::pow(a, b);
 }
+[[gnu::always_inline]] inline double cbrt(double a) {
+  return std::cbrt(a);
+}
 
 // ---- two lanes ---------------------------------------------------------------
 [[gnu::always_inline]] inline D2 sqrt(D2 a) {
@@ -123,6 +126,9 @@ using Mask = std::conditional_t<std::is_same_v<S, double>, bool, M2>;
 }
 [[gnu::always_inline]] inline D2 pow(D2 a, double b) {
   return D2{std::pow(a[0], b), std::pow(a[1], b)};
+}
+[[gnu::always_inline]] inline D2 cbrt(D2 a) {
+  return D2{std::cbrt(a[0]), std::cbrt(a[1])};
 }
 
 /// a in every lane of S.

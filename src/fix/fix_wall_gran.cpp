@@ -402,7 +402,7 @@ void FixWallGran::post_force() {
     c.dt = dt;
     c.r_j = 0.0;
     c.omega_j.setZero();
-    double dummy[6] = {0, 0, 0, 0, 0, 0};
+    double dummy[contact::kMaxHistory] = {};
     for (int m = 0; m < nvisit; ++m) {
       const int i = use_near ? near[m] : m;
       if (!(mask[i] & bit)) continue;

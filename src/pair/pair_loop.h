@@ -66,7 +66,7 @@ void pair_loop(const PairLoopData& L) {
   constexpr int W = lane::width<S>();
   const ModelSpec spec = *L.spec;
   const int nh = K::history_size(spec);
-  const int so = K::shear_offset(spec), ro = K::rolling_offset(spec);
+  const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
   const int nlocal = L.nlocal;
   const int* const neigh = L.neigh;
   const Vec3* const x = L.x;
@@ -153,16 +153,27 @@ void pair_loop(const PairLoopData& L) {
       }
       const V3<S> v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
       V3<S> shear = lane::zero3<S>(), roll = lane::zero3<S>();
+      SlipT<S> slip{lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0)};
       for (int l = 0; l < W; ++l) {
         const double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
         if (so >= 0) lane::set(shear, l, h + so);
+        if (po >= 0) {
+          lane::set(slip.turn, l, h[po]);
+          lane::set(slip.t_max, l, h[po + 1]);
+          lane::set(slip.kt_prev, l, h[po + 2]);
+        }
         if (ro >= 0) lane::set(roll, l, h + ro);
       }
-      interact<K>(spec, prep[m / W], lane::gather<S>(omega, ii), v_rel, dt, shear, roll, out);
+      interact<K>(spec, prep[m / W], lane::gather<S>(omega, ii), v_rel, dt, shear, slip, roll, out);
       for (int l = 0; l < nvalid; ++l) {
         if (nh > 0) {
           double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
           if (so >= 0) lane::store(shear, l, h + so);
+          if (po >= 0) {
+            h[po] = lane::get(slip.turn, l);
+            h[po + 1] = lane::get(slip.t_max, l);
+            h[po + 2] = lane::get(slip.kt_prev, l);
+          }
           if (ro >= 0) lane::store(roll, l, h + ro);
           touch[kk[l]] = 1;
         }
