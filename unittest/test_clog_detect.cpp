@@ -445,7 +445,7 @@ TEST_CASE("clog-detect: a clump counts once, with its mass, and is removed whole
     INFO("remove " << remove);
     ScriptEngine s;
     s.cmds(clump_scene(remove));
-    auto* ms = granary::FixMultisphere::find(*s.e.modify);
+    auto* ms = dynamic_cast<granary::FixMultisphere*>(s.e.clumps);
     REQUIRE(ms->bodies().size() == 6);
     double mass = 3 * 2000.0 * 4.0 / 3.0 * M_PI * 1e-9;
     for (int b = 0; b < 6; ++b)

@@ -112,7 +112,7 @@ TEST_CASE("dump bodies/vtk: every array reads back as the body state", "[dump][v
   e.input->one("dump b all bodies/vtk 25 " + dir + "/bodies_*.vtp");
   e.input->one("run 100");
 
-  const Bodies& B = FixMultisphere::find(*e.modify)->bodies();
+  const Bodies& B = dynamic_cast<FixMultisphere*>(e.clumps)->bodies();
   REQUIRE(B.size() == 3);
   auto pd = read_vtp(dir + "/bodies_100.vtp");
   REQUIRE(pd->GetNumberOfPoints() == 3);
@@ -232,7 +232,7 @@ TEST_CASE("write_dump bodies/vtk: one file of the current state, no collection",
   e.input->one("write_dump all bodies/vtk " + dir + "/now.vtp");
   auto pd = read_vtp(dir + "/now.vtp");
   REQUIRE(pd->GetNumberOfPoints() == 2);
-  const Bodies& B = FixMultisphere::find(*e.modify)->bodies();
+  const Bodies& B = dynamic_cast<FixMultisphere*>(e.clumps)->bodies();
   double x[3];
   pd->GetPoint(0, x);
   CHECK(x[0] == B.xcm[0][0]);  // the state at step 15
@@ -255,4 +255,29 @@ TEST_CASE("dump bodies/vtk: errors", "[dump][vtk][multisphere]") {
   // without fix multisphere the first run stops with a clear message
   e.input->one("dump b all bodies/vtk 10 " + dir + "/b_*.vtp");
   CHECK_THROWS_WITH(e.input->one("run 10"), Contains("no fix multisphere"));
+}
+
+TEST_CASE("Engine::clumps is the fix multisphere while it exists, through redefinition and unfix",
+          "[multisphere]") {
+  Engine e(MPI_COMM_WORLD);
+  setup(e);
+  CHECK(e.clumps == nullptr);
+  CHECK_THROWS_WITH(e.input->one("create_clump tri 0 0 0"), Catch::Contains("needs fix multisphere"));
+  e.input->one("fix ms all multisphere");
+  auto* first = dynamic_cast<FixMultisphere*>(e.modify->find_fix("ms"));
+  REQUIRE(first != nullptr);
+  CHECK(e.clumps == first);
+  e.input->one("create_clump tri -0.01 0.002 0.0");
+  e.input->one("create_clump dumb 0.01 -0.002 0.001");
+  // redefined with the same id: the new fix keeps the clumps and is the handle
+  e.input->one("fix ms all multisphere");
+  auto* second = dynamic_cast<FixMultisphere*>(e.modify->find_fix("ms"));
+  REQUIRE(second != nullptr);
+  CHECK(e.clumps == second);
+  CHECK(e.clumps->bodies().size() == 2);
+  e.input->one("run 10");
+  e.input->one("unfix ms");
+  CHECK(e.clumps == nullptr);
+  e.input->one("compute o all orientation axis 1 0 0");
+  CHECK_THROWS_WITH(e.input->one("run 1"), Catch::Contains("needs fix multisphere"));
 }

@@ -186,7 +186,7 @@ TEST_CASE("insert/pack of 50-sphere cylinder clumps reaches the volume fraction 
       "volumefraction_region " +
       std::to_string(phi));
   e.input->one("run 1");
-  const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+  const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
   REQUIRE(b.size() > 100);
   CHECK(e.fix_value("ins", 1) == static_cast<double>(b.size()));
 
@@ -249,7 +249,7 @@ TEST_CASE("insert/pack tops up a region holding clumps to the volume fraction", 
   e.input->one("fix ins1 all insert/pack seed 32452867" + common + "0.12");
   e.input->one("run 1");
   e.input->one("unfix ins1");
-  const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+  const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
   const int first = b.size();
   e.input->one("fix ins2 all insert/pack seed 32452889" + common + "0.25");
   e.input->one("run 1");
@@ -276,7 +276,7 @@ TEST_CASE("insert/pack of cylinder clumps and glass spheres by volume fractions"
             "overlapcheck yes all_in yes random_distribute " +
             mode + " vel constant 0. 0. 0. region ins volumefraction_region 0.2");
         e.input->one("run 1");
-        const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+        const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
         const auto balls = all_balls(e, b);
         double vclumps = 0.0, vspheres = 0.0;
         long long nspheres = 0;

@@ -300,7 +300,7 @@ TEST_CASE("LIGGGHTS tutorial multisphere_stone_restitution: a dropped stone foll
                 x0[1], x0[2], kV0 - 0.5 * 9.81 * kDt);
   e.input->one(line);
   e.input->one("reset_timestep 1");
-  const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+  const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
   REQUIRE(b.size() == 1);
   REQUIRE(b.nspheres[0] == 50);
 

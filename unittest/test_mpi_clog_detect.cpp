@@ -57,7 +57,7 @@ Result run(MPI_Comm comm, const std::string& file) {
   for (int i = 0; i <= 12; ++i)
     r.values.push_back(s.e.fix_value("clog", i));
   r.natoms = s.e.particles->natoms;
-  r.bodies = granary::FixMultisphere::find(*s.e.modify)->bodies().size();
+  r.bodies = dynamic_cast<granary::FixMultisphere*>(s.e.clumps)->bodies().size();
   MPI_Barrier(comm);
   std::ifstream in(file);
   std::string line;

@@ -109,7 +109,7 @@ Snapshot run_pour(MPI_Comm comm, const std::string& newton) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
   granary::test::run(e, scene(newton));
-  auto* ms = granary::FixMultisphere::find(*e.modify);
+  auto* ms = dynamic_cast<granary::FixMultisphere*>(e.clumps);
   REQUIRE(ms != nullptr);
   Snapshot s;
   const auto& p = *e.particles;

@@ -79,7 +79,7 @@ Snapshot insert(MPI_Comm comm) {
   granary::test::run(e, scene());
   Snapshot s;
   // a rank keeps current only the clumps it owns sub-spheres of: synchronise first
-  auto* ms = granary::FixMultisphere::find(*e.modify);
+  auto* ms = dynamic_cast<granary::FixMultisphere*>(e.clumps);
   ms->sync_bodies();
   const granary::Bodies& b = ms->bodies();
   for (int k = 0; k < b.size(); ++k)

@@ -115,7 +115,7 @@ Snapshot run_scene(MPI_Comm comm, const std::string& newton) {
     e.input->one("run 500 pre no post no");
     s.contacts += touching();
   }
-  auto* ms = granary::FixMultisphere::find(*e.modify);
+  auto* ms = dynamic_cast<granary::FixMultisphere*>(e.clumps);
   ms->sync_bodies();  // every rank's record of every clump current
   const granary::Bodies& b = ms->bodies();
   s.nbodies = b.size();

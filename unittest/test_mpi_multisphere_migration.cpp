@@ -103,7 +103,7 @@ struct Snapshot {
 
 Snapshot snapshot(granary::Engine& e, MPI_Comm comm) {
   Snapshot s;
-  auto* ms = granary::FixMultisphere::find(*e.modify);
+  auto* ms = dynamic_cast<granary::FixMultisphere*>(e.clumps);
   ms->sync_bodies();  // every rank's record of every clump current
   const granary::Bodies& b = ms->bodies();
   s.nbodies = b.size();

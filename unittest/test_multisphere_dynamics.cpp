@@ -32,7 +32,7 @@ namespace {
 
 struct Sim : granary::test::ScriptEngine {
   Sim() : ScriptEngine(MPI_COMM_WORLD) {}
-  const Bodies& bodies() { return FixMultisphere::find(*e.modify)->bodies(); }
+  const Bodies& bodies() { return dynamic_cast<FixMultisphere*>(e.clumps)->bodies(); }
 };
 
 // Box, materials (restitution e, friction mu), Hertz contacts, dt = 1e-5 s.

@@ -143,7 +143,7 @@ TEST_CASE("multisphere: a spinning clump dropped on a plane follows LIGGGHTS", "
   e.input->one(line);
   e.input->one("reset_timestep 1");
 
-  const granary::Bodies& b = granary::FixMultisphere::find(*e.modify)->bodies();
+  const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
   const Eigen::Quaterniond to_file(tmpl->axes());         // principal frame -> file frame
   Eigen::Vector3d offset_mean = Eigen::Vector3d::Zero();  // centroid of the sphere centres, body frame
   for (int k = 0; k < b.nspheres[0]; ++k)

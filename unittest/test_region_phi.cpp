@@ -266,7 +266,7 @@ TEST_CASE("region-phi: a 50-sphere cylinder clump", "[region_phi]") {
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
   s.cmds(clump_script());
   s.cmd("create_clump cyl 0.0001 -0.0002 0.0003 quat 0.9238795 0.2209424 0.2209424 0.2209424");
-  const auto* ms = granary::FixMultisphere::find(*s.e.modify);
+  const auto* ms = dynamic_cast<granary::FixMultisphere*>(s.e.clumps);
   REQUIRE(ms);
   const granary::Bodies& B = ms->bodies();
   REQUIRE(B.size() == 1);

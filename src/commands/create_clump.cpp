@@ -10,7 +10,7 @@
 #include "core/modify.h"
 #include "core/registry.h"
 #include "core/update.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "fix/fix_particle_template.h"
 #include "fix/fix_particletemplate_multisphere.h"
 
@@ -29,7 +29,7 @@ void cmd_create_clump(Engine& e, const Args& a) {
   auto* tmpl = dynamic_cast<FixParticleTemplate*>(e.modify->fix_or_error(a[0], "create_clump"));
   if (!tmpl)
     throw InputError("create_clump: fix " + a[0] + " is not a particle template (particletemplate/...)");
-  FixMultisphere* ms = FixMultisphere::find(*e.modify);
+  Clumps* ms = e.clumps;
   if (!ms) throw InputError("create_clump needs fix multisphere to integrate the clump; define it first");
   Vec3 x, v(0, 0, 0), w(0, 0, 0);
   for (int d = 0; d < 3; ++d)

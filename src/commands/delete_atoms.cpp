@@ -14,7 +14,7 @@
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "domain/region.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "neighbor/contact_history.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
@@ -97,7 +97,7 @@ void cmd_delete_atoms(Engine& e, const Args& a) {
   p.clear_ghosts();
   // whole clumps removed: their body records go too
   if (mol && !gone_bodies.empty())
-    if (FixMultisphere* ms = FixMultisphere::find(*e.modify)) ms->remove_bodies(gone_bodies);
+    if (e.clumps) e.clumps->remove_bodies(gone_bodies);
 
   {
     // surviving ids on every rank; with compress they become 1..N in the

@@ -7,7 +7,7 @@
 #include "core/registry.h"
 #include "domain/domain.h"
 #include "domain/region.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 
 namespace granary {
@@ -29,7 +29,7 @@ class ComputeERotateMultisphere : public Compute {
   }
 
   double compute_scalar() override {
-    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    Clumps* ms = engine_.clumps;
     if (!ms) throw InputError("compute " + id + " erotate/multisphere needs fix multisphere");
     ms->sync_bodies();  // every rank sums every body once its records are current
     const Bodies& b = ms->bodies();

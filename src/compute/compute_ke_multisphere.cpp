@@ -7,7 +7,7 @@
 #include "core/registry.h"
 #include "domain/domain.h"
 #include "domain/region.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 
 namespace granary {
@@ -30,7 +30,7 @@ class ComputeKeMultisphere : public Compute {
 
   double compute_scalar() override {
     // every rank sums every body once its records are current
-    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    Clumps* ms = engine_.clumps;
     if (!ms) throw InputError("compute " + id + " ke/multisphere needs fix multisphere");
     ms->sync_bodies();
     const Bodies& b = ms->bodies();

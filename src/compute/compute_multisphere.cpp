@@ -18,7 +18,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 #include "particles/particles.h"
 
@@ -60,19 +60,19 @@ class ComputeMultisphere : public Compute, public BodyOutput {
     }
     peratom_flag = true;
     peratom_cols = ncols_ == 1 ? 0 : ncols_;
-    if (FixMultisphere* ms = FixMultisphere::find(*engine.modify)) bodies_changed(ms->bodies().size());
+    if (engine.clumps) bodies_changed(engine.clumps->bodies().size());
   }
 
   // with no clump yet, one clump's worth of zeros (so thermo columns can be set up before insertion)
   void bodies_changed(int nbodies) override { size_vector = ncols_ * std::max(1, nbodies); }
 
   void init() override {
-    FixMultisphere* ms = fix();
+    Clumps* ms = fix();
     bodies_changed(ms->bodies().size());
   }
 
   void compute_vector() override {
-    FixMultisphere* ms = fix();
+    Clumps* ms = fix();
     ms->sync_bodies();
     const int n = ms->bodies().size();
     vector.assign(static_cast<std::size_t>(ncols_) * std::max(1, n), 0.0);
@@ -83,7 +83,7 @@ class ComputeMultisphere : public Compute, public BodyOutput {
   void compute_peratom() override {
     // (the owned sub-spheres' bodies are current on this rank; the call keeps
     // all ranks' records alike for later outputs and costs nothing when current)
-    FixMultisphere* ms = fix();
+    Clumps* ms = fix();
     ms->sync_bodies();
     const Particles& p = *engine_.particles;
     std::vector<double> row(ncols_);
@@ -104,13 +104,13 @@ class ComputeMultisphere : public Compute, public BodyOutput {
   }
 
  private:
-  FixMultisphere* fix() const {
-    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+  Clumps* fix() const {
+    Clumps* ms = engine_.clumps;
     if (!ms) throw InputError("compute " + id + " multisphere needs fix multisphere");
     return ms;
   }
 
-  void values(const FixMultisphere& ms, int b, double* out) const {
+  void values(const Clumps& ms, int b, double* out) const {
     const Bodies& B = ms.bodies();
     int c = 0;
     auto put3 = [&](const Vec3& v) {

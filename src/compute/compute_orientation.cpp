@@ -18,7 +18,7 @@
 #include "core/registry.h"
 #include "domain/domain.h"
 #include "domain/region.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 
 namespace granary {
@@ -52,7 +52,7 @@ class ComputeOrientation : public Compute {
   }
 
   void init() override {
-    if (!FixMultisphere::find(*engine_.modify)) {
+    if (!engine_.clumps) {
       throw InputError("compute " + id + " orientation needs fix multisphere (it measures clump axes)");
     }
     if (!region_id_.empty()) engine_.domain->region_or_error(region_id_, "compute " + id + " orientation");
@@ -65,7 +65,7 @@ class ComputeOrientation : public Compute {
   }
 
   void compute_vector() override {
-    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    Clumps* ms = engine_.clumps;
     if (!ms) throw InputError("compute " + id + " orientation needs fix multisphere");
     ms->sync_bodies();
     const Region* region =

@@ -28,7 +28,7 @@
 #include "core/registry.h"
 #include "domain/domain.h"
 #include "domain/region.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 #include "particles/bodies.h"
 #include "particles/particles.h"
@@ -174,7 +174,7 @@ class ComputeRegionPhi : public Compute {
                          " is longer than the periodic box along " + std::string(1, "xyz"[d]));
     }
     const Particles& p = *engine_.particles;
-    FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+    Clumps* ms = engine_.clumps;
     if (ms) ms->sync_bodies();  // body b is evaluated on rank b mod nprocs
     const Bodies* bodies = ms ? &ms->bodies() : nullptr;
     const int nb = bodies ? bodies->size() : 0;
@@ -216,7 +216,7 @@ class ComputeRegionPhi : public Compute {
   }
 
   /// Volume of the union of body b's sub-spheres inside the block (all periodic images).
-  double clump_volume(const FixMultisphere& ms, int b, const Block& blk) const {
+  double clump_volume(const Clumps& ms, int b, const Block& blk) const {
     const Bodies& B = ms.bodies();
     const Vec3 xc = ms.wrapped_centre(b);
     const Eigen::Matrix3d rot = B.rotation(b);

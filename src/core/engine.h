@@ -39,6 +39,7 @@ class Modify;
 class Update;
 class Thermo;
 class Output;
+class Clumps;
 
 class Engine {
  public:
@@ -108,6 +109,8 @@ class Engine {
   std::unique_ptr<Update> update;
   std::unique_ptr<Thermo> thermo;
   std::unique_ptr<Output> output;
+  /// The rigid clumps: set by fix multisphere while it exists, else null.
+  Clumps* clumps = nullptr;
 
  private:
   void create_subsystems();

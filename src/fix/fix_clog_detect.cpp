@@ -21,7 +21,7 @@
 //   (Neighbor::force_rebuild) and removes the particles in pre_exchange of the
 //   same step, where the contact history is keyed by particle ids and there
 //   are no ghosts (as insertion adds them there). Clumps go whole, through
-//   FixMultisphere::remove_bodies (shared with delete_atoms mol yes).
+//   Clumps::remove_bodies (shared with delete_atoms mol yes).
 // - With remove no, a counted body carries a flag in a per-particle field
 //   (on its representative), which migrates with it, is stored in restart
 //   files and survives the id renumbering of delete_atoms compress yes.
@@ -43,7 +43,7 @@
 #include "domain/domain.h"
 #include "domain/region.h"
 #include "fix/fix.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
@@ -148,7 +148,7 @@ class FixClogDetect : public Fix {
   const Region* arch_ = nullptr;
   const Region* height_ = nullptr;
   const Region* still_ = nullptr;
-  FixMultisphere* ms_ = nullptr;
+  Clumps* ms_ = nullptr;
   int index_field_ = -1;    // fix multisphere's sub-sphere index + 1
   int counted_field_ = -1;  // remove no: 1 on the representative of a counted body
   bool any_periodic_ = false;
@@ -313,7 +313,7 @@ void FixClogDetect::init() {
   arch_ = arch_id_.empty() ? nullptr : e.domain->region_or_error(arch_id_, what + " arch");
   height_ = height_id_.empty() ? nullptr : e.domain->region_or_error(height_id_, what + " height_region");
   still_ = still_id_.empty() ? nullptr : e.domain->region_or_error(still_id_, what + " still");
-  ms_ = FixMultisphere::find(*e.modify);
+  ms_ = e.clumps;
   index_field_ = ms_ ? e.particles->find_field("multisphere/index") : -1;
   if (!remove_) counted_field_ = e.particles->add_field("clog-detect/" + id + "/counted", 1, false, true);
   any_periodic_ = e.domain->periodic[0] || e.domain->periodic[1] || e.domain->periodic[2];

@@ -25,6 +25,7 @@
 #include "fix/fix_wall_gran.h"
 #include "core/modify.h"
 #include "neighbor/neighbor.h"
+#include "particles/clumps.h"
 #include "particles/particles.h"
 
 namespace granary {
@@ -338,8 +339,7 @@ void FixInsert::init() {
   FixParticleDistributionDiscrete& d = dist();
   for (int i = 0; i < d.ntemplates(); ++i)
     d.templ(i).init();
-  if (d.any_multisphere() &&
-      !dynamic_cast<BodyRegistrar*>(engine_.modify->find_fix_by_style("multisphere"))) {
+  if (d.any_multisphere() && !engine_.clumps) {
     throw InputError(what + ": distribution " + dist_id_ +
                      " has a multisphere template; define fix multisphere before the run");
   }
@@ -672,7 +672,7 @@ FixInsert::Result FixInsert::insert(long long n) {
   p.natoms += nspheres;
 
   if (!bodies.empty()) {
-    auto* registrar = dynamic_cast<BodyRegistrar*>(e.modify->find_fix_by_style("multisphere"));
+    BodyRegistrar* registrar = e.clumps ? &e.clumps->registrar() : nullptr;
     if (!registrar) {
       throw RunError(label() + ": a multisphere template needs fix multisphere, which is not defined");
     }

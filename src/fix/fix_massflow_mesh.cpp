@@ -49,7 +49,7 @@
 #include "domain/domain.h"
 #include "fix/fix.h"
 #include "fix/fix_mesh_surface.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "neighbor/neighbor.h"
 #include "particles/particles.h"
 
@@ -204,7 +204,7 @@ class FixMassflowMesh : public Fix {
     if (!use_point_) check_vec_side();
     field_ = engine_.particles->add_field(field_name(), kComps, false, true);
     if (sieve_) sieve_field_ = engine_.particles->add_field(sieve_field_name(), 1, false, true);
-    if (delete_ && FixMultisphere::find(*engine_.modify))
+    if (delete_ && engine_.clumps)
       throw InputError(
           where() +
           ": delete_atoms yes deletes single spheres, which would break clumps of fix multisphere; "

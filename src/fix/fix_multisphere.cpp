@@ -133,6 +133,7 @@ FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, a
     }
   }
   find_fields();
+  engine.clumps = this;
 }
 
 void FixMultisphere::find_fields() {
@@ -141,10 +142,8 @@ void FixMultisphere::find_fields() {
   mass_field_ = p.add_field(kBodyMassField, 1, true, true);
 }
 
-FixMultisphere* FixMultisphere::find(const Modify& modify) {
-  for (const auto& f : modify.fixes)
-    if (f->style == "multisphere") return dynamic_cast<FixMultisphere*>(f.get());
-  return nullptr;
+FixMultisphere::~FixMultisphere() {
+  if (engine_.clumps == this) engine_.clumps = nullptr;
 }
 
 void FixMultisphere::init() {

@@ -24,22 +24,16 @@
 #include "fix/fix.h"
 #include "fix/fix_particle_template.h"
 #include "particles/bodies.h"
+#include "particles/clumps.h"
 
 namespace granary {
 
 class Modify;
 
-/// Implemented by outputs whose size follows the number of bodies (compute
-/// multisphere): fix multisphere tells them whenever bodies come or go.
-class BodyOutput {
- public:
-  virtual ~BodyOutput() = default;
-  virtual void bodies_changed(int nbodies) = 0;
-};
-
-class FixMultisphere : public Fix, public BodyRegistrar {
+class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
  public:
   FixMultisphere(Engine& engine, const Args& args);
+  ~FixMultisphere() override;
   unsigned hooks() const override { return INITIAL_INTEGRATE | PRE_NEIGHBOR | FINAL_INTEGRATE; }
 
   void init() override;
@@ -62,7 +56,8 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   /// Create one clump from `particle` with its centre of mass at x (collective;
   /// the `create_clump` command). Returns the body id.
   tagint create_clump(const TemplateParticle& particle, const Vec3& x, const Eigen::Quaterniond& q,
-                      const Vec3& v, const Vec3& omega);
+                      const Vec3& v, const Vec3& omega) override;
+  BodyRegistrar& registrar() override { return *this; }
   /// Remove every body that lost a sub-sphere (delete_atoms, particles lost
   /// through a fixed boundary) together with its remaining sub-spheres
   /// (collective; particles must have no ghosts or ghosts are rebuilt by the
@@ -73,27 +68,24 @@ class FixMultisphere : public Fix, public BodyRegistrar {
   /// with the same ids, when there are no ghosts (pre_exchange, between runs);
   /// unknown ids are ignored. Returns the number of particles removed on this
   /// rank (the caller updates the global count).
-  long long remove_bodies(const std::vector<tagint>& ids);
+  long long remove_bodies(const std::vector<tagint>& ids) override;
 
   /// The body records. The dynamic state (xcm, vcm, angmom, omega, quat, fcm,
   /// torque) of a body is current on the ranks that own one of its
   /// sub-spheres (Bodies::current); call sync_bodies() first (collective) to
   /// read it for every body.
-  const Bodies& bodies() const { return bodies_; }
-  Bodies& bodies() { return bodies_; }
+  const Bodies& bodies() const override { return bodies_; }
+  Bodies& bodies() override { return bodies_; }
   /// Make every rank's record of every body current (collective; cheap when
   /// nothing moved since the last call).
-  void sync_bodies();
+  void sync_bodies() override;
   /// Body states this rank received from others because sub-spheres migrated
   /// to it (since the fix was defined).
   long long fetched_states() const { return fetched_; }
   /// Bodies this rank shares with other ranks (partial force sums exchanged each step).
   int shared_bodies() const { return static_cast<int>(shared_.size()); }
   /// Body centre wrapped into the periodic box [m].
-  Vec3 wrapped_centre(int b) const;
-
-  /// The engine's fix multisphere, or nullptr.
-  static FixMultisphere* find(const Modify& modify);
+  Vec3 wrapped_centre(int b) const override;
 
   /// One NO_SQUISH step of a torque-free rotor: rotates q (body -> space) and
   /// the body-frame angular momentum lb for time dt with principal moments

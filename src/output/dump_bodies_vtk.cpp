@@ -20,7 +20,7 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "core/update.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "core/modify.h"
 #include "output/dump_custom.h"
 #include "particles/particles.h"
@@ -67,8 +67,8 @@ int DumpBodiesVTK::modify_param(const Args& args, std::size_t k) {
   return 0;
 }
 
-FixMultisphere& DumpBodiesVTK::multisphere() const {
-  FixMultisphere* ms = FixMultisphere::find(*engine_.modify);
+Clumps& DumpBodiesVTK::multisphere() const {
+  Clumps* ms = engine_.clumps;
   if (!ms) {
     throw InputError("dump " + id +
                      ": bodies/vtk writes the clumps of fix multisphere, but no fix multisphere "
@@ -82,7 +82,7 @@ void DumpBodiesVTK::init() {
 }
 
 std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vector<char>& selected) {
-  const FixMultisphere& ms = multisphere();
+  const Clumps& ms = multisphere();
   const Bodies& B = ms.bodies();
   std::vector<int> list;
   for (int b = 0; b < B.size(); ++b)
@@ -139,7 +139,7 @@ std::string DumpBodiesVTK::write_frame(const std::string& frame, const std::vect
 }
 
 void DumpBodiesVTK::write() {
-  FixMultisphere& ms = multisphere();
+  Clumps& ms = multisphere();
   ms.sync_bodies();  // rank 0 writes every body
   const Bodies& B = ms.bodies();
 

@@ -13,7 +13,7 @@
 
 namespace granary {
 
-class FixMultisphere;
+class Clumps;
 
 class DumpBodiesVTK : public Dump {
  public:
@@ -28,7 +28,7 @@ class DumpBodiesVTK : public Dump {
   }
 
  private:
-  FixMultisphere& multisphere() const;
+  Clumps& multisphere() const;
   /// Rank 0: write the frame's .vtp; returns an error message or "".
   std::string write_frame(const std::string& frame, const std::vector<char>& selected);
 

@@ -37,7 +37,7 @@
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "fix/fix.h"
-#include "fix/fix_multisphere.h"
+#include "particles/clumps.h"
 #include "fix/fix_property_global.h"
 #include "core/modify.h"
 #include "neighbor/contact_history.h"
@@ -406,7 +406,7 @@ void write_restart(Engine& e, const std::string& file) {
     throw InputError("write_restart needs a box and particles: create_box or read_restart first");
   // clump records: rank 0 writes every body's state, which only the ranks
   // owning its sub-spheres keep current during a run
-  if (FixMultisphere* ms = FixMultisphere::find(*e.modify)) ms->sync_bodies();
+  if (e.clumps) e.clumps->sync_bodies();
   for (const auto& f : e.modify->fixes)
     if (f->restart_global) f->prepare_restart();
   std::vector<std::pair<std::string, std::string>> sections;
