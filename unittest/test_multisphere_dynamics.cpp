@@ -298,6 +298,30 @@ TEST_CASE("multisphere: computes ke, erotate, multisphere and orientation", "[mu
     CHECK(vx[i] == (s.e.particles->x[i][2] > 0 ? 1.0 : 0.0));
 }
 
+TEST_CASE("multisphere: erotate/sphere leaves out sub-spheres, erotate adds the clumps", "[multisphere]") {
+  // LIGGGHTS 3.8, measured on its tutorial multisphere_stone_restitution with
+  // `compute erotate/sphere`, `erotate` and `erotate/multisphere`: the first
+  // is 0 for the tumbling stones, the second equals the third. Here a
+  // spinning clump beside a spinning free sphere: erotate/sphere is the free
+  // sphere's 1/2 (2/5 m r^2) w^2 only, erotate the sum of that and the clump's
+  // 1/2 w.L (1e-12).
+  Sim s;
+  s.cmds(setup());
+  s.cmds({kDumbbell, "fix ms all multisphere", "create_clump dumb 0 0 0.01 omega 3 -1 7",
+          "create_atoms 1 single 0.02 0 0 units box", "set atom 3 diameter 0.004 density 2000",
+          "set atom 3 omegax 10 omegay 20 omegaz -30", "compute rs all erotate/sphere",
+          "compute r all erotate", "compute rm all erotate/multisphere", "run 0"});
+  const Bodies& b = s.bodies();
+  REQUIRE(b.size() == 1);
+  const double m = 2000.0 * 4.0 / 3.0 * M_PI * std::pow(0.002, 3);
+  const double free = 0.5 * 0.4 * m * 0.002 * 0.002 * (100.0 + 400.0 + 900.0);
+  const double clump = 0.5 * b.omega[0].dot(b.angmom[0]);
+  CHECK(clump > 0.0);
+  CHECK(s.e.compute_value("rs", 0) == Approx(free).epsilon(1e-12));
+  CHECK(s.e.compute_value("rm", 0) == Approx(clump).epsilon(1e-12));
+  CHECK(s.e.compute_value("r", 0) == Approx(free + clump).epsilon(1e-12));
+}
+
 TEST_CASE("multisphere: a restarted run continues the clumps bit for bit", "[multisphere]") {
   // A spinning, falling clump bouncing on the floor next to a free sphere:
   // 2000 steps straight against 1000 + write_restart + read_restart + 1000.

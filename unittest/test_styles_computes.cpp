@@ -289,3 +289,33 @@ TEST_CASE("compute count/region and reduce/region", "[compute]") {
   CHECK_THROWS_WITH(s.cmd("compute bad all count/region"), Contains("usage"));
   CHECK_THROWS_WITH(s.cmd("compute bad all reduce/region nowhere sum vx"), Contains("nowhere"));
 }
+
+TEST_CASE("compute erotate of free spheres: LIGGGHTS 3.8's value", "[compute]") {
+  // Two spheres (d = 4 mm, 2500 kg/m3, w = (10, -20, 5); d = 6 mm, 1000 kg/m3,
+  // w = (0, 3, 40) rad/s): LIGGGHTS 3.8 prints 3.627383408799691e-07 J for
+  // both erotate and erotate/sphere (%22.16g, run 0); the same to 1e-14.
+  Sim s;
+  s.cmds({"units si",
+          "atom_style granular",
+          "boundary f f f",
+          "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box",
+          "create_box 2 box",
+          "neighbor 0.001 bin",
+          granary::test::materials(2, 5e6, 0.45, 0.9, 0.5),
+          "pair_style gran model hertz tangential history",
+          "pair_coeff * *",
+          "timestep 1e-5",
+          "create_atoms 1 single 0.0 0.0 0.0 units box",
+          "create_atoms 2 single 0.02 0.0 0.0 units box",
+          "set atom 1 diameter 0.004 density 2500",
+          "set atom 2 diameter 0.006 density 1000",
+          "set atom 1 omegax 10 omegay -20 omegaz 5",
+          "set atom 2 omegax 0 omegay 3 omegaz 40",
+          "fix integr all nve/sphere",
+          "compute er all erotate",
+          "compute ers all erotate/sphere",
+          "run 0"});
+  CHECK(s.value("er") == Approx(3.627383408799691e-07).epsilon(1e-14));
+  CHECK(s.value("ers") == Approx(3.627383408799691e-07).epsilon(1e-14));
+  CHECK_THROWS_WITH(s.cmd("compute bad all erotate region box"), Catch::Matchers::Contains("usage"));
+}
