@@ -298,19 +298,23 @@ TEST_CASE("multisphere: computes ke, erotate, multisphere and orientation", "[mu
     CHECK(vx[i] == (s.e.particles->x[i][2] > 0 ? 1.0 : 0.0));
 }
 
-TEST_CASE("multisphere: erotate/sphere leaves out sub-spheres, erotate adds the clumps", "[multisphere]") {
+TEST_CASE("multisphere: ke and erotate count clumps as bodies, erotate/sphere leaves them out",
+          "[multisphere]") {
   // LIGGGHTS 3.8, measured on its tutorial multisphere_stone_restitution with
   // `compute erotate/sphere`, `erotate` and `erotate/multisphere`: the first
   // is 0 for the tumbling stones, the second equals the third. Here a
   // spinning clump beside a spinning free sphere: erotate/sphere is the free
   // sphere's 1/2 (2/5 m r^2) w^2 only, erotate the sum of that and the clump's
-  // 1/2 w.L (1e-12).
+  // 1/2 w.L (1e-12). Likewise LIGGGHTS' ke (compute and thermo keyword) equals
+  // ke/multisphere there: here ke is the sphere's 1/2 m v^2 plus the clump's
+  // 1/2 M v_cm^2, not the sum over its sub-spheres (which adds their motion
+  // about the centre of mass).
   Sim s;
   s.cmds(setup());
-  s.cmds({kDumbbell, "fix ms all multisphere", "create_clump dumb 0 0 0.01 omega 3 -1 7",
+  s.cmds({kDumbbell, "fix ms all multisphere", "create_clump dumb 0 0 0.01 vel 0.5 -0.2 0.1 omega 3 -1 7",
           "create_atoms 1 single 0.02 0 0 units box", "set atom 3 diameter 0.004 density 2000",
           "set atom 3 omegax 10 omegay 20 omegaz -30", "compute rs all erotate/sphere",
-          "compute r all erotate", "compute rm all erotate/multisphere", "run 0"});
+          "compute r all erotate", "compute rm all erotate/multisphere", "compute k all ke", "run 0"});
   const Bodies& b = s.bodies();
   REQUIRE(b.size() == 1);
   const double m = 2000.0 * 4.0 / 3.0 * M_PI * std::pow(0.002, 3);
@@ -320,6 +324,14 @@ TEST_CASE("multisphere: erotate/sphere leaves out sub-spheres, erotate adds the 
   CHECK(s.e.compute_value("rs", 0) == Approx(free).epsilon(1e-12));
   CHECK(s.e.compute_value("rm", 0) == Approx(clump).epsilon(1e-12));
   CHECK(s.e.compute_value("r", 0) == Approx(free + clump).epsilon(1e-12));
+  // translational: the free sphere at rest, the clump moving
+  s.cmds({"set atom 3 vx 1 vy 2 vz -2", "run 0"});
+  const double ke = 0.5 * m * 9.0 + 0.5 * b.mass[0] * b.vcm[0].squaredNorm();
+  CHECK(b.vcm[0].norm() > 0.1);
+  CHECK(s.e.compute_value("k", 0) == Approx(ke).epsilon(1e-12));
+  bool found = false;
+  CHECK(s.e.thermo_keyword("ke", found) == Approx(ke).epsilon(1e-12));
+  CHECK(found);
 }
 
 TEST_CASE("multisphere: a restarted run continues the clumps bit for bit", "[multisphere]") {

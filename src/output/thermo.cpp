@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "compute/kinetic_energy.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -129,11 +130,7 @@ double Thermo::keyword_value(const std::string& key, bool& found) {
   }
   if (key == "atoms") return static_cast<double>(u.count_global());
   if (key == "ke") {
-    const Particles& p = *e.particles;
-    double local = 0.0, total = 0.0;
-    for (int i = 0; i < p.nlocal; ++i)
-      local += 0.5 * p.rmass[i] * p.v[i].squaredNorm();
-    MPI_Allreduce(&local, &total, 1, MPI_DOUBLE, MPI_SUM, e.world);
+    const double total = kinetic_translational(e, 1, nullptr);  // group all
     if (norm) {
       const double n = static_cast<double>(u.count_global());
       return n > 0 ? total / n : 0.0;
