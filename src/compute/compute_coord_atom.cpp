@@ -2,12 +2,9 @@
 // the group, the number of particles (of any group) whose centre lies closer
 // than CUTOFF to its own; with typeN ranges one count per range, with
 // mix yes only particles of another type. 0 for particles outside the group.
-// Found by a cell list over the owned and ghost particles at each evaluation,
-// so CUTOFF is bounded by the ghost shell.
-#include <array>
-#include <cmath>
+// Found by a cell list (SphereGrid) over the owned and ghost particles at
+// each evaluation, so CUTOFF is bounded by the ghost shell.
 #include <cstdio>
-#include <unordered_map>
 #include <vector>
 
 #include "comm/comm.h"
@@ -17,6 +14,7 @@
 #include "core/registry.h"
 #include "core/utils.h"
 #include "domain/domain.h"
+#include "geometry/sphere_grid.h"
 #include "neighbor/neighbor.h"
 #include "particles/particles.h"
 
@@ -64,40 +62,21 @@ class ComputeCoordAtom : public Compute {
     const int ncol = static_cast<int>(ranges_.size());
     std::vector<std::vector<double>> count(ncol,
                                            std::vector<double>(static_cast<std::size_t>(p.nlocal), 0.0));
-    // cells of side >= cutoff over every particle this rank holds
-    const int n = p.size();
-    const double inv = 1.0 / cutoff_;
-    auto cell_of = [&](const Vec3& x) {
-      return std::array<long long, 3>{static_cast<long long>(std::floor(x[0] * inv)),
-                                      static_cast<long long>(std::floor(x[1] * inv)),
-                                      static_cast<long long>(std::floor(x[2] * inv))};
-    };
-    auto key = [](long long a, long long b, long long c) {
-      return (a * 73856093LL) ^ (b * 19349663LL) ^ (c * 83492791LL);
-    };
-    std::unordered_map<long long, std::vector<int>> cells;
-    for (int j = 0; j < n; ++j) {
-      const auto c = cell_of(p.x[j]);
-      cells[key(c[0], c[1], c[2])].push_back(j);
-    }
-    const double cut2 = cutoff_ * cutoff_;
+    // every particle this rank holds as a sphere of radius cutoff / 2: two
+    // overlap when their centres are closer than the cutoff (the ghosts stand
+    // for the periodic images, so none are added)
+    const double half = 0.5 * cutoff_;
+    SphereGrid grid(*engine_.domain, half);
+    for (int j = 0; j < p.size(); ++j)
+      grid.add(p.x[j], half);
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
-      const auto c = cell_of(p.x[i]);
-      for (long long a = c[0] - 1; a <= c[0] + 1; ++a)
-        for (long long b = c[1] - 1; b <= c[1] + 1; ++b)
-          for (long long d = c[2] - 1; d <= c[2] + 1; ++d) {
-            auto it = cells.find(key(a, b, d));
-            if (it == cells.end()) continue;
-            for (int j : it->second) {
-              if (j == i || (p.x[j] - p.x[i]).squaredNorm() >= cut2) continue;
-              const auto cj = cell_of(p.x[j]);  // the hash may mix cells: count j from its own cell only
-              if (cj[0] != a || cj[1] != b || cj[2] != d) continue;
-              if (mix_ && p.type[j] == p.type[i]) continue;
-              for (int col = 0; col < ncol; ++col)
-                if (p.type[j] >= ranges_[col].first && p.type[j] <= ranges_[col].second) count[col][i] += 1.0;
-            }
-          }
+      grid.visit_overlapping(p.x[i], half, false, [&](int j) {
+        if (j == i || (mix_ && p.type[j] == p.type[i])) return false;
+        for (int col = 0; col < ncol; ++col)
+          if (p.type[j] >= ranges_[col].first && p.type[j] <= ranges_[col].second) count[col][i] += 1.0;
+        return false;
+      });
     }
     if (peratom_cols == 0) {
       vector_atom = std::move(count[0]);

@@ -1,7 +1,7 @@
-// Translational kinetic energy as LIGGGHTS counts it (compute ke and the
-// thermo keyword ke): free particles by their own mass and velocity, clumps
-// of fix multisphere by their mass and centre-of-mass velocity (their
-// sub-spheres do not count one by one).
+// Kinetic energies as LIGGGHTS counts them (compute ke, erotate,
+// erotate/sphere and the thermo keyword ke): free particles by their own mass,
+// velocity and spin, clumps of fix multisphere as bodies (their sub-spheres do
+// not count one by one).
 #pragma once
 
 namespace granary {
@@ -14,5 +14,10 @@ class Region;
 /// first sub-sphere is in the group and whose centre of mass (wrapped) lies
 /// in the region (collective).
 double kinetic_translational(const Engine& e, int groupbit, const Region* region);
+
+/// Sum over all ranks of 1/2 (2/5 m r^2) w^2 of the free spheres of `groupbit`
+/// in `region` and, with clumps_too, 1/2 w.L of the clumps chosen as above
+/// (collective).
+double kinetic_rotational(const Engine& e, int groupbit, const Region* region, bool clumps_too);
 
 }  // namespace granary

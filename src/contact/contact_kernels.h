@@ -132,6 +132,20 @@ struct SlipT {
   S kt_prev;  ///< kt of the last step (0 at first touch) [N/m]
 };
 
+/// Lane l of a slip state from its three history doubles, and back.
+template <class S>
+[[gnu::always_inline]] inline void load_slip(SlipT<S>& a, int l, const double* h) {
+  lane::set(a.turn, l, h[0]);
+  lane::set(a.t_max, l, h[1]);
+  lane::set(a.kt_prev, l, h[2]);
+}
+template <class S>
+[[gnu::always_inline]] inline void store_slip(const SlipT<S>& a, int l, double* h) {
+  h[0] = lane::get(a.turn, l);
+  h[1] = lane::get(a.t_max, l);
+  h[2] = lane::get(a.kt_prev, l);
+}
+
 /// Forces and torques of W contacts.
 template <class S>
 struct ResultT {
@@ -465,17 +479,13 @@ template <class K>
   prepare<K>(spec, g, mat, q);
   const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
   V shear = so >= 0 ? V{history[so], history[so + 1], history[so + 2]} : lane::zero3<double>();
-  SlipT<double> slip =
-      po >= 0 ? SlipT<double>{history[po], history[po + 1], history[po + 2]} : SlipT<double>{0.0, 0.0, 0.0};
+  SlipT<double> slip{0.0, 0.0, 0.0};
+  if (po >= 0) load_slip(slip, 0, history + po);
   V roll = ro >= 0 ? V{history[ro], history[ro + 1], history[ro + 2]} : lane::zero3<double>();
   ResultT<double> r;
   interact<K>(spec, q, g.omega_i, v3(c.v_rel), c.dt, shear, slip, roll, r);
   if (so >= 0) lane::store(shear, 0, history + so);
-  if (po >= 0) {
-    history[po] = slip.turn;
-    history[po + 1] = slip.t_max;
-    history[po + 2] = slip.kt_prev;
-  }
+  if (po >= 0) store_slip(slip, 0, history + po);
   if (ro >= 0) lane::store(roll, 0, history + ro);
   out.force = lane::get(r.force, 0);
   out.torque_i = lane::get(r.torque_i, 0);

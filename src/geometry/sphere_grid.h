@@ -1,5 +1,6 @@
 // Spheres hashed into cells of the box, for overlap tests during insertion
-// and random particle creation (periodic images included).
+// and random particle creation (periodic images included), and for the
+// neighbours within a distance of compute coord/atom.
 #pragma once
 
 #include <array>
@@ -47,16 +48,28 @@ class SphereGrid {
 
   /// True when (x, r) overlaps a stored sphere (distance < sum of radii).
   bool overlaps(const Vec3& x, double r) const {
+    return visit_overlapping(x, r, true, [](int) { return true; });
+  }
+
+  /// Call fn(n) for every stored sphere n (in the order added) that (x, r)
+  /// overlaps, and with `images` for those its periodic images overlap, until
+  /// fn returns true. Returns whether fn stopped the visit.
+  template <class Fn>
+  bool visit_overlapping(const Vec3& x, double r, bool images, Fn&& fn) const {
     int shifts[3][3], count[3];
     const double reach = r + rmax_;
     for (int d = 0; d < 3; ++d) {
       count[d] = 0;
       shifts[d][count[d]++] = 0;
-      if (dom_.periodic[d]) {
+      if (images && dom_.periodic[d]) {
         if (x[d] - dom_.boxlo[d] < reach) shifts[d][count[d]++] = 1;
         if (dom_.boxhi[d] - x[d] < reach) shifts[d][count[d]++] = -1;
       }
     }
+    auto near = [&](int n, const Vec3& xs) {
+      const double s = r + radii_[n];
+      return (centres_[n] - xs).squaredNorm() < s * s && fn(n);
+    };
     for (int a = 0; a < count[0]; ++a) {
       for (int b = 0; b < count[1]; ++b) {
         for (int c = 0; c < count[2]; ++c) {
@@ -68,19 +81,15 @@ class SphereGrid {
               for (long long k = base[2] - 1; k <= base[2] + 1; ++k) {
                 const long long at = dense_index({i, j, k});
                 if (at >= 0) {
-                  for (int n = head_[at]; n >= 0; n = next_[n]) {
-                    const double s = r + radii_[n];
-                    if ((centres_[n] - xs).squaredNorm() < s * s) return true;
-                  }
+                  for (int n = head_[at]; n >= 0; n = next_[n])
+                    if (near(n, xs)) return true;
                   continue;
                 }
                 if (cells_.empty()) continue;
                 auto it = cells_.find(key({i, j, k}));
                 if (it == cells_.end()) continue;
-                for (int n : it->second) {
-                  const double s = r + radii_[n];
-                  if ((centres_[n] - xs).squaredNorm() < s * s) return true;
-                }
+                for (int n : it->second)
+                  if (near(n, xs)) return true;
               }
             }
           }

@@ -157,11 +157,7 @@ void pair_loop(const PairLoopData& L) {
       for (int l = 0; l < W; ++l) {
         const double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
         if (so >= 0) lane::set(shear, l, h + so);
-        if (po >= 0) {
-          lane::set(slip.turn, l, h[po]);
-          lane::set(slip.t_max, l, h[po + 1]);
-          lane::set(slip.kt_prev, l, h[po + 2]);
-        }
+        if (po >= 0) load_slip(slip, l, h + po);
         if (ro >= 0) lane::set(roll, l, h + ro);
       }
       interact<K>(spec, prep[m / W], lane::gather<S>(omega, ii), v_rel, dt, shear, slip, roll, out);
@@ -169,11 +165,7 @@ void pair_loop(const PairLoopData& L) {
         if (nh > 0) {
           double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
           if (so >= 0) lane::store(shear, l, h + so);
-          if (po >= 0) {
-            h[po] = lane::get(slip.turn, l);
-            h[po + 1] = lane::get(slip.t_max, l);
-            h[po + 2] = lane::get(slip.kt_prev, l);
-          }
+          if (po >= 0) store_slip(slip, l, h + po);
           if (ro >= 0) lane::store(roll, l, h + ro);
           touch[kk[l]] = 1;
         }
