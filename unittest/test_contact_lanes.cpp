@@ -19,6 +19,7 @@
 #include "contact/contact_kernels.h"
 #include "contact/contact_model.h"
 #include "contact/lane.h"
+#include "same_bits.h"
 
 using namespace granary::contact;
 using lane::D2;
@@ -26,19 +27,7 @@ using lane::V3;
 
 namespace {
 
-// Same IEEE operations in the same order: identical bits. A build that lets
-// the compiler fuse multiplies and adds (-mfma, -march=native) may fuse the
-// two widths differently; there they agree to round-off.
-bool same(double a, double b) {
-#if defined(__FMA__)
-  return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)) + 1e-300;
-#else
-  return (a == b && std::signbit(a) == std::signbit(b)) || (std::isnan(a) && std::isnan(b));
-#endif
-}
-bool same(const Vec3& a, const Vec3& b) {
-  return same(a[0], b[0]) && same(a[1], b[1]) && same(a[2], b[2]);
-}
+using granary::test::same_bits;
 
 using U = std::uniform_real_distribution<double>;
 
@@ -222,11 +211,12 @@ Vec3 e(const V3<double>& a) {
   return Vec3(a.x, a.y, a.z);
 }
 
-bool same(const Out& a, const Out& b) {
-  return same(e(a.r.force), e(b.r.force)) && same(e(a.r.torque_i), e(b.r.torque_i)) &&
-         same(e(a.r.torque_j), e(b.r.torque_j)) && same(e(a.r.ft), e(b.r.ft)) && same(a.r.fn, b.r.fn) &&
-         same(e(a.shear), e(b.shear)) && same(e(a.roll), e(b.roll)) && same(a.slip.turn, b.slip.turn) &&
-         same(a.slip.t_max, b.slip.t_max) && same(a.slip.kt_prev, b.slip.kt_prev);
+bool same_bits(const Out& a, const Out& b) {
+  return same_bits(e(a.r.force), e(b.r.force)) && same_bits(e(a.r.torque_i), e(b.r.torque_i)) &&
+         same_bits(e(a.r.torque_j), e(b.r.torque_j)) && same_bits(e(a.r.ft), e(b.r.ft)) &&
+         same_bits(a.r.fn, b.r.fn) && same_bits(e(a.shear), e(b.shear)) && same_bits(e(a.roll), e(b.roll)) &&
+         same_bits(a.slip.turn, b.slip.turn) && same_bits(a.slip.t_max, b.slip.t_max) &&
+         same_bits(a.slip.kt_prev, b.slip.kt_prev);
 }
 
 struct Counts {
@@ -251,13 +241,13 @@ void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
       for (int l = 0; l < 2; ++l) {
         const Out picked_one = one_lane<K>(spec, s[l], dt);
         INFO(model_words(spec) << "; trial " << trial << " lane " << l);
-        REQUIRE(same(picked_one, runtime[l]));
+        REQUIRE(same_bits(picked_one, runtime[l]));
       }
     });
     for (int l = 0; l < 2; ++l) {
       INFO(model_words(spec) << "; trial " << trial << " lane " << l << " overlap " << s[l].g.overlap);
-      REQUIRE(same(lanes_runtime[l], runtime[l]));
-      REQUIRE(same(lanes_picked[l], runtime[l]));
+      REQUIRE(same_bits(lanes_runtime[l], runtime[l]));
+      REQUIRE(same_bits(lanes_picked[l], runtime[l]));
       // the branches the comparisons went through
       const Out& o = runtime[l];
       if (!(s[l].g.overlap > 0.0)) {

@@ -16,6 +16,7 @@
 #include "neighbor/neighbor.h"
 #include "core/force.h"
 #include "pair/pair_granular.h"
+#include "same_bits.h"
 #include "script_engine.h"
 
 using granary::Vec3;
@@ -23,13 +24,7 @@ using granary::test::ScriptEngine;
 
 namespace {
 
-bool same(double a, double b) {
-#if defined(__FMA__)
-  return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)) + 1e-300;
-#else
-  return a == b && std::signbit(a) == std::signbit(b);
-#endif
-}
+using granary::test::same_bits;
 
 // A bed of 2 mm spheres (type 1) and 1.6 mm lighter ones (type 2, other
 // material) poured into a box of plane walls.
@@ -179,15 +174,15 @@ void compare_loops(const std::string& pair_words, const std::string& newton) {
   for (int i = 0; i < p.nlocal; ++i) {
     for (int d = 0; d < 3; ++d) {
       INFO("particle " << i << " component " << d);
-      REQUIRE(same(lanes.f[i][d], plain.f[i][d]));
-      REQUIRE(same(lanes.torque[i][d], plain.torque[i][d]));
+      REQUIRE(same_bits(lanes.f[i][d], plain.f[i][d]));
+      REQUIRE(same_bits(lanes.torque[i][d], plain.torque[i][d]));
     }
   }
   REQUIRE(lanes.touch == plain.touch);
   REQUIRE(lanes.hist.size() == plain.hist.size());
   for (std::size_t q = 0; q < plain.hist.size(); ++q) {
     INFO("history value " << q);
-    REQUIRE(same(lanes.hist[q], plain.hist[q]));
+    REQUIRE(same_bits(lanes.hist[q], plain.hist[q]));
   }
 }
 

@@ -7,10 +7,12 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "script_engine.h"
+#include "core/atom_properties.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -613,6 +615,37 @@ TEST_CASE("set keywords follow LIGGGHTS for diameter, density and mass", "[parti
   CHECK_THROWS_WITH(s.cmd("set atom 1 type 7"), Contains("1..3"));
   CHECK_THROWS_WITH(s.cmd("set group nogroup vx 1"), Contains("nogroup"));
   CHECK_THROWS_WITH(s.cmd("set atom 1 omega 1 2"), Contains("3 value"));
+}
+
+TEST_CASE("set writes through the table of per-particle properties that dump and variables read",
+          "[particles]") {
+  Sim s;
+  s.cmds(kBox);
+  s.cmds({"create_atoms 1 single 0.5 0.5 0.5", "create_atoms 1 single 0.2 0.5 0.5"});
+  const auto names = granary::settable_atom_property_names();
+  CHECK(names.size() == 13);  // type mass density diameter x y z vx vy vz omegax omegay omegaz
+  double value = 0.125;
+  for (const std::string& name : names) {
+    const granary::AtomProperty* prop = granary::find_atom_property(name);
+    REQUIRE(prop);
+    value += 0.25;  // a new value for each, exact in binary
+    const double v = prop->check == granary::SetCheck::Type ? 2.0 : value;
+    std::ostringstream cmd;
+    cmd << "set group all " << name << " " << v;
+    s.cmd(cmd.str());
+    const auto& p = *s.e.particles;
+    for (int i = 0; i < p.nlocal; ++i)
+      CHECK(prop->value(s.e, i) == v);
+  }
+  // what follows from a size or a density: the mass at the particle's density
+  const auto& p = *s.e.particles;
+  s.cmds({"set group all density 1000", "set group all diameter 0.5"});
+  for (int i = 0; i < p.nlocal; ++i)
+    CHECK(p.rmass[i] == Approx(1000 * M_PI / 6 * 0.125).epsilon(1e-14));
+  // the others are read-only, with a message saying so
+  for (const char* ro : {"fx", "id", "xu", "ix", "radius", "tqz", "body"})
+    CHECK_THROWS_WITH(s.cmd(std::string("set atom 1 ") + ro + " 1"), Contains("read-only"));
+  CHECK_THROWS_WITH(s.cmd("set atom 1 mass 0"), Contains("positive"));
 }
 
 TEST_CASE("velocity set, ramp and zero", "[particles]") {

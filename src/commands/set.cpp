@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/atom_properties.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/input.h"
@@ -81,10 +82,21 @@ class Selection {
 };
 
 void cmd_set(Engine& e, const Args& a) {
-  const char* usage =
-      "set atom|type|group|region ID keyword value ...  (keywords: type, type/fraction, diameter, density, "
-      "mass, x, y, z, vx, vy, vz, omegax, omegay, omegaz, omega, image, property/atom NAME values)";
-  begin(e, a, 4, "set", usage);
+  // the keywords: one per property the table of per-particle properties
+  // (core/atom_properties.h) can write, and those with more than one value
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = settable_atom_property_names();
+    for (const char* w : {"type/fraction", "omega", "image", "property/atom", "property/peratom"})
+      k.push_back(w);
+    return k;
+  }();
+  static const std::string usage = [] {
+    std::string u = "set atom|type|group|region ID keyword value ...  (keywords:";
+    for (const std::string& k : keys)
+      if (k != "property/peratom") u += " " + k + (k == "property/atom" ? " NAME values" : "");
+    return u + ")";
+  }();
+  begin(e, a, 4, "set", usage.c_str());
   const Selection sel(e, a[0], a[1], "set");
   Particles& p = *e.particles;
 
@@ -92,29 +104,12 @@ void cmd_set(Engine& e, const Args& a) {
   struct Setting {
     std::string key;
     std::vector<double> v;
-    std::vector<std::string> var;  // per value: variable name or ""
-    std::vector<bool> null;        // image components given as NULL
-    int field = -1;                // property/atom: the per-particle field
+    std::vector<std::string> var;        // per value: variable name or ""
+    std::vector<bool> null;              // image components given as NULL
+    int field = -1;                      // property/atom: the per-particle field
+    const AtomProperty* prop = nullptr;  // a property of the table with its writer
   };
   std::vector<Setting> settings;
-  static const std::vector<std::string> keys = {"type",
-                                                "type/fraction",
-                                                "diameter",
-                                                "density",
-                                                "mass",
-                                                "x",
-                                                "y",
-                                                "z",
-                                                "vx",
-                                                "vy",
-                                                "vz",
-                                                "omegax",
-                                                "omegay",
-                                                "omegaz",
-                                                "omega",
-                                                "image",
-                                                "property/atom",
-                                                "property/peratom"};
   for (std::size_t k = 2; k < a.size();) {
     Setting s;
     s.key = a[k];
@@ -135,6 +130,13 @@ void cmd_set(Engine& e, const Args& a) {
       ++k;  // the name; the values follow as for any keyword
       nval = static_cast<std::size_t>(p.extras[s.field].ncomp);
     }
+    s.prop = find_atom_property(s.key);
+    if (s.prop && !s.prop->assign) {
+      throw InputError("set cannot write '" + s.key +
+                       "': it is read-only here (dump custom, compute property/atom and variables read it); "
+                       "usage: " +
+                       usage);
+    }
     if (std::find(keys.begin(), keys.end(), s.key) == keys.end()) {
       const std::string hint = did_you_mean(s.key, keys);
       throw InputError("unknown set keyword '" + s.key + "'" + (hint.empty() ? "" : "; " + hint) +
@@ -154,7 +156,7 @@ void cmd_set(Engine& e, const Args& a) {
         s.v.push_back(0.0);
       } else if (s.null.back()) {
         s.v.push_back(0.0);
-      } else if (s.key == "type" || (s.key == "type/fraction" && m == 1)) {
+      } else if ((s.prop && s.prop->check == SetCheck::Type) || (s.key == "type/fraction" && m == 1)) {
         s.v.push_back(parse_type(e, w, "set type"));
       } else if (s.key == "image" || (s.key == "type/fraction" && m == 3)) {
         s.v.push_back(static_cast<double>(parse_int(w, "set " + s.key)));
@@ -162,8 +164,7 @@ void cmd_set(Engine& e, const Args& a) {
         s.v.push_back(parse_double(w, "set " + s.key));
       }
     }
-    if ((s.key == "diameter" || s.key == "density" || s.key == "mass") && s.var[0].empty() &&
-        !(s.v[0] > 0.0)) {
+    if (s.prop && s.prop->check == SetCheck::Positive && s.var[0].empty() && !(s.v[0] > 0.0)) {
       throw InputError("set " + s.key + " must be positive, got '" + a[k + 1] + "'");
     }
     if (s.key == "type/fraction") {
@@ -194,8 +195,9 @@ void cmd_set(Engine& e, const Args& a) {
       for (int i = 0; i < p.nlocal; ++i) {
         if (!sel.selected(i)) continue;
         const double v = value(0, i);
-        if (key == "type" && (static_cast<int>(v) < 1 || static_cast<int>(v) > p.ntypes)) ++bad;
-        if ((key == "diameter" || key == "density" || key == "mass") && !(v > 0.0)) ++bad;
+        const SetCheck check = s.prop ? s.prop->check : SetCheck::Any;
+        if (check == SetCheck::Type && (static_cast<int>(v) < 1 || static_cast<int>(v) > p.ntypes)) ++bad;
+        if (check == SetCheck::Positive && !(v > 0.0)) ++bad;
         for (std::size_t c = 0; c < s.var.size(); ++c)
           if (!std::isfinite(value(c, i))) ++bad;
       }
@@ -209,26 +211,11 @@ void cmd_set(Engine& e, const Args& a) {
     long long count = 0;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!sel.selected(i)) continue;
-      if (key == "type") {
-        p.type[i] = static_cast<int>(value(0, i));
+      if (s.prop) {
+        s.prop->assign(e, i, value(0, i));
       } else if (key == "type/fraction") {
         if (hash01(static_cast<long long>(s.v[2]), p.id[i]) >= s.v[1]) continue;
         p.type[i] = static_cast<int>(s.v[0]);
-      } else if (key == "diameter") {
-        // as LIGGGHTS: the mass follows the new size at the particle's density
-        p.radius[i] = 0.5 * value(0, i);
-        if (p.density[i] > 0.0) p.rmass[i] = Particles::sphere_mass(p.radius[i], p.density[i]);
-      } else if (key == "density") {
-        p.density[i] = value(0, i);
-        p.rmass[i] = p.radius[i] > 0.0 ? Particles::sphere_mass(p.radius[i], p.density[i]) : p.density[i];
-      } else if (key == "mass") {
-        p.rmass[i] = value(0, i);  // density is left alone (LIGGGHTS)
-      } else if (key == "x" || key == "y" || key == "z") {
-        p.x[i][key[0] - 'x'] = value(0, i);
-      } else if (key == "vx" || key == "vy" || key == "vz") {
-        p.v[i][key[1] - 'x'] = value(0, i);
-      } else if (key == "omegax" || key == "omegay" || key == "omegaz") {
-        p.omega[i][key[5] - 'x'] = value(0, i);
       } else if (key == "omega") {
         p.omega[i] = Vec3(value(0, i), value(1, i), value(2, i));
       } else if (key == "property/atom") {

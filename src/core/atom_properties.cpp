@@ -53,22 +53,57 @@ double body_of(const Engine& e, int i) {
   return static_cast<double>(e.particles->body[i]);
 }
 
+// set's writers
+template <int D>
+void set_x(Engine& e, int i, double v) {
+  e.particles->x[i][D] = v;
+}
+template <int D>
+void set_v(Engine& e, int i, double v) {
+  e.particles->v[i][D] = v;
+}
+template <int D>
+void set_omega(Engine& e, int i, double v) {
+  e.particles->omega[i][D] = v;
+}
+void set_type(Engine& e, int i, double v) {
+  e.particles->type[i] = static_cast<int>(v);
+}
+// as LIGGGHTS: the mass follows a new size or density; a new mass leaves the density alone
+void set_diameter(Engine& e, int i, double v) {
+  Particles& p = *e.particles;
+  p.radius[i] = 0.5 * v;
+  if (p.density[i] > 0.0) p.rmass[i] = Particles::sphere_mass(p.radius[i], p.density[i]);
+}
+void set_density(Engine& e, int i, double v) {
+  Particles& p = *e.particles;
+  p.density[i] = v;
+  p.rmass[i] = p.radius[i] > 0.0 ? Particles::sphere_mass(p.radius[i], p.density[i]) : p.density[i];
+}
+void set_mass(Engine& e, int i, double v) {
+  e.particles->rmass[i] = v;
+}
+
 }  // namespace
 
 const std::vector<AtomProperty>& atom_properties() {
   static const std::vector<AtomProperty> table = {
       {"id", true, [](const Engine& e, int i) { return static_cast<double>(e.particles->id[i]); }},
-      {"type", true, [](const Engine& e, int i) { return static_cast<double>(e.particles->type[i]); }},
+      {"type", true, [](const Engine& e, int i) { return static_cast<double>(e.particles->type[i]); },
+       set_type, SetCheck::Type},
       {"body", true, body_of},
       {"mol", true, body_of},
       {"id_multisphere", true, body_of},
-      {"mass", false, [](const Engine& e, int i) { return e.particles->rmass[i]; }},
-      {"density", false, [](const Engine& e, int i) { return e.particles->density[i]; }},
+      {"mass", false, [](const Engine& e, int i) { return e.particles->rmass[i]; }, set_mass,
+       SetCheck::Positive},
+      {"density", false, [](const Engine& e, int i) { return e.particles->density[i]; }, set_density,
+       SetCheck::Positive},
       {"radius", false, [](const Engine& e, int i) { return e.particles->radius[i]; }},
-      {"diameter", false, [](const Engine& e, int i) { return 2.0 * e.particles->radius[i]; }},
-      {"x", false, x_of<0>},
-      {"y", false, x_of<1>},
-      {"z", false, x_of<2>},
+      {"diameter", false, [](const Engine& e, int i) { return 2.0 * e.particles->radius[i]; }, set_diameter,
+       SetCheck::Positive},
+      {"x", false, x_of<0>, set_x<0>},
+      {"y", false, x_of<1>, set_x<1>},
+      {"z", false, x_of<2>, set_x<2>},
       {"xs", false, xs_of<0>},
       {"ys", false, xs_of<1>},
       {"zs", false, xs_of<2>},
@@ -78,15 +113,15 @@ const std::vector<AtomProperty>& atom_properties() {
       {"ix", true, image_of<0>},
       {"iy", true, image_of<1>},
       {"iz", true, image_of<2>},
-      {"vx", false, v_of<0>},
-      {"vy", false, v_of<1>},
-      {"vz", false, v_of<2>},
+      {"vx", false, v_of<0>, set_v<0>},
+      {"vy", false, v_of<1>, set_v<1>},
+      {"vz", false, v_of<2>, set_v<2>},
       {"fx", false, f_of<0>},
       {"fy", false, f_of<1>},
       {"fz", false, f_of<2>},
-      {"omegax", false, omega_of<0>},
-      {"omegay", false, omega_of<1>},
-      {"omegaz", false, omega_of<2>},
+      {"omegax", false, omega_of<0>, set_omega<0>},
+      {"omegay", false, omega_of<1>, set_omega<1>},
+      {"omegaz", false, omega_of<2>, set_omega<2>},
       {"tqx", false, torque_of<0>},
       {"tqy", false, torque_of<1>},
       {"tqz", false, torque_of<2>},
@@ -98,6 +133,13 @@ const AtomProperty* find_atom_property(const std::string& name) {
   for (const AtomProperty& a : atom_properties())
     if (name == a.name) return &a;
   return nullptr;
+}
+
+std::vector<std::string> settable_atom_property_names() {
+  std::vector<std::string> names;
+  for (const AtomProperty& a : atom_properties())
+    if (a.assign) names.push_back(a.name);
+  return names;
 }
 
 std::vector<std::string> atom_property_names() {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "comm/collectives.h"
+#include "contact/contact_block.h"
 #include "contact/contact_kernels.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -18,6 +19,74 @@
 #include "particles/particles.h"
 
 namespace granary {
+
+namespace {
+
+/// One contact of a particle with a wall, collected for a block.
+struct WallContact {
+  int i;                  ///< the particle
+  double overlap, m_eff;  ///< m_eff: the particle's (or its clump's) mass
+  Vec3 n, v_rel;          ///< normal towards the centre; velocity relative to the wall at the contact
+  const contact::PairMaterial* mat;  ///< particle type and wall type
+  double* h;                         ///< the contact's history doubles
+  int mesh, tri;                     ///< mesh walls: the mesh and triangle (for their forces)
+};
+
+/// Contacts gathered before a block is evaluated.
+constexpr int kWallBlock = 64;
+
+// GCC 12 takes the lanes of the material, filled one at a time from the
+// contacts, for maybe uninitialized in the run-time kernel's instance (they are
+// value-initialized in evaluate_block); the pair loop's same code does not warn.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+/// The n wall contacts of blk through the pair loop's block machinery
+/// (contact/contact_block.h), W at a time; then apply(contact, force,
+/// torque) for each, in blk's order.
+template <class K, class S, class Apply>
+void evaluate_wall_block(const contact::ModelSpec& spec, double dt, const WallContact* blk, int n,
+                         const double* radius, const Vec3* omega, Apply&& apply) {
+  using namespace contact;
+  using lane::V3;
+  constexpr int W = lane::width<S>();
+  PreparedT<S> prep[(kWallBlock + FixWallGran::kMeshSlots + W - 1) / W];
+  // a wall: r_j = 0, R* = r_i, m* = m_i, no spin
+  auto geometry = [&](const int(&c)[W], GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
+    for (int l = 0; l < W; ++l) {
+      const WallContact& w = blk[c[l]];
+      lane::set(g.n, l, w.n);
+      lane::set(g.overlap, l, w.overlap);
+      lane::set(g.r_i, l, radius[w.i]);
+      lane::set(g.m_eff, l, w.m_eff);
+      lane::set(g.omega_i, l, omega[w.i]);
+      set_material(mat, l, *w.mat);
+    }
+    g.r_j = lane::splat<S>(0.0);
+    g.r_eff = g.r_i;
+    g.omega_j = lane::zero3<S>();
+  };
+  auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
+      __attribute__((always_inline)) {
+    for (int l = 0; l < W; ++l) {
+      const WallContact& w = blk[c[l]];
+      lane::set(omega_i, l, omega[w.i]);
+      lane::set(v_rel, l, w.v_rel);
+      load_history<K>(spec, l, w.h, shear, slip, roll);
+    }
+  };
+  auto store = [&](const int(&c)[W], int nvalid, const ResultT<S>& out, const V3<S>& shear,
+                   const SlipT<S>& slip, const V3<S>& roll) __attribute__((always_inline)) {
+    for (int l = 0; l < nvalid; ++l) {
+      const WallContact& w = blk[c[l]];
+      store_history<K>(spec, l, shear, slip, roll, w.h);
+      apply(w, lane::get(out.force, l), lane::get(out.torque_i, l));
+    }
+  };
+  evaluate_block<K, S>(spec, n, dt, prep, geometry, load, store);
+}
+#pragma GCC diagnostic pop
+
+}  // namespace
 
 FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   const std::string usage =
@@ -397,12 +466,14 @@ void FixWallGran::post_force() {
   contact::dispatch_model(spec, [&](auto kernel) {
     using K = decltype(kernel);
     const int nh = K::history_size(spec);
-    contact::ContactState c;
-    contact::ContactResult res;
-    c.dt = dt;
-    c.r_j = 0.0;
-    c.omega_j.setZero();
     double dummy[contact::kMaxHistory] = {};
+    // the contacts, a block at a time (contact/contact_block.h)
+    WallContact blk[kWallBlock];
+    int nblk = 0;
+    auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
+      f[w.i] += force;
+      torque[w.i] += tq;
+    };
     for (int m = 0; m < nvisit; ++m) {
       const int i = use_near ? near[m] : m;
       if (!(mask[i] & bit)) continue;
@@ -433,17 +504,20 @@ void FixWallGran::post_force() {
         }
         continue;
       }
-      c.n = n;
-      c.overlap = overlap;
-      c.r_i = r;
-      c.r_eff = r;
-      c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
-      c.v_rel = v[i];
-      c.omega_i = omega[i];
-      contact::evaluate_with<K>(spec, c, materials(type[i], wall_type), h, res);
-      f[i] += res.force;
-      torque[i] += res.torque_i;
+      WallContact& w = blk[nblk++];
+      w.i = i;
+      w.overlap = overlap;
+      w.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
+      w.n = n;
+      w.v_rel = v[i];
+      w.mat = &materials(type[i], wall_type);
+      w.h = h;
+      if (nblk == kWallBlock) {
+        evaluate_wall_block<K, contact::lane::D2>(spec, dt, blk, nblk, radius, omega, apply);
+        nblk = 0;
+      }
     }
+    if (nblk > 0) evaluate_wall_block<K, contact::lane::D2>(spec, dt, blk, nblk, radius, omega, apply);
   });
 }
 
@@ -562,19 +636,56 @@ void FixWallGran::post_force_mesh() {
     using K = decltype(kernel);
     const int nh = K::history_size(spec);
     const int stride = kSlotHeader + nh;
-    contact::ContactState c;
-    contact::ContactResult res;
-    c.dt = dt;
-    c.r_j = 0.0;
-    c.omega_j.setZero();
-    double fresh[kMeshSlots * (kSlotHeader + contact::kMaxHistory) +
-                 1];  // this step's slots, written back at the end
+    // The contacts go through the block machinery (contact/contact_block.h):
+    // gathered, particle after particle, until a block is full, then
+    // evaluated; the particles' slots are written back after the block.
+    constexpr int kStage = kWallBlock + kMeshSlots;  // a block, plus the last particle's contacts
+    WallContact blk[kStage];
+    int nblk = 0;
+    double
+        fresh[kStage * (kSlotHeader + contact::kMaxHistory) + 1];  // the block's slots (key, point, history)
+    struct Staged {
+      int i, first, n;  // particle, its first contact in blk and fresh, number of contacts
+    };
+    Staged staged[kWallBlock];
+    int nstaged = 0;
     double prev[kMeshSlots * (kSlotHeader + contact::kMaxHistory) +
                 1];  // the slots of a particle with extra ones
     double zeros[contact::kMaxHistory] = {};
     // At run setup the forces leave the history as it was: the per-particle
     // slots are restored by Update, the extra ones are not written.
     const bool keep_extra = engine_.update->in_setup_forces;
+    auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
+      f[w.i] += force;
+      torque[w.i] += tq;
+      total -= force;
+      meshes_[w.mesh]->mesh.tri_force[w.tri] -= force;
+    };
+    // a particle's slots after its contacts were evaluated
+    auto write_back = [&](const Staged& st) {
+      const int i = st.i, nkept = st.n;
+      const double* const slots = fresh + static_cast<std::size_t>(st.first) * stride;
+      double* const h_inline = hist_base + static_cast<std::size_t>(i) * kInlineSlots * stride;
+      const int ninline = std::min(nkept, kInlineSlots);
+      for (int q = 0; q < ninline * stride; ++q)
+        h_inline[q] = slots[q];
+      for (int q = ninline * stride; q < kInlineSlots * stride; ++q)
+        h_inline[q] = 0.0;
+      if (!keep_extra) {
+        if (nkept > kInlineSlots)
+          extra_[p.id[i]].assign(slots + kInlineSlots * stride, slots + nkept * stride);
+        else if (count[i] > kInlineSlots)
+          extra_.erase(p.id[i]);
+      }
+      count[i] = nkept;
+    };
+    auto flush = [&]() {
+      evaluate_wall_block<K, contact::lane::D2>(spec, dt, blk, nblk, radius, omega, apply);
+      for (int s = 0; s < nstaged; ++s)
+        write_back(staged[s]);
+      nblk = 0;
+      nstaged = 0;
+    };
     // the particles near the meshes when the list is current, else all of them
     const bool use_near = near_current();
     const int* const near_list = near_.data();
@@ -649,17 +760,15 @@ void FixWallGran::post_force_mesh() {
           }
           if (source[k] >= 0) used[source[k]] = true;
         }
+        staged[nstaged++] = Staged{i, nblk, nkept};
       }
-      c.r_i = r;
-      c.r_eff = r;
-      c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
-      c.omega_i = omega[i];
+      const double m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
       for (int k = 0; k < nkept; ++k) {
         const Candidate& ck = cand[kept[k]];
         TriMesh& mesh = meshes_[ck.mesh]->mesh;
         double* hk = zeros;
         if (nh > 0) {
-          double* slot = fresh + k * stride;
+          double* slot = fresh + static_cast<std::size_t>(nblk) * stride;
           slot[0] = key_base_[ck.mesh] + ck.tri + 1;
           slot[1] = ck.point[0];
           slot[2] = ck.point[1];
@@ -669,30 +778,20 @@ void FixWallGran::post_force_mesh() {
           for (int q = 0; q < nh; ++q)
             hk[q] = src ? src[q] : 0.0;
         }
-        c.n = ck.n;
-        c.overlap = ck.overlap;
-        c.v_rel = v[i] - mesh.velocity_at(ck.tri, ck.point);  // the wall material at the contact point
-        contact::evaluate_with<K>(spec, c, materials(type[i], meshes_[ck.mesh]->wall_type), hk, res);
-        f[i] += res.force;
-        torque[i] += res.torque_i;
-        total -= res.force;
-        mesh.tri_force[ck.tri] -= res.force;
+        WallContact& w = blk[nblk++];
+        w.i = i;
+        w.overlap = ck.overlap;
+        w.m_eff = m_eff;
+        w.n = ck.n;
+        w.v_rel = v[i] - mesh.velocity_at(ck.tri, ck.point);  // the wall material at the contact point
+        w.mat = &materials(type[i], meshes_[ck.mesh]->wall_type);
+        w.h = hk;
+        w.mesh = ck.mesh;
+        w.tri = ck.tri;
       }
-      if (nh > 0) {
-        const int ninline = std::min(nkept, kInlineSlots);
-        for (int q = 0; q < ninline * stride; ++q)
-          h_inline[q] = fresh[q];
-        for (int q = ninline * stride; q < kInlineSlots * stride; ++q)
-          h_inline[q] = 0.0;
-        if (!keep_extra) {
-          if (nkept > kInlineSlots)
-            extra_[p.id[i]].assign(fresh + kInlineSlots * stride, fresh + nkept * stride);
-          else if (count[i] > kInlineSlots)
-            extra_.erase(p.id[i]);
-        }
-        count[i] = nkept;
-      }
+      if (nblk >= kWallBlock) flush();
     }
+    if (nblk > 0) flush();
   });
   for (int d = 0; d < 3; ++d)
     force_[d] = total[d];

@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "contact/contact_block.h"
 #include "contact/contact_kernels.h"
 #include "contact/lane.h"
 #include "core/vec3.h"
@@ -66,7 +67,6 @@ void pair_loop(const PairLoopData& L) {
   constexpr int W = lane::width<S>();
   const ModelSpec spec = *L.spec;
   const int nh = K::history_size(spec);
-  const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
   const int nlocal = L.nlocal;
   const int* const neigh = L.neigh;
   const Vec3* const x = L.x;
@@ -92,22 +92,19 @@ void pair_loop(const PairLoopData& L) {
   // sub-spheres of clumps use their body's mass (filled by fix multisphere)
   auto mass = [&](int a) { return body_mass && body_mass[a] > 0.0 ? body_mass[a] : rmass[a]; };
 
-  // stages 2 and 3 for the n contacts of the block
+  // stages 2 and 3 for the n contacts of the block (contact/contact_block.h)
   auto flush = [&](int n) {
     // R* and m* again only for pairs unlike the last group's (exact
     // comparisons: the same operands give the same quotients); radii are
     // positive, so nothing matches at first
     S last_ri = lane::splat<S>(-1.0), last_rj = last_ri, last_mi = last_ri, last_mj = last_ri;
     S r_eff = last_ri, m_eff = last_ri;
-    for (int m = 0; m < n; m += W) {
+    auto geometry = [&](const int(&c)[W], GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
       int ii[W], j[W];
       for (int l = 0; l < W; ++l) {
-        const int c = std::min(m + l, n - 1);
-        ii[l] = blk_i[c];
-        j[l] = neigh[blk_k[c]];
+        ii[l] = blk_i[c[l]];
+        j[l] = neigh[blk_k[c[l]]];
       }
-      GeometryT<S> g;  // the first stage's inputs: locals, so unused fields cost nothing
-      MaterialT<S> mat{};
       const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, j);
       const S r_i = lane::gather<S>(radius, ii);
       const S r_j = lane::gather<S>(radius, j);
@@ -139,47 +136,39 @@ void pair_loop(const PairLoopData& L) {
       g.omega_j = lane::gather<S>(omega, j);
       for (int l = 0; l < W; ++l)
         set_material(mat, l, materials(type[ii[l]], type[j[l]]));
-      prepare<K>(spec, g, mat, prep[m / W]);
-    }
-    ResultT<S> out;
-    for (int m = 0; m < n; m += W) {
-      const int nvalid = std::min(W, n - m);
-      int kk[W], ii[W], j[W];
+    };
+    auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
+        __attribute__((always_inline)) {
+      int ii[W], j[W];
       for (int l = 0; l < W; ++l) {
-        const int c = std::min(m + l, n - 1);
-        kk[l] = blk_k[c];
-        ii[l] = blk_i[c];
-        j[l] = neigh[kk[l]];
+        ii[l] = blk_i[c[l]];
+        j[l] = neigh[blk_k[c[l]]];
       }
-      const V3<S> v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
-      V3<S> shear = lane::zero3<S>(), roll = lane::zero3<S>();
-      SlipT<S> slip{lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0)};
-      for (int l = 0; l < W; ++l) {
-        const double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
-        if (so >= 0) lane::set(shear, l, h + so);
-        if (po >= 0) load_slip(slip, l, h + po);
-        if (ro >= 0) lane::set(roll, l, h + ro);
-      }
-      interact<K>(spec, prep[m / W], lane::gather<S>(omega, ii), v_rel, dt, shear, slip, roll, out);
+      v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
+      for (int l = 0; l < W; ++l)
+        load_history<K>(spec, l, hist + static_cast<std::size_t>(blk_k[c[l]]) * nh, shear, slip, roll);
+      omega_i = lane::gather<S>(omega, ii);
+    };
+    auto store = [&](const int(&c)[W], int nvalid, const ResultT<S>& out, const V3<S>& shear,
+                     const SlipT<S>& slip, const V3<S>& roll) __attribute__((always_inline)) {
       for (int l = 0; l < nvalid; ++l) {
+        const int kk = blk_k[c[l]], i = blk_i[c[l]], j = neigh[kk];
         if (nh > 0) {
-          double* h = hist + static_cast<std::size_t>(kk[l]) * nh;
-          if (so >= 0) lane::store(shear, l, h + so);
-          if (po >= 0) store_slip(slip, l, h + po);
-          if (ro >= 0) lane::store(roll, l, h + ro);
-          touch[kk[l]] = 1;
+          store_history<K>(spec, l, shear, slip, roll, hist + static_cast<std::size_t>(kk) * nh);
+          touch[kk] = 1;
         }
         // i's sums in memory, contact after contact: the same additions in
         // the same order as a running sum (no partner of i's row is i)
         const Vec3 force = lane::get(out.force, l);
-        f[ii[l]] += force;
-        torque[ii[l]] += lane::get(out.torque_i, l);
-        if (newton || j[l] < nlocal) {
-          f[j[l]] -= force;
-          torque[j[l]] += lane::get(out.torque_j, l);
+        f[i] += force;
+        torque[i] += lane::get(out.torque_i, l);
+        if (newton || j < nlocal) {
+          f[j] -= force;
+          torque[j] += lane::get(out.torque_j, l);
         }
       }
-    }
+    };
+    evaluate_block<K, S>(spec, n, dt, prep, geometry, load, store);
   };
 
   // a contact that ended: forget its history (rare)
