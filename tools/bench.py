@@ -34,6 +34,10 @@ What is measured, per run (each run is started from a fresh measuring subprocess
                process (getrusage RUSAGE_CHILDREN ru_maxrss) is also kept in
                the JSON output as max_rank_rss_mib
   bytes/particle     peak RSS (sum over ranks) / particles
+  start-up MiB peak RSS (sum over ranks) of the same program on a script with a
+               box and no particles: code, shared libraries, MPI buffers
+  B/particle above start-up   (peak RSS - start-up) / particles: what the
+               particles and their contacts cost
 A second table gives each run's time split from the programs' own end-of-run
 reports (pair, neighbour lists, communication, fixes, output, other; each the
 mean over the ranks, summed over the run commands; LIGGGHTS 3.8 reports fixes
@@ -278,17 +282,9 @@ def loadavg():
         return "unknown"
 
 
-def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
-    """One run of one program; returns its row (with "error" on failure)."""
-    # the script's folder, for scripts that read files next to them (meshes, clumps)
-    cmd = [exe, "-in", script, "-log", "none", "-var", "dir", os.path.dirname(script)]
-    if nsteps is not None:
-        cmd += ["-var", "nsteps", str(nsteps)]
-    for name, value in args.var:
-        cmd += ["-var", name, value]
-    if ranks > 1:
-        cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
-    load_before = loadavg()
+def _measure(cmd, exe, args, keep=None):
+    """Run cmd (the program exe, maybe under mpirun) under the measuring
+    subprocess; returns (result dict, screen output)."""
     with tempfile.TemporaryDirectory(prefix="bench_") as tmp:
         res_path = os.path.join(tmp, "result.json")
         out_path = os.path.join(tmp, "stdout.txt")
@@ -308,10 +304,60 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
         if os.path.exists(out_path):
             with open(out_path, errors="replace") as f:
                 text = f.read()
-        if outdir:
-            name = "%s_np%d%s.out" % (prog, ranks, "" if args.repeat == 1 else "_rep%d" % rep)
-            with open(os.path.join(outdir, name), "w") as f:
+        if keep:
+            with open(keep, "w") as f:
                 f.write(text)
+    return res, text
+
+
+def _peak_rss_mib(res, ranks):
+    if res["sum_rank_hwm_kib"]:
+        return res["sum_rank_hwm_kib"] / 1024.0
+    return res["max_rank_rss_kib"] / 1024.0 * ranks  # no /proc sampling: largest process times ranks
+
+
+# A run with a box and no particles: the memory a program holds before it has
+# any particles (its code, the shared libraries it loads, MPI's buffers).
+EMPTY_SCRIPT = """atom_style granular
+atom_modify map array
+boundary m m m
+region box block 0 1 0 1 0 1 units box
+create_box 1 box
+"""
+
+
+def startup_rss(exe, ranks, args):
+    """Peak RSS (MiB, summed over the ranks) of the program on EMPTY_SCRIPT."""
+    with tempfile.TemporaryDirectory(prefix="bench_empty_") as tmp:
+        script = os.path.join(tmp, "in.empty")
+        with open(script, "w") as f:
+            f.write(EMPTY_SCRIPT)
+        cmd = [exe, "-in", script, "-log", "none"]
+        if ranks > 1:
+            cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
+        res, _ = _measure(cmd, exe, args)
+    if "error" in res or res.get("returncode") != 0:
+        return None
+    if ranks == 1:  # exact; a run this short may end between two samples of /proc
+        return max(res["max_rank_rss_kib"], res["sum_rank_hwm_kib"] or 0) / 1024.0
+    return _peak_rss_mib(res, ranks)
+
+
+def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
+    """One run of one program; returns its row (with "error" on failure)."""
+    # the script's folder, for scripts that read files next to them (meshes, clumps)
+    cmd = [exe, "-in", script, "-log", "none", "-var", "dir", os.path.dirname(script)]
+    if nsteps is not None:
+        cmd += ["-var", "nsteps", str(nsteps)]
+    for name, value in args.var:
+        cmd += ["-var", name, value]
+    if ranks > 1:
+        cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
+    load_before = loadavg()
+    keep = None
+    if outdir:
+        keep = os.path.join(outdir, "%s_np%d%s.out" % (prog, ranks, "" if args.repeat == 1 else "_rep%d" % rep))
+    res, text = _measure(cmd, exe, args, keep)
     row = {"program": prog, "ranks": ranks, "command": " ".join(shlex.quote(c) for c in cmd),
            "load_average_before": load_before}
     if "error" in res:
@@ -328,12 +374,8 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
     row["cpu_sys_s"] = res["sys_s"]
     row["cpu_s"] = res["user_s"] + res["sys_s"]
     row["max_rank_rss_mib"] = res["max_rank_rss_kib"] / 1024.0
-    if res["sum_rank_hwm_kib"]:
-        row["peak_rss_mib"] = res["sum_rank_hwm_kib"] / 1024.0
-        row["rss_ranks_seen"] = res["nprocs_seen"]
-    else:  # no /proc sampling: fall back to the largest process times ranks
-        row["peak_rss_mib"] = row["max_rank_rss_mib"] * ranks
-        row["rss_ranks_seen"] = 0
+    row["peak_rss_mib"] = _peak_rss_mib(res, ranks)
+    row["rss_ranks_seen"] = res["nprocs_seen"] if res["sum_rank_hwm_kib"] else 0
     if "steps" not in row:
         row["error"] = "no 'Loop time' line in the output"
         row["output_tail"] = text[-2000:]
@@ -367,18 +409,20 @@ def write_markdown(heads, lines, out):
 
 def print_table(rows, out=sys.stdout):
     heads = ["program", "ranks", "particles", "steps", "wall s", "loop s", "CPU s", "particle-steps/s",
-             "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle"]
+             "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle", "start-up MiB",
+             "B/particle above start-up"]
     lines = []
     for r in rows:
         if "error" in r:
-            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 9)
+            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 11)
             continue
         lines.append([r["program"], str(r["ranks"]), fmt(r.get("particles"), "d"),
                       fmt(r.get("steps"), "d"), fmt(r.get("wall_s"), ".2f"),
                       fmt(r.get("loop_s"), ".2f"), fmt(r.get("cpu_s"), ".2f"),
                       fmt(r.get("particle_steps_per_s"), ".4g"),
                       fmt(r.get("speed_ratio"), ".2f"), fmt(r.get("speedup"), ".2f"),
-                      fmt(r.get("peak_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle"), ".0f")])
+                      fmt(r.get("peak_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle"), ".0f"),
+                      fmt(r.get("startup_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle_above_startup"), ".0f")])
     write_markdown(heads, lines, out)
 
 
@@ -521,6 +565,16 @@ def main(argv):
             ref = [b for b in ok if b["program"] == "liggghts" and b["ranks"] == r["ranks"]]
             if ref:
                 r["speed_ratio"] = r["particle_steps_per_s"] / ref[0]["particle_steps_per_s"]
+    # the memory each program holds before it has particles, and what the
+    # particles add on top of it
+    exes = dict(programs)
+    for r in ok:
+        if not r.get("particles"):
+            continue
+        start = startup_rss(exes[r["program"]], r["ranks"], args)
+        if start is not None:
+            r["startup_rss_mib"] = start
+            r["bytes_per_particle_above_startup"] = (r["peak_rss_mib"] - start) * 1048576.0 / r["particles"]
 
     print()
     for prog, _ in programs:
@@ -536,7 +590,8 @@ def main(argv):
     print("particle-steps/s = particles x steps / loop s; speed G/L = Granary / LIGGGHTS "
           "particle-steps/s at equal ranks;")
     print("speed-up = vs. 1 rank of the same program; CPU s = user + system time of all ranks;")
-    print("peak RSS = sum of the ranks' peak resident set sizes.")
+    print("peak RSS = sum of the ranks' peak resident set sizes; start-up = the same for a script with a box")
+    print("and no particles; B/particle above start-up = (peak RSS - start-up) / particles.")
     if any(r.get("time_split_s") for r in ok):
         print()
         print("time split (each section's mean over the ranks, s; LIGGGHTS 3.8 counts fixes under other;")

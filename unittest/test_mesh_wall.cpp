@@ -306,6 +306,47 @@ TEST_CASE("mesh/surface refuses missing, malformed, empty and degenerate files w
   CHECK(s.e.modify->find_fix("a") == nullptr);
 }
 
+TEST_CASE("mesh/surface reads ASCII STL in any case and several solids, and names the line of a mistake",
+          "[mesh]") {
+  ScriptEngine s;
+  s.cmds(scene());
+  const std::string facet =
+      " FACET NORMAL 0 0 1\n  OUTER LOOP\n   VERTEX 0 0 0\n   VERTEX 1 0 0\n   VERTEX 0 1 0\n  ENDLOOP\n"
+      " ENDFACET\n";
+  const std::string two = path("two_solids.stl");
+  std::ofstream(two)
+      << "SOLID a b c\n" + facet + "ENDSOLID a\nsolid\n" +
+             " facet normal 0 0 1\n outer loop\n vertex 1 0 0\n vertex 1 1 0.5\n vertex 0 1 0\n"
+             " endloop\n endfacet\nendsolid\n";
+  s.cmd("fix two all mesh/surface file " + two + " type 1");
+  const auto& mesh = mesh_fix(s, "two").mesh;
+  REQUIRE(mesh.ntri() == 2);
+  CHECK(mesh.corner(1, 1) == Vec3(1, 1, 0.5));
+  // single precision, as a binary STL holds the coordinates
+  std::ofstream(path("tenth.stl")) << "solid t\n facet normal 0 0 1\n outer loop\n vertex 0.1 0 0\n"
+                                      " vertex 1 0 0\n vertex 0 1 0\n endloop\n endfacet\nendsolid t\n";
+  s.cmd("fix tenth all mesh/surface file " + path("tenth.stl") + " type 1");
+  CHECK(mesh_fix(s, "tenth").mesh.corner(0, 0)[0] == static_cast<double>(0.1f));
+
+  auto refused = [&](const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+    return error_of(s, "fix bad all mesh/surface file " + path(name) + " type 1");
+  };
+  CHECK_THAT(refused("word.stl", "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 zero\n"),
+             Catch::Contains("line 4") && Catch::Contains("'zero' is not a finite number"));
+  CHECK_THAT(refused("quad.stl",
+                     "solid q\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n"
+                     " vertex 1 1 0\n vertex 0 1 0\n endloop\n endfacet\nendsolid q\n"),
+             Catch::Contains("line 7") && Catch::Contains("more than three vertices"));
+  CHECK_THAT(refused("noloop.stl", "solid n\n facet normal 0 0 1\n vertex 0 0 0\n"),
+             Catch::Contains("line 3") && Catch::Contains("expected 'outer', found 'vertex'"));
+  CHECK_THAT(refused("open.stl", "solid o\n" + facet), Catch::Contains("expected 'endsolid', found the end"));
+  CHECK_THAT(refused("blank.stl", "\n\n"), Catch::Contains("is empty"));
+  CHECK_THAT(refused("inf.stl", "solid i\n facet normal 0 0 1\n outer loop\n vertex 0 0 1e60\n"),
+             Catch::Contains("line 4") && Catch::Contains("'1e60' is not a finite number"));
+  CHECK(s.e.modify->find_fix("bad") == nullptr);
+}
+
 TEST_CASE("move/mesh linear moves the mesh by V t and a belt drags a sphere to 2/7 of its speed", "[mesh]") {
   // In the belt's frame the sphere slides backwards at V and ends rolling at
   // 5/7 of that (angular momentum about the contact point is conserved), so in

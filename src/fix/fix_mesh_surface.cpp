@@ -1,18 +1,12 @@
 #include "fix/fix_mesh_surface.h"
 
 #include <mpi.h>
-#include <vtkCallbackCommand.h>
-#include <vtkCellArray.h>
-#include <vtkCommand.h>
-#include <vtkIdList.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
-#include <vtkSTLReader.h>
-#include <vtkSmartPointer.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -35,34 +29,34 @@ const char* kUsage =
     "fix ID group mesh/surface file F.stl type T [scale S] [move dx dy dz] "
     "[rotate axis ax ay az angle DEG] [curvature_tolerant yes|no] [surface_vel VX VY VZ]";
 
-// VTK reports problems through error events: collect their text instead of
-// letting VTK print them.
-void collect_error(vtkObject*, unsigned long, void* client, void* call) {
-  auto* text = static_cast<std::string*>(client);
-  if (text->empty() && call) *text = static_cast<const char*>(call);
-}
-
 // A binary STL is an 80-byte header, a 32-bit little-endian triangle count N
 // and N records of 50 bytes: its size must be 84 + 50 N. A file cut inside its
 // last triangle would otherwise load with one triangle fewer and no message
-// (a hole in the wall), and a count larger than the file would make the reader
-// allocate for it. The reader (vtkSTLReader) takes a file for binary when 5 %
-// or more of its first 256 bytes are not text (bytes 0x20-0x7f, tab, CR, LF),
-// whatever it starts with; the same rule decides here, so every file it reads
-// as binary is checked. Returns "" or what is wrong.
-std::string check_binary_size(const std::string& file) {
+// (a hole in the wall), and a count larger than the file would make a reader
+// allocate for it. A file is binary when 5 % or more of its first 256 bytes
+// are not text (bytes 0x20-0x7f, tab, CR, LF), whatever it starts with (VTK's
+// STL reader, which ParaView uses, decides the same way).
+std::string stl_head(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   std::string head(256, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  return head;
+}
+
+bool is_binary_stl(const std::string& head) {
   std::size_t text = 0;
   for (const char c : head) {
     const auto u = static_cast<unsigned char>(c);
     if ((u >= 0x20 && u <= 0x7f) || c == '\n' || c == '\r' || c == '\t') ++text;
   }
-  const bool binary =
-      !head.empty() && static_cast<double>(head.size() - text) >= 0.05 * static_cast<double>(head.size());
-  if (!binary) return "";
+  return !head.empty() && static_cast<double>(head.size() - text) >= 0.05 * static_cast<double>(head.size());
+}
+
+// Returns "" or what is wrong with the size of a binary STL.
+std::string check_binary_size(const std::string& file) {
+  std::string head = stl_head(file);
+  if (!is_binary_stl(head)) return "";
   const std::size_t first = head.find_first_not_of(" \t\r\n");
   const std::string as =
       first != std::string::npos && head.compare(first, 5, "solid") == 0 &&
@@ -95,6 +89,131 @@ std::string check_binary_size(const std::string& file) {
          std::to_string(expect) + " bytes); the triangle count or the file is wrong";
 }
 
+// Coordinates are kept in single precision, as a binary STL holds them (and
+// as VTK's reader keeps those of ASCII files too): each number of an ASCII
+// file is rounded to the nearest float.
+const char* const kStlHint =
+    "; the file must be an ASCII STL (solid ... facet normal ... endsolid) or a binary STL";
+
+// The triangles of a binary STL whose size check_binary_size() accepted.
+std::string read_binary_stl(const std::string& file, std::vector<Vec3>& corners) {
+  std::ifstream in(file, std::ios::binary);
+  unsigned char head[84];
+  in.read(reinterpret_cast<char*>(head), 84);
+  const std::uint32_t n =
+      head[80] | (head[81] << 8) | (head[82] << 16) | (static_cast<std::uint32_t>(head[83]) << 24);
+  if (n == 0) return "STL file '" + file + "' holds no triangles" + kStlHint;
+  corners.reserve(3 * static_cast<std::size_t>(n));
+  unsigned char rec[50];
+  auto float_at = [&](int at) {
+    const std::uint32_t bits = rec[at] | (rec[at + 1] << 8) | (rec[at + 2] << 16) |
+                               (static_cast<std::uint32_t>(rec[at + 3]) << 24);  // little-endian
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return static_cast<double>(f);
+  };
+  for (std::uint32_t t = 0; t < n; ++t) {
+    if (!in.read(reinterpret_cast<char*>(rec), 50)) return "cannot read STL file '" + file + "'" + kStlHint;
+    for (int c = 0; c < 3; ++c)  // after the 12 bytes of the normal
+      corners.emplace_back(float_at(12 + 12 * c), float_at(16 + 12 * c), float_at(20 + 12 * c));
+  }
+  return "";
+}
+
+// The triangles of an ASCII STL: one or more solids of facets,
+//   solid NAME / facet normal NX NY NZ / outer loop / vertex X Y Z (three) /
+//   endloop / endfacet / ... / endsolid NAME
+// keywords in any case; a mistake is reported with its line.
+std::string read_ascii_stl(const std::string& file, std::vector<Vec3>& corners) {
+  std::ifstream in(file);
+  std::string line;
+  int lineno = 0;
+  std::vector<std::pair<std::string, int>> tokens;  // word, line
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string lower_first = [&] {
+      const std::size_t a = line.find_first_not_of(" \t\r");
+      std::string w = a == std::string::npos ? "" : line.substr(a, line.find_first_of(" \t\r", a) - a);
+      for (char& ch : w)
+        ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      return w;
+    }();
+    if (lower_first == "solid" || lower_first == "endsolid") {  // the name is the rest of the line
+      tokens.emplace_back(lower_first, lineno);
+      continue;
+    }
+    for (std::size_t k = 0; k < line.size();) {
+      const std::size_t a = line.find_first_not_of(" \t\r", k);
+      if (a == std::string::npos) break;
+      const std::size_t b = std::min(line.find_first_of(" \t\r", a), line.size());
+      tokens.emplace_back(line.substr(a, b - a), lineno);
+      k = b;
+    }
+  }
+  std::size_t at = 0;
+  auto where = [&](std::size_t i) {
+    return "STL file '" + file + "' line " + std::to_string(i < tokens.size() ? tokens[i].second : lineno);
+  };
+  auto keyword = [&](std::size_t i) {
+    std::string w = i < tokens.size() ? tokens[i].first : "";
+    for (char& ch : w)
+      ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return w;
+  };
+  auto found = [&](std::size_t i) {
+    return i < tokens.size() ? "'" + tokens[i].first + "'" : std::string("the end of the file");
+  };
+  std::string err;
+  auto expect = [&](const char* w) {
+    if (keyword(at) == w) {
+      ++at;
+      return true;
+    }
+    err = where(at) + ": expected '" + w + "', found " + found(at) + kStlHint;
+    return false;
+  };
+  auto number = [&](double& v) {
+    if (at >= tokens.size()) {
+      err = where(at) + ": expected a number, found the end of the file" + kStlHint;
+      return false;
+    }
+    const std::string& w = tokens[at].first;
+    char* end = nullptr;
+    const float f = std::strtof(w.c_str(), &end);
+    if (end == w.c_str() || *end != '\0' || !std::isfinite(f)) {
+      err = where(at) + ": '" + w + "' is not a finite number" + kStlHint;
+      return false;
+    }
+    v = f;
+    ++at;
+    return true;
+  };
+  if (tokens.empty()) return "STL file '" + file + "' is empty" + kStlHint;
+  while (at < tokens.size()) {
+    if (!expect("solid")) return err;
+    while (keyword(at) == "facet") {
+      ++at;
+      double nrm;
+      if (!expect("normal")) return err;
+      for (int c = 0; c < 3; ++c)
+        if (!number(nrm)) return err;
+      if (!expect("outer") || !expect("loop")) return err;
+      for (int c = 0; c < 3; ++c) {
+        Vec3 v;
+        if (!expect("vertex") || !number(v[0]) || !number(v[1]) || !number(v[2])) return err;
+        corners.push_back(v);
+      }
+      if (keyword(at) == "vertex") {
+        return where(at) + ": a facet with more than three vertices; only triangles are read" + kStlHint;
+      }
+      if (!expect("endloop") || !expect("endfacet")) return err;
+    }
+    if (!expect("endsolid")) return err;
+  }
+  if (corners.empty()) return "STL file '" + file + "' holds no triangles" + kStlHint;
+  return "";
+}
+
 // Rank 0: read the triangle corners of an STL file (ASCII or binary); returns
 // "" or what is wrong, with the way to fix it.
 std::string read_stl(const std::string& file, std::vector<Vec3>& corners) {
@@ -104,42 +223,9 @@ std::string read_stl(const std::string& file, std::vector<Vec3>& corners) {
   if (!fs::is_regular_file(file, ec)) return "'" + file + "' is not a regular file";
   if (!std::ifstream(file, std::ios::binary)) return "cannot open STL file '" + file + "' for reading";
   if (std::string why = check_binary_size(file); !why.empty()) return why;
-  std::string vtk_error;
-  auto observer = vtkSmartPointer<vtkCallbackCommand>::New();
-  observer->SetCallback(collect_error);
-  observer->SetClientData(&vtk_error);
-  auto reader = vtkSmartPointer<vtkSTLReader>::New();
-  reader->AddObserver(vtkCommand::ErrorEvent, observer);
-  reader->AddObserver(vtkCommand::WarningEvent, observer);
-  reader->SetMerging(0);  // corners are merged by TriMesh, which also detects degenerate triangles
-  reader->SetFileName(file.c_str());
-  const int display = vtkObject::GetGlobalWarningDisplay();
-  vtkObject::GlobalWarningDisplayOff();  // pipeline messages: the error below says it all
-  reader->Update();
-  vtkObject::SetGlobalWarningDisplay(display);
-  vtkPolyData* poly = reader->GetOutput();
-  const std::string fix_hint =
-      "; the file must be an ASCII STL (solid ... facet normal ... endsolid) or a binary STL";
-  if (!vtk_error.empty() || reader->GetErrorCode() != 0) {
-    // keep the first line of VTK's message
-    std::string why = vtk_error.substr(0, vtk_error.find('\n'));
-    return "cannot read STL file '" + file + "'" + (why.empty() ? "" : " (" + why + ")") + fix_hint;
-  }
-  vtkCellArray* polys = poly ? poly->GetPolys() : nullptr;
-  if (!polys || polys->GetNumberOfCells() == 0)
-    return "STL file '" + file + "' holds no triangles" + fix_hint;
-  vtkPoints* pts = poly->GetPoints();
-  auto ids = vtkSmartPointer<vtkIdList>::New();
-  polys->InitTraversal();
-  while (polys->GetNextCell(ids)) {
-    if (ids->GetNumberOfIds() != 3)
-      return "STL file '" + file + "' has a facet that is not a triangle" + fix_hint;
-    for (int c = 0; c < 3; ++c) {
-      double v[3];
-      pts->GetPoint(ids->GetId(c), v);
-      corners.emplace_back(v[0], v[1], v[2]);
-    }
-  }
+  const std::string why =
+      is_binary_stl(stl_head(file)) ? read_binary_stl(file, corners) : read_ascii_stl(file, corners);
+  if (!why.empty()) return why;
   for (const Vec3& v : corners)
     if (!v.allFinite()) return "STL file '" + file + "' has a corner that is not a finite number";
   return "";
