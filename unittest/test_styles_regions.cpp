@@ -296,6 +296,84 @@ TEST_CASE("region surfaces: nearest points of each face inside, of the shape out
   check("po", Vec3(3, 4, 1.5), 1.0, {});
 }
 
+TEST_CASE("region cone and prism pick the lattice points LIGGGHTS 3.8 picks", "[region]") {
+  // a simple cubic lattice of 8000 points, shifted off the shapes' boundaries;
+  // the group counts are LIGGGHTS 3.8's for the same script
+  Sim s;
+  s.cmds({"units si", "atom_style granular", "atom_modify map array", "boundary f f f",
+          "region box block -1 1 -1 1 -1 1 units box", "create_box 1 box",
+          "lattice sc 0.1 origin 0.123 0.271 0.377", "region c1 cone z 0.05 -0.1 0.6 0.2 -0.7 0.8 units box",
+          "region c2 cone x 0.1 0.0 0.0 0.5 -0.5 0.5 units box",
+          "region c3 cone y 0 0 0.3 0.3 INF INF units box",
+          "region c4 cone z 0 0 0.5 0.1 -0.5 0.5 side out units box",
+          "region p1 prism -0.5 0.5 -0.4 0.4 -0.3 0.6 0.3 -0.2 0.25 units box",
+          "region p2 prism -0.6 0.2 -0.5 0.5 -0.5 0.5 0 0 0 units box",
+          "region p3 prism 0 5 0 4 0 3 1 0.5 -1 units lattice", "create_atoms 1 box"});
+  REQUIRE(s.count("all") == 8000);
+  const std::vector<std::pair<std::string, long long>> liggghts = {
+      {"c1", 829}, {"c2", 234}, {"c3", 560}, {"c4", 7670}, {"p1", 720}, {"p2", 800}, {"p3", 60}};
+  for (const auto& [id, n] : liggghts) {
+    s.cmd("group g_" + id + " region " + id);
+    INFO("region " << id);
+    CHECK(s.count("g_" + id) == n);
+  }
+  // the volumes: a lattice point per 1e-3 m^3 (within the count's discreteness)
+  CHECK(s.region("c1")->volume() == Approx(M_PI * 1.5 * (0.36 + 0.12 + 0.04) / 3).epsilon(1e-12));
+  CHECK(829 * 1e-3 == Approx(s.region("c1")->volume()).epsilon(0.03));
+  CHECK(s.region("p1")->volume() == Approx(0.72).epsilon(1e-12));
+  Vec3 lo, hi;
+  REQUIRE(s.region("p1")->bounds(lo, hi));  // corners o + i A + j B + k C
+  CHECK(lo.isApprox(Vec3(-0.7, -0.4, -0.3)));
+  CHECK(hi.isApprox(Vec3(0.8, 0.65, 0.6)));
+  CHECK_FALSE(s.region("c3")->bounds(lo, hi));  // INF along its axis
+  CHECK_FALSE(s.region("c4")->bounds(lo, hi));  // side out
+}
+
+TEST_CASE("region cone: the surface points fix wall/region acts from", "[region]") {
+  // radius 1 at z = 0, 0.5 at z = 2; in the (rho, z) half-plane the slanted
+  // face runs from (1, 0) to (0.5, 2)
+  Sim s;
+  s.cmds({"region k cone z 0 0 1 0.5 0 2", "region ko cone z 0 0 1 0.5 0 2 side out",
+          "region apex cone x 0 0 0 1 0 1"});
+  std::vector<granary::Region::SurfacePoint> pts;
+  const double len = std::sqrt(4.25);
+  const Vec3 out_n(2 / len, 0, 0.5 / len);  // outward normal of the slanted face at azimuth 0
+  // inside, at (0.5, 0, 1): the slanted face at 0.5/sqrt(4.25), both ends at 1
+  s.region("k")->surface(Vec3(0.5, 0, 1), 1.5, pts);
+  REQUIRE(pts.size() == 3);
+  CHECK(pts[0].r == Approx(0.5 / len).epsilon(1e-14));
+  CHECK((pts[0].del + pts[0].r * out_n).norm() < 1e-14);
+  CHECK(pts[1].r == 1.0);
+  CHECK(pts[1].del == Vec3(0, 0, 1));
+  CHECK(pts[2].r == 1.0);
+  CHECK(pts[2].del == Vec3(0, 0, -1));
+  s.region("k")->surface(Vec3(0.5, 0, 1), 0.2, pts);  // all farther than the cutoff
+  CHECK(pts.empty());
+  // the same at azimuth 90 degrees
+  s.region("k")->surface(Vec3(0, 0.5, 1), 0.3, pts);
+  REQUIRE(pts.size() == 1);
+  CHECK((pts[0].del + pts[0].r * Vec3(0, 2 / len, 0.5 / len)).norm() < 1e-14);
+  // outside, beside the slanted face: its foot at (rho, z) = (1, 0) + t (-0.5, 2), t = 1.5/4.25
+  s.region("ko")->surface(Vec3(2, 0, 1), 3.0, pts);
+  REQUIRE(pts.size() == 1);
+  const double t = 1.5 / 4.25;
+  const Vec3 foot(1 - 0.5 * t, 0, 2 * t);
+  CHECK((pts[0].del - (Vec3(2, 0, 1) - foot)).norm() < 1e-14);
+  CHECK(pts[0].r == Approx((Vec3(2, 0, 1) - foot).norm()).epsilon(1e-14));
+  // outside, below the base and beyond the rim: the rim
+  s.region("ko")->surface(Vec3(0, -1.6, -0.8), 3.0, pts);
+  REQUIRE(pts.size() == 1);
+  CHECK((pts[0].del - Vec3(0, -0.6, -0.8)).norm() < 1e-14);
+  // outside, above the top face: straight down onto it
+  s.region("ko")->surface(Vec3(0.1, 0.2, 2.5), 3.0, pts);
+  REQUIRE(pts.size() == 1);
+  CHECK((pts[0].del - Vec3(0, 0, 0.5)).norm() < 1e-14);
+  // a cone with its apex at x = 0 has no end face there
+  s.region("apex")->surface(Vec3(0.5, 0.1, 0), 2.0, pts);
+  REQUIRE(pts.size() == 2);  // the slanted face and the base at x = 1
+  CHECK(pts[1].del == Vec3(-0.5, 0, 0));
+}
+
 TEST_CASE("region input errors", "[region]") {
   Sim s;
   CHECK_THROWS_WITH(s.cmd("region b block 0 1 0 1 0"), Contains("6 arguments"));

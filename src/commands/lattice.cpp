@@ -15,8 +15,8 @@ namespace {
 using namespace particle_commands;
 
 void cmd_lattice(Engine& e, const Args& a) {
-  const char* usage = "lattice none [SCALE] | lattice sc|bcc|fcc SCALE";
-  require_args(a, 1, 2, usage);
+  const char* usage = "lattice none [SCALE] | lattice sc|bcc|fcc SCALE [origin X Y Z]";
+  if (a.empty()) throw InputError("lattice needs a style; usage: " + std::string(usage));
   Domain& dom = *e.domain;
   const std::string& style = a[0];
   std::vector<Vec3> basis;
@@ -32,10 +32,31 @@ void cmd_lattice(Engine& e, const Args& a) {
     throw InputError("unknown lattice style '" + style + "'" + (hint.empty() ? "" : "; " + hint) +
                      "; usage: " + usage);
   }
-  if (style != "none" && a.size() != 2) {
+  if (style == "none") {
+    require_args(a, 1, 2, usage);
+  } else if (a.size() < 2) {
     throw InputError("lattice " + style + " needs the lattice constant; usage: " + usage);
   }
-  const double scale = a.size() == 2 ? parse_double(a[1], "the lattice constant") : 1.0;
+  // origin X Y Z: the lattice shifted by these fractions of a cell (each in [0, 1))
+  Vec3 origin = Vec3::Zero();
+  for (std::size_t k = 2; k < a.size();) {
+    if (a[k] != "origin") {
+      throw InputError("unknown lattice keyword '" + a[k] + "'; usage: " + usage);
+    }
+    if (k + 3 >= a.size())
+      throw InputError("lattice origin needs three values; usage: " + std::string(usage));
+    for (int d = 0; d < 3; ++d) {
+      origin[d] = parse_double(a[k + 1 + d], "lattice origin");
+      if (!(origin[d] >= 0.0 && origin[d] < 1.0)) {
+        throw InputError("lattice origin values are fractions of a cell in [0, 1), got '" + a[k + 1 + d] +
+                         "'");
+      }
+    }
+    k += 4;
+  }
+  for (Vec3& b : basis)
+    b += origin;
+  const double scale = a.size() >= 2 ? parse_double(a[1], "the lattice constant") : 1.0;
   if (!(scale > 0.0)) throw InputError("the lattice constant must be positive, got '" + a[1] + "'");
   dom.lattice_style = style;
   dom.lattice_basis = basis;

@@ -106,7 +106,7 @@ double Region::length(const std::string& word, int dim) const {
 
 void Region::surface_interior(const Vec3&, double, std::vector<SurfacePoint>&) const {
   throw InputError("region " + id + " (" + style +
-                   ") has no surface for walls; use a block, cylinder, sphere or plane");
+                   ") has no surface for walls; use a block, cylinder, cone, sphere or plane");
 }
 
 void Region::surface_exterior(const Vec3& x, double cutoff, std::vector<SurfacePoint>& out) const {

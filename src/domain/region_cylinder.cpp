@@ -40,12 +40,7 @@ class RegionCylinder : public Region {
 
   bool bounds(Vec3& lo, Vec3& hi) const override {
     if (!interior || unbounded()) return false;
-    lo[a_] = c1_ - radius_;
-    hi[a_] = c1_ + radius_;
-    lo[b_] = c2_ - radius_;
-    hi[b_] = c2_ + radius_;
-    lo[axis_] = lo_;
-    hi[axis_] = hi_;
+    region_util::axial_bounds(axis_, a_, b_, c1_, c2_, radius_, lo_, hi_, lo, hi);
     return true;
   }
 
