@@ -296,22 +296,34 @@ TEST_CASE("region surfaces: nearest points of each face inside, of the shape out
   check("po", Vec3(3, 4, 1.5), 1.0, {});
 }
 
-TEST_CASE("region cone and prism pick the lattice points LIGGGHTS 3.8 picks", "[region]") {
+TEST_CASE("region cone, prism and wedge pick the lattice points LIGGGHTS 3.8 picks", "[region]") {
   // a simple cubic lattice of 8000 points, shifted off the shapes' boundaries;
   // the group counts are LIGGGHTS 3.8's for the same script
   Sim s;
-  s.cmds({"units si", "atom_style granular", "atom_modify map array", "boundary f f f",
-          "region box block -1 1 -1 1 -1 1 units box", "create_box 1 box",
-          "lattice sc 0.1 origin 0.123 0.271 0.377", "region c1 cone z 0.05 -0.1 0.6 0.2 -0.7 0.8 units box",
+  s.cmds({"units si",
+          "atom_style granular",
+          "atom_modify map array",
+          "boundary f f f",
+          "region box block -1 1 -1 1 -1 1 units box",
+          "create_box 1 box",
+          "lattice sc 0.1 origin 0.123 0.271 0.377",
+          "region c1 cone z 0.05 -0.1 0.6 0.2 -0.7 0.8 units box",
           "region c2 cone x 0.1 0.0 0.0 0.5 -0.5 0.5 units box",
           "region c3 cone y 0 0 0.3 0.3 INF INF units box",
           "region c4 cone z 0 0 0.5 0.1 -0.5 0.5 side out units box",
           "region p1 prism -0.5 0.5 -0.4 0.4 -0.3 0.6 0.3 -0.2 0.25 units box",
           "region p2 prism -0.6 0.2 -0.5 0.5 -0.5 0.5 0 0 0 units box",
-          "region p3 prism 0 5 0 4 0 3 1 0.5 -1 units lattice", "create_atoms 1 box"});
+          "region p3 prism 0 5 0 4 0 3 1 0.5 -1 units lattice",
+          "region w1 wedge axis y center 0 0 radius 0.9 bounds -0.5 0.5 angle0 -22.5 angle 45 units box",
+          "region w2 wedge axis z center 0.1 -0.2 radius 0.7 bounds -0.8 0.6 angle0 100 angle 200 units box",
+          "region w3 wedge axis x center 0.05 0.1 radius 0.8 bounds -0.9 0.9 angle0 300 angle 120 units box",
+          "region w4 wedge axis z center 0 0 radius 0.6 bounds INF INF angle0 45 angle 90 side out units box",
+          "region w5 wedge axis x center 0 0 radius 5 bounds 0 5 angle0 10 angle 30 units lattice",
+          "create_atoms 1 box"});
   REQUIRE(s.count("all") == 8000);
   const std::vector<std::pair<std::string, long long>> liggghts = {
-      {"c1", 829}, {"c2", 234}, {"c3", 560}, {"c4", 7670}, {"p1", 720}, {"p2", 800}, {"p3", 60}};
+      {"c1", 829}, {"c2", 234}, {"c3", 560},  {"c4", 7670}, {"p1", 720},  {"p2", 800},
+      {"p3", 60},  {"w1", 330}, {"w2", 1232}, {"w3", 1206}, {"w4", 7400}, {"w5", 30}};
   for (const auto& [id, n] : liggghts) {
     s.cmd("group g_" + id + " region " + id);
     INFO("region " << id);
@@ -321,6 +333,14 @@ TEST_CASE("region cone and prism pick the lattice points LIGGGHTS 3.8 picks", "[
   CHECK(s.region("c1")->volume() == Approx(M_PI * 1.5 * (0.36 + 0.12 + 0.04) / 3).epsilon(1e-12));
   CHECK(829 * 1e-3 == Approx(s.region("c1")->volume()).epsilon(0.03));
   CHECK(s.region("p1")->volume() == Approx(0.72).epsilon(1e-12));
+  CHECK(s.region("w2")->volume() == Approx(M_PI * 0.49 * 1.4 * 200 / 360).epsilon(1e-12));
+  CHECK(1232 * 1e-3 == Approx(s.region("w2")->volume()).epsilon(0.03));
+  CHECK_THROWS_WITH(s.cmd("region bad wedge axis z centre 0 0 radius 1 bounds 0 1 angle0 0 angle 90"),
+                    Contains("expected 'center'"));
+  CHECK_THROWS_WITH(s.cmd("region bad wedge axis z center 0 0 radius 1 bounds 0 1 angle0 0 angle 400"),
+                    Contains("(0, 360]"));
+  CHECK_THROWS_WITH(s.cmd("region bad cone z 0 0 1 0.5 INF INF"), Contains("equal radii"));
+  CHECK_THROWS_WITH(s.cmd("region bad prism INF INF 0 1 0 1 0.5 0 0"), Contains("finite bounds"));
   Vec3 lo, hi;
   REQUIRE(s.region("p1")->bounds(lo, hi));  // corners o + i A + j B + k C
   CHECK(lo.isApprox(Vec3(-0.7, -0.4, -0.3)));
