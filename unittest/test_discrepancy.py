@@ -96,21 +96,13 @@ CASES = {
 
 def make_data(case, tools, granary, src, path):
     sys.path.insert(0, tools)
-    from discrepancy_lib import inputs, runner
+    from discrepancy_lib import inputs, runner, synthetic
     c = CASES[case]
     model = inputs.Model(os.path.join(src, "examples", "discrepancy", c["example"], "model.json"))
     rng = np.random.default_rng(c["seed"])
     name, lo, hi = c["hidden_param"]
     true = lo if lo == hi else float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
-    settings = []
-    cvar = model.conditions[c["condition"]]
-    for level in c["levels"]:
-        s = dict(model.set)
-        s.update(c["fixed"])
-        s.update(c["hidden_set"])
-        s[name] = true
-        s[cvar] = float(level)
-        settings.append(s)
+    settings = synthetic.hidden_settings(model, c["condition"], c["levels"], c["hidden_set"], name, true, c["fixed"])
     res = runner.Runner(granary, model, jobs=2).run_many(settings)
     observables = c.get("observables", {c.get("observable"): c.get("sigma")})
     with open(path, "w", newline="") as f:
@@ -345,18 +337,11 @@ def main():
         ex = os.path.join(src, "examples", "discrepancy", c["example"])
         cand_path = os.path.join(ex, "candidates.json")
         if "candidates" in c:  # a subset of the example's catalogue, to keep the test short
-            with open(cand_path) as f:
-                cat = json.load(f)
-            cat["candidates"] = [k for k in cat["candidates"] if k["name"] in c["candidates"]]
-            for k in cat["candidates"]:  # continuous parameters tried at a few values only
-                for prm in k.get("params", []):
-                    if prm["name"] in c.get("choices", {}):
-                        for key in ("lower", "upper", "scale", "initial"):
-                            prm.pop(key, None)
-                        prm["choices"] = c["choices"][prm["name"]]
-            cand_path = os.path.join(tmp, "candidates.json")
-            with open(cand_path, "w") as f:
-                json.dump(cat, f)
+            # continuous parameters tried at a few values only
+            sys.path.insert(0, tools)
+            from discrepancy_lib import synthetic
+            cand_path = synthetic.catalogue_subset(cand_path, c["candidates"], os.path.join(tmp, "candidates.json"),
+                                                   c.get("choices"))
         out = os.path.join(tmp, "report")
         cmd = ["/usr/bin/python3", os.path.join(tools, "discrepancy"), "--data", data_path,
                "--model", os.path.join(ex, "model.json"), "--candidates", cand_path,
