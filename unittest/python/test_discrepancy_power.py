@@ -27,37 +27,36 @@ def record(case, seed, named, status="cause named"):
             "named": named, "correct": correct}
 
 
+def output_of(fn, recs):
+    """fn(path) on a results file holding recs: (its return value, what it printed)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "r.jsonl")
+        with open(path, "w") as f:
+            for r in recs:
+                f.write(json.dumps(r) + "\n")
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out):
+            value = fn(path)
+    return value, out.getvalue()
+
+
 class Tally(unittest.TestCase):
     def test_rates_per_case(self):
         recs = [record("cohesion", 1, "cohesion sjkr"), record("cohesion", 2, None, "discrepancy not explained"),
                 record("cohesion", 3, "viscoelastic damping"), record("null", 1, None, "no significant discrepancy"),
                 record("null", 2, "cohesion sjkr")]
-        with tempfile.TemporaryDirectory() as tmp:
-            path = os.path.join(tmp, "r.jsonl")
-            with open(path, "w") as f:
-                for r in recs:
-                    f.write(json.dumps(r) + "\n")
-            out = io.StringIO()
-            with contextlib.redirect_stdout(out):
-                rates = dp.summary(path)
+        rates, out = output_of(dp.summary, recs)
         self.assertEqual(rates, {"cohesion": (1, 3), "null": (1, 2)})
-        self.assertIn("viscoelastic damping", out.getvalue())
-        self.assertIn("discrepancy not explained", out.getvalue())
+        self.assertIn("viscoelastic damping", out)
+        self.assertIn("discrepancy not explained", out)
 
     def test_markdown_has_a_row_per_record(self):
         recs = [dict(record("rolling", 1, "rolling friction cdt"), param="mur", true=0.05, baseline_chi2_red=4.0,
                      gain=2.9, fitted=0.048, runs=500, seconds=300.0),
                 dict(record("null", 1, None, "no significant discrepancy"), param="e", true=0.8,
                      baseline_chi2_red=0.9, gain=None, runs=900, seconds=400.0)]
-        with tempfile.TemporaryDirectory() as tmp:
-            path = os.path.join(tmp, "r.jsonl")
-            with open(path, "w") as f:
-                for r in recs:
-                    f.write(json.dumps(r) + "\n")
-            out = io.StringIO()
-            with contextlib.redirect_stdout(out):
-                dp.markdown(path)
-        lines = out.getvalue().splitlines()
+        _, out = output_of(dp.markdown, recs)
+        lines = out.splitlines()
         self.assertEqual(len(lines), 2 + len(recs))
         self.assertIn("| rolling | 1 | mur = 0.05 | 4.00 | cause named | rolling friction cdt | 2.90 | 0.048 |", lines[2])
         self.assertIn("| null | 1 | e = 0.8 | 0.90 | no significant discrepancy | - | - | - |", lines[3])
