@@ -139,7 +139,7 @@ void cmd_set(Engine& e, const Args& a) {
     }
     if (std::find(keys.begin(), keys.end(), s.key) == keys.end()) {
       const std::string hint = did_you_mean(s.key, keys);
-      throw InputError("unknown set keyword '" + s.key + "'" + (hint.empty() ? "" : "; " + hint) +
+      throw InputError("unknown keyword '" + s.key + "'" + (hint.empty() ? "" : "; " + hint) +
                        "; usage: " + usage);
     }
     if (k + nval >= a.size()) {
