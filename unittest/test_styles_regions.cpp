@@ -339,6 +339,9 @@ TEST_CASE("region cone, prism and wedge pick the lattice points LIGGGHTS 3.8 pic
                     Contains("expected 'center'"));
   CHECK_THROWS_WITH(s.cmd("region bad wedge axis z center 0 0 radius 1 bounds 0 1 angle0 0 angle 400"),
                     Contains("(0, 360]"));
+  CHECK_THROWS_WITH(s.cmd("lattice sc 0.1 origin 1.2 0 0"), Contains("[0, 1)"));
+  CHECK_THROWS_WITH(s.cmd("lattice sc 0.1 origin 0.5 0.5"), Contains("three values"));
+  CHECK_THROWS_WITH(s.cmd("lattice sc 0.1 orient x 1 0 0"), Contains("unknown lattice keyword 'orient'"));
   CHECK_THROWS_WITH(s.cmd("region bad cone z 0 0 1 0.5 INF INF"), Contains("equal radii"));
   CHECK_THROWS_WITH(s.cmd("region bad prism INF INF 0 1 0 1 0.5 0 0"), Contains("finite bounds"));
   Vec3 lo, hi;
