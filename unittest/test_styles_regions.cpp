@@ -6,6 +6,8 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -395,6 +397,163 @@ TEST_CASE("region cone: the surface points fix wall/region acts from", "[region]
   s.region("apex")->surface(Vec3(0.5, 0.1, 0), 2.0, pts);
   REQUIRE(pts.size() == 2);  // the slanted face and the base at x = 1
   CHECK(pts[1].del == Vec3(-0.5, 0, 0));
+}
+
+namespace {
+
+// A unit cube in the six tetrahedra around its diagonal 0-7 and a tetrahedron
+// standing on the face (4 5 7) of one of them, with a vertex, a line and a
+// triangle cell beside them (skipped), as gmsh writes its meshes.
+const char* kTetMesh = R"(# vtk DataFile Version 2.0
+unit cube in six tetrahedra and a tetrahedron on top
+ASCII
+DATASET UNSTRUCTURED_GRID
+POINTS 9 double
+0 0 0
+1 0 0
+0 1 0
+1 1 0
+0 0 1
+1 0 1
+0 1 1
+1 1 1
+0.8 0.3 1.6
+CELLS 10 41
+1 0
+2 0 7
+3 0 1 3
+4 0 1 3 7
+4 0 1 5 7
+4 0 4 5 7
+4 0 2 3 7
+4 0 2 6 7
+4 0 4 6 7
+4 4 5 7 8
+CELL_TYPES 10
+1
+3
+5
+10
+10
+10
+10
+10
+10
+10
+)";
+
+std::string write_text(const std::string& dir, const std::string& name, const std::string& text) {
+  const std::string file = dir + "/" + name;
+  std::ofstream(file) << text;
+  return file;
+}
+
+}  // namespace
+
+TEST_CASE("region mesh/tet picks the lattice points LIGGGHTS 3.8 picks, moved, scaled and rotated",
+          "[region]") {
+  const std::string dir = granary::test::shared_temp_dir("granary_mesh_tet_");
+  const std::string mesh = write_text(dir, "tets.vtk", kTetMesh);
+  Sim s;
+  s.cmds({"units si", "atom_style granular", "atom_modify map array", "boundary f f f",
+          "region box block -1 2 -1 2 -1 2 units box", "create_box 1 box",
+          "lattice sc 0.1 origin 0.123 0.271 0.377",
+          "region t1 mesh/tet file " + mesh + " scale 1 move 0 0 0 rotate 0 0 0 units box",
+          "region t2 mesh/tet file " + mesh + " scale 0.8 move 0.1 -0.2 0.05 rotate 10 20 30 units box",
+          "region t3 mesh/tet file " + mesh + " scale 1.3 move -0.5 -0.5 -0.5 rotate 0 0 45 units box",
+          "region t4 mesh/tet file " + mesh + " scale 1 move 0 0 0 rotate 0 0 90 side out units box",
+          "create_atoms 1 box"});
+  REQUIRE(s.count("all") == 27000);
+  // LIGGGHTS 3.8's group counts for the same script and file
+  const std::vector<std::pair<std::string, long long>> liggghts = {
+      {"t1", 1111}, {"t2", 563}, {"t3", 2415}, {"t4", 25891}};
+  for (const auto& [id, n] : liggghts) {
+    s.cmd("group g_" + id + " region " + id);
+    INFO("region " << id);
+    CHECK(s.count("g_" + id) == n);
+  }
+  // volume: the cube and the tetrahedron on top (0.5 x 0.6 / 3 = 0.1), times scale^3
+  CHECK(s.region("t1")->volume() == Approx(1.1).epsilon(1e-12));
+  CHECK(s.region("t2")->volume() == Approx(0.512 * 1.1).epsilon(1e-12));
+  CHECK(1111 * 1e-3 == Approx(s.region("t1")->volume()).epsilon(0.03));
+  CHECK(s.region("t4")->volume() == -1.0);
+  Vec3 lo, hi;
+  REQUIRE(s.region("t1")->bounds(lo, hi));
+  CHECK(lo.isApprox(Vec3(0, 0, 0)));
+  CHECK(hi.isApprox(Vec3(1, 1, 1.6)));
+  // t3: moved by -0.5, scaled by 1.3, turned 45 degrees about z: the cube's
+  // corner (1, 1, 1) goes to (0, 0.65 sqrt 2, 0.65)
+  REQUIRE(s.region("t3")->bounds(lo, hi));
+  CHECK(hi[1] == Approx(0.65 * std::sqrt(2.0)).epsilon(1e-12));
+  CHECK_FALSE(s.region("t4")->bounds(lo, hi));
+  // points on faces: between two tetrahedra inside (the diagonal, a shared
+  // face, the face under the top tetrahedron), on the mesh's surface outside
+  granary::Region& t1 = *s.region("t1");
+  CHECK(t1.match(Vec3(0.5, 0.5, 0.5)));        // on the diagonal 0-7, an edge of all six
+  CHECK(t1.match(Vec3(0.6, 0.3, 0.3)));        // on the face (0 1 7) between two tetrahedra
+  CHECK(t1.match(Vec3(0.7, 0.2, 1.0)));        // on the face (4 5 7) under the top one
+  CHECK_FALSE(t1.match(Vec3(0.2, 0.7, 1.0)));  // on the cube's top, beside the top tetrahedron
+  CHECK_FALSE(t1.match(Vec3(0.5, 0.5, 0.0)));  // on the bottom face
+  CHECK_FALSE(t1.match(Vec3(0, 0, 0)));        // a corner
+  CHECK_FALSE(t1.match(Vec3(1, 0.5, 0.5)));    // on a side
+  CHECK(t1.match(Vec3(0.8, 0.3, 1.5)));        // inside the top tetrahedron
+  CHECK_FALSE(t1.match(Vec3(0.2, 0.8, 1.5)));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("region mesh/tet refuses bad files and arguments", "[region]") {
+  const std::string dir = granary::test::shared_temp_dir("granary_mesh_tet_err_");
+  const std::string text = kTetMesh;
+  Sim s;
+  s.cmds({"units si", "atom_style granular", "boundary f f f", "region box block -1 2 -1 2 -1 2 units box",
+          "create_box 1 box"});
+  auto region = [&](const std::string& file) {
+    s.cmd("region m mesh/tet file " + file + " scale 1 move 0 0 0 rotate 0 0 0");
+  };
+  auto with = [&](const std::string& name, const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return write_text(dir, name, t);
+  };
+  CHECK_THROWS_WITH(region(dir + "/none.vtk"), Contains("does not exist"));
+  // cut inside the cell types, inside the cells, inside the points
+  CHECK_THROWS_WITH(region(write_text(dir, "cut1.vtk", text.substr(0, text.size() - 9))),
+                    Contains("line 33: the file ends after 7 of its 10 cell types (a truncated file?)"));
+  CHECK_THROWS_WITH(region(write_text(dir, "cut2.vtk", text.substr(0, text.find("4 0 4 6 7")))),
+                    Contains("the file ends after 8 of its 10 cells (a truncated file?)"));
+  CHECK_THROWS_WITH(region(write_text(dir, "cut3.vtk", text.substr(0, text.find("0.8 0.3")))),
+                    Contains("the file ends after 8 of its 9 points (a truncated file?)"));
+  CHECK_THROWS_WITH(region(with("bin.vtk", "ASCII", "BINARY")), Contains("reads ASCII files only"));
+  CHECK_THROWS_WITH(
+      region(with("poly.vtk", "UNSTRUCTURED_GRID", "POLYDATA")),
+      Contains("line 4: the dataset is 'POLYDATA'; region mesh/tet needs an UNSTRUCTURED_GRID"));
+  CHECK_THROWS_WITH(region(with("index.vtk", "4 4 5 7 8", "4 4 5 7 9")),
+                    Contains("line 25: cell 9 uses point 9 but there are 9 points (0..8)"));
+  CHECK_THROWS_WITH(region(with("types.vtk", "CELL_TYPES 10", "CELL_TYPES 9")),
+                    Contains("CELL_TYPES has 9 entries but CELLS has 10"));
+  CHECK_THROWS_WITH(region(with("number.vtk", "0.8 0.3 1.6", "0.8 x 1.6")),
+                    Contains("line 14: 'x' is not a finite number (point 8)"));
+  CHECK_THROWS_WITH(region(with("head.vtk", "# vtk DataFile", "# VTK file")), Contains("line 1: expected"));
+  {
+    std::string t = text;  // every cell type 5: triangles only
+    const std::size_t at = t.find("CELL_TYPES 10\n") + 14;
+    t = t.substr(0, at) + "1\n3\n5\n5\n5\n5\n5\n5\n5\n5\n";
+    CHECK_THROWS_WITH(region(write_text(dir, "notets.vtk", t)), Contains("holds no tetrahedra"));
+  }
+  CHECK_THROWS_WITH(region(with("flat.vtk", "0.8 0.3 1.6", "0.8 0.3 1.0")),
+                    Contains("tetrahedron 6 of '" + dir + "/flat.vtk' is flat"));
+  const std::string mesh = write_text(dir, "tets.vtk", text);
+  CHECK_THROWS_WITH(s.cmd("region m mesh/tet file " + mesh + " scale 1 move 0 0 0 turn 0 0 0"),
+                    Contains("expected 'rotate' at argument 11, found 'turn'"));
+  CHECK_THROWS_WITH(s.cmd("region m mesh/tet file " + mesh + " move 0 0 0 rotate 0 0 0"),
+                    Contains("needs 12 arguments"));
+  CHECK_THROWS_WITH(s.cmd("region m mesh/tet file " + mesh + " scale 0 move 0 0 0 rotate 0 0 0"),
+                    Contains("scale must be positive"));
+  s.cmd("lattice sc 0.1");
+  CHECK_THROWS_WITH(
+      s.cmd("region m mesh/tet file " + mesh + " scale 1 move 0 0 0 rotate 0 0 0 units lattice"),
+      Contains("use units box"));
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("region input errors", "[region]") {
