@@ -1,4 +1,4 @@
-// Tests of the tangential (history, no_history) and rolling (cdt, epsd2)
+// Tests of the tangential (history, no_history) and rolling (cdt, epsd2, epsd, epsd3)
 // sub-models called directly on prescribed contact states: Coulomb limit,
 // stick stiffness and damping, rolling torque laws, and the consistency of
 // history_swap_signs when a contact is evaluated as (j,i) instead of (i,j).
@@ -284,6 +284,65 @@ TEST_CASE("Rolling epsd2: spring k_r = kt R*^2 up to mu_r R* |Fn|", "[contact][r
   }
 }
 
+TEST_CASE("Rolling epsd and epsd3: spring k_r = c kn mu_r^2 R*^2 and a dashpot C_r below the cap",
+          "[contact][rolling]") {
+  // Constant rolling spin w on a wall: the spring torque grows by -k_r w dt
+  // per step up to mu_r R* |Fn|, k_r = 2.25 kn mu_r^2 R*^2 (epsd) or
+  // rollingStiffness kn mu_r^2 R*^2 (epsd3); the torque on i is the spring plus
+  // the dashpot -C_r w, C_r = eta_r 2 sqrt(I_r k_r) with I_r = 7/5 m r^2 for a
+  // sphere on a wall, as long as the spring is below the cap, and the spring
+  // alone once it is capped. The dashpot is found as the difference of the
+  // torques with eta_r = 0.4 and eta_r = 0 (the tangential torque cancels).
+  const double mu_r = 0.3;
+  for (RollingModel rm : {RollingModel::Epsd, RollingModel::Epsd3}) {
+    INFO((rm == RollingModel::Epsd ? "epsd" : "epsd3"));
+    PairMaterial mat = mix_materials(kY, kNu, kY, kNu, 0.6, 0.5, mu_r, 0.0);
+    const double prefactor = rm == RollingModel::Epsd ? 2.25 : 1.5;
+    mat.rolling_stiffness = prefactor;
+    PairMaterial undamped = mat;
+    mat.rolling_damping = 0.4;
+    const ModelSpec spec = spec_of(NormalModel::Hertz, TangentialModel::History, rm);
+    const HistoryLayout layout = history_layout(spec);
+    REQUIRE(layout.rolling == 3);
+    REQUIRE(layout.size == 6);
+    ContactState c = wall_contact();
+    c.dt = 1e-6;
+    c.i_roll = rolling_inertia(c.m_eff, c.r_i, 0.0, 0.0);
+    CHECK(c.i_roll == Approx(1.4 * c.m_eff * c.r_i * c.r_i).epsilon(1e-15));
+    const Vec3 w(0, 4, 0);
+    c.omega_i = w + Vec3(0, 0, 11);   // twisting part ignored
+    c.v_rel = Vec3(0.002 * 4, 0, 0);  // centre moves with the rolling (no slip)
+    const double kn = hertz_kn(c, mat);
+    const double kr = prefactor * kn * mu_r * mu_r * c.r_eff * c.r_eff;
+    const double cr = 0.4 * 2.0 * std::sqrt(c.i_roll * kr);
+    std::vector<double> h1(layout.size, 0.0), h0(layout.size, 0.0);
+    ContactResult res1, res0;
+    int elastic = 0, capped = 0;
+    for (int step = 1; step <= 3000; ++step) {
+      evaluate(spec, c, mat, h1.data(), res1);
+      evaluate(spec, c, undamped, h0.data(), res0);
+      const double m_max = mu_r * c.r_eff * std::abs(res1.fn);
+      const Vec3 m(h1[3], h1[4], h1[5]);
+      REQUIRE(m.norm() <= m_max * (1 + 1e-12));
+      CHECK(h0[4] == h1[4]);  // the dashpot does not enter the spring
+      const double damping = res1.torque_i.y() - res0.torque_i.y();
+      if (kr * step * c.dt * 4 < m_max) {
+        ++elastic;
+        CHECK(m.y() == Approx(-kr * step * c.dt * 4).epsilon(1e-12));
+        CHECK(damping == Approx(-cr * 4).epsilon(1e-9));
+      } else {
+        ++capped;
+        CHECK(m.norm() == Approx(m_max).epsilon(1e-12));
+        CHECK(damping == 0.0);
+      }
+    }
+    CHECK(elastic > 10);
+    CHECK(capped > 10);
+  }
+  // I_r of two spheres: 1 / (1/(7/5 m_i r_i^2) + 1/(7/5 m_j r_j^2))
+  CHECK(rolling_inertia(2.0, 0.5, 1.0, 1.0) == Approx(1.0 / (1.0 / 0.7 + 1.0 / 1.4)).epsilon(1e-15));
+}
+
 TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact", "[contact][history]") {
   // Every model combination: run a few steps as (i,j), copy the history with
   // the swap signs, and evaluate the mirrored state (n, v_rel negated, radii
@@ -293,7 +352,8 @@ TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact",
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
                                TangentialModel::MindlinDeresiewicz}) {
-      for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
+      for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
+                              RollingModel::Epsd3}) {
         for (bool limit : {false, true}) {
           ModelSpec spec = spec_of(nm, tm, rm);
           spec.limit_force = limit;

@@ -43,7 +43,8 @@ ModelSpec random_spec(std::mt19937_64& rng) {
                       NormalModel::HookeStiffness}[pick(4)];
   tangential = std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
                           TangentialModel::MindlinDeresiewicz}[pick(4)];
-  rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}[pick(3)];
+  rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
+                       RollingModel::Epsd3}[pick(5)];
   cohesion = std::array{CohesionModel::None, CohesionModel::Sjkr, CohesionModel::Sjkr2}[pick(3)];
   damping = pick(2) ? DampingModel::Viscoelastic : DampingModel::Restitution;
   tangential_reduce = pick(2);
@@ -55,7 +56,7 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   if (pick(2)) {
     normal = NormalModel::Hertz;
     tangential = TangentialModel::History;
-    if (rolling == RollingModel::Epsd2) rolling = RollingModel::Cdt;
+    if (rolling_spring(rolling)) rolling = RollingModel::Cdt;
     cohesion = CohesionModel::None;
   }
   return spec;
@@ -120,6 +121,7 @@ Sample random_contact(std::mt19937_64& rng, const Sample* first) {
     g.omega_j = u(rng) < 0.1 ? v3(oi * (1.0 + 1e-14 * (u(rng) - 0.5))) : v3(100.0 * u(rng) * unit(rng));
   }
   g.r_j = r_j;
+  g.i_roll = rolling_inertia(m_i, g.r_i, wall ? 0.0 : m_j, r_j);
   PairMaterial pm = mix_materials(1e6 + 1e8 * u(rng), 0.45 * u(rng), 1e6 + 1e8 * u(rng), 0.45 * u(rng),
                                   0.05 + 0.95 * u(rng), u(rng), 0.3 * u(rng), 0.1 + u(rng));
   pm.dissipative_time = 1e-6 * u(rng);
@@ -128,6 +130,8 @@ Sample random_contact(std::mt19937_64& rng, const Sample* first) {
   pm.kt = 1e2 + 1e4 * u(rng);
   pm.gamman = 1e2 * u(rng);
   pm.gammat = 1e2 * u(rng);
+  pm.rolling_damping = u(rng);
+  pm.rolling_stiffness = 0.5 + 2.0 * u(rng);
   set_material(q.mat, 0, pm);
   q.v_rel = v3((u(rng) < 0.5 ? 1e-3 : 1.0) * u(rng) * unit(rng));
   q.shear = v3((u(rng) < 0.5 ? 1e-8 : 1e-5) * u(rng) * unit(rng));
@@ -150,7 +154,7 @@ Out one_lane(const ModelSpec& spec, const Sample& s, double dt) {
   PreparedT<double> q;
   prepare<K>(spec, s.g, s.mat, q);
   Out o{{}, s.shear, s.roll, s.slip};
-  interact<K>(spec, q, s.g.omega_i, s.v_rel, dt, o.shear, o.slip, o.roll, o.r);
+  interact<K>(spec, q, s.g.omega_i, s.v_rel, HistoryDt{dt, dt}, o.shear, o.slip, o.roll, o.r);
   return o;
 }
 
@@ -170,6 +174,7 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
   g.r_j = pack(s[0].g.r_j, s[1].g.r_j);
   g.r_eff = pack(s[0].g.r_eff, s[1].g.r_eff);
   g.m_eff = pack(s[0].g.m_eff, s[1].g.m_eff);
+  g.i_roll = pack(s[0].g.i_roll, s[1].g.i_roll);
   g.omega_i = pack(s[0].g.omega_i, s[1].g.omega_i);
   g.omega_j = pack(s[0].g.omega_j, s[1].g.omega_j);
   MaterialT<D2> m;
@@ -186,14 +191,16 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
        pack(a.kn, b.kn),
        pack(a.kt, b.kt),
        pack(a.gamman, b.gamman),
-       pack(a.gammat, b.gammat)};
+       pack(a.gammat, b.gammat),
+       pack(a.rolling_damping, b.rolling_damping),
+       pack(a.rolling_stiffness, b.rolling_stiffness)};
   PreparedT<D2> q;
   prepare<K>(spec, g, m, q);
   V3<D2> shear = pack(s[0].shear, s[1].shear), roll = pack(s[0].roll, s[1].roll);
   SlipT<D2> slip{pack(s[0].slip.turn, s[1].slip.turn), pack(s[0].slip.t_max, s[1].slip.t_max),
                  pack(s[0].slip.kt_prev, s[1].slip.kt_prev)};
   ResultT<D2> r;
-  interact<K>(spec, q, g.omega_i, pack(s[0].v_rel, s[1].v_rel), dt, shear, slip, roll, r);
+  interact<K>(spec, q, g.omega_i, pack(s[0].v_rel, s[1].v_rel), HistoryDt{dt, dt}, shear, slip, roll, r);
   for (int l = 0; l < 2; ++l) {
     auto v = [l](const V3<D2>& x) { return V3<double>{x.x[l], x.y[l], x.z[l]}; };
     out[l].r.force = v(r.force);
@@ -266,7 +273,7 @@ void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
       }
       if (spec.rolling == RollingModel::Cdt && e(o.r.torque_i - o.r.torque_j).norm() == 0.0)
         ++counts.tiny_spin;
-      if (spec.rolling == RollingModel::Epsd2 && e(o.roll).norm() < e(s[l].roll).norm()) ++counts.capped;
+      if (rolling_spring(spec.rolling) && e(o.roll).norm() < e(s[l].roll).norm()) ++counts.capped;
       if (spec.cohesion != CohesionModel::None && o.r.fn < 0.0) ++counts.pulled;
     }
   }

@@ -96,8 +96,6 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
              Catch::Contains("unknown normal model 'hertzz'") && Catch::Contains("hertz, hooke"));
   CHECK_THAT(parse_error("model hertz tangential sticky"),
              Catch::Contains("unknown tangential model 'sticky'"));
-  CHECK_THAT(parse_error("model hertz rolling_friction epsd"),
-             Catch::Contains("'rolling_friction epsd' is not supported"));
   CHECK_THAT(parse_error("model hertz cohesion washino/capillary/viscous"),
              Catch::Contains("'cohesion washino/capillary/viscous' is not supported"));
   CHECK_THAT(parse_error("model hooke damping viscoelastic"), Catch::Contains("only to 'model hertz'"));
@@ -141,7 +139,8 @@ TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][pars
 TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
-      for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
+      for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
+                              RollingModel::Epsd3}) {
         for (int flags = 0; flags < 64; ++flags) {
           ModelSpec s;
           s.normal = nm;
@@ -224,6 +223,8 @@ TEST_CASE("Material mixing", "[contact][material]") {
 TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]") {
   PairMaterial mat = mix_materials(5e7, 0.3, 5e7, 0.3, 0.5, 0.3, 0.1, 1.0);
   mat.cohesion_energy_density = 1e4;  // used by the sjkr kernels only
+  mat.rolling_stiffness = 1.5;        // epsd, epsd3 only
+  mat.rolling_damping = 0.2;          // epsd, epsd3 only
   ContactState c;
   c.n = Vec3(0, 0.6, 0.8);
   c.overlap = 1e-5;
@@ -231,13 +232,15 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   c.r_j = 0.002;
   c.r_eff = 0.001;
   c.m_eff = 4e-5;
+  c.i_roll = rolling_inertia(8e-5, 0.002, 8e-5, 0.002);
   c.v_rel = Vec3(0.1, -0.2, 0.05);
   c.omega_i = Vec3(3, 1, -2);
   c.omega_j = Vec3(-1, 4, 0);
   c.dt = 1e-6;
   for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
-      for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
+      for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
+                              RollingModel::Epsd3}) {
         for (int flags = 0; flags < 4; ++flags) {
           const bool limit = flags & 1;
           const CohesionModel cm = (flags & 2) ? CohesionModel::Sjkr : CohesionModel::None;

@@ -275,7 +275,8 @@ TEST_CASE("Pair collisions conserve linear and angular momentum", "[contact][nor
   // tangential forces at the same contact point, so the total linear momentum
   // and the total angular momentum about the origin are conserved to
   // round-off (1e-12 relative).
-  for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2}) {
+  for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
+                          RollingModel::Epsd3}) {
     for (TangentialModel tm : {TangentialModel::NoHistory, TangentialModel::History}) {
       for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
         const PairMaterial mat = mix_materials(kY, kNu, kY, 0.2, 0.5, 0.4, 0.2, 1.0);

@@ -57,6 +57,7 @@ struct RollingSphere {
     c.r_j = 0.0;
     c.r_eff = r;
     c.m_eff = m;
+    c.i_roll = rolling_inertia(m, r, 0.0, 0.0);
     c.v_rel = v;
     c.omega_i = w;
     c.dt = dt;
@@ -141,20 +142,23 @@ TEST_CASE("Rolling friction decelerates a rolling sphere at (5/7) mu_r g", "[con
   // Rolling without slip on a flat wall, with friction force F_t at the
   // contact point and rolling torque of magnitude M = mu_r R* Fn (R* = r for a
   // wall, Fn = m g; cdt uses the elastic force kn delta = m g at rest in the
-  // normal direction, epsd2 when fully mobilised uses |Fn| = m g):
+  // normal direction, epsd2, epsd and epsd3 when fully mobilised use |Fn| = m g, and the
+  // dashpot of epsd and epsd3 is off then):
   //   m a = F_t,   I alpha = -r F_t - M,   a = r alpha
   //   =>  (m + I / r^2) a = -M / r  =>  a = -mu_r m g / (m (1 + 2/5)) = -(5/7) mu_r g.
   // Tolerance 2% on the least-squares deceleration over 0.05 .. 0.35 s.
   const double mu_r = 0.1;
-  for (RollingModel rm : {RollingModel::Cdt, RollingModel::Epsd2}) {
+  for (RollingModel rm : {RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd, RollingModel::Epsd3}) {
     for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
-      const PairMaterial mat = mix_materials(kY, kNu, kY, kNu, 0.5, 0.5, mu_r, 1.0);
+      PairMaterial mat = mix_materials(kY, kNu, kY, kNu, 0.5, 0.5, mu_r, 1.0);
+      mat.rolling_stiffness = rm == RollingModel::Epsd ? 2.25 : 1.5;  // epsd, epsd3
+      mat.rolling_damping = 0.3;                                      // epsd, epsd3
       RollingSphere s(spec_of(nm, TangentialModel::History, rm), mat);
       const double v0 = 0.5;
       s.v = Vec3(v0, 0, 0);
       s.w = Vec3(0, v0 / (s.r - 0.5 * (s.r - s.x.z())), 0);  // no slip
       const double a = deceleration(s, 0.05, 0.35);
-      INFO("rolling " << (rm == RollingModel::Cdt ? "cdt" : "epsd2") << " hooke "
+      INFO("rolling " << model_words(spec_of(nm, TangentialModel::History, rm)) << " hooke "
                       << (nm == NormalModel::Hooke) << " deceleration " << a);
       CHECK(a == Approx(-5.0 / 7.0 * mu_r * kG).epsilon(0.02));
       CHECK(s.slip() < 1e-3 * v0);

@@ -417,12 +417,15 @@ namespace {
 /// (m g = 4/3 Y* sqrt(r) delta^1.5), then started with (vx, omega_y).
 struct Roller {
   Sim s;
-  Roller(double mu, double mu_r, double vx, double wy) {
+  /// model: the rolling_friction model; extra: lines after the materials
+  Roller(double mu, double mu_r, double vx, double wy, const std::string& model = "cdt",
+         const std::vector<std::string>& extra = {}) {
     const double g = 9.81;
     const double delta = std::pow(bead_mass() * g / (4.0 / 3.0 * y_eff() * std::sqrt(kRadius)), 2.0 / 3.0);
     auto script = header("m m m", "-0.01 0.3 -0.005 0.005 0 0.005", 1);
     append(script, materials(1, 0.5, mu, mu_r));
-    const std::string rolling = mu_r >= 0 ? " rolling_friction cdt" : "";
+    append(script, extra);
+    const std::string rolling = mu_r >= 0 ? " rolling_friction " + model : "";
     append(script, {
                        "pair_style gran model hertz tangential history" + rolling,
                        "pair_coeff * *",
@@ -479,6 +482,46 @@ TEST_CASE("a rolling sphere decelerates at 5/7 mu_r g with cdt rolling friction"
   INFO("v(" << t1 << ") = " << v1 << ", v(" << t2 << ") = " << v2 << ", omega = " << w.transpose());
   CHECK(decel == Approx(5.0 / 7.0 * mu_r * g).epsilon(0.02));
   CHECK(w[1] * kRadius == Approx(v2).epsilon(0.01));  // still rolling
+}
+
+// epsd and epsd3 in a script: the material properties each needs, and a
+// rolling sphere decelerating at 5/7 mu_r g once the rolling spring is fully
+// mobilised (its dashpot is off then). epsd3's prefactor is read as
+// rollingStiffness (what LIGGGHTS 3.8 reads) or coeffRollingStiffness (the
+// name in LIGGGHTS' manual), a scalar.
+TEST_CASE("rolling_friction epsd and epsd3 need their properties and decelerate at 5/7 mu_r g",
+          "[physics][engine]") {
+  const double v0 = 0.5, mu_r = 0.1, g = 9.81;
+  const std::string damping =
+      "fix m6 all property/global coefficientRollingViscousDamping peratomtypepair 1 0.3";
+  {
+    Roller r(0.5, mu_r, v0, v0 / kRadius, "epsd");
+    CHECK_THROWS_WITH(r.s.cmd("run 1"), Catch::Matchers::Contains("coefficientRollingViscousDamping"));
+  }
+  {
+    Roller r(0.5, mu_r, v0, v0 / kRadius, "epsd3", {damping});
+    CHECK_THROWS_WITH(r.s.cmd("run 1"), Catch::Matchers::Contains("rollingStiffness"));
+  }
+  {
+    Roller r(0.5, mu_r, v0, v0 / kRadius, "epsd3",
+             {damping, "fix m7 all property/global rollingStiffness peratomtypepair 1 1.5"});
+    CHECK_THROWS_WITH(r.s.cmd("run 1"), Catch::Matchers::Contains("must be defined as 'scalar VALUE'"));
+  }
+  for (const std::string& stiffness :
+       {std::string(""), std::string("rollingStiffness"), std::string("coeffRollingStiffness")}) {
+    std::vector<std::string> extra = {damping};
+    if (!stiffness.empty()) extra.push_back("fix m7 all property/global " + stiffness + " scalar 1.5");
+    Roller r(0.5, mu_r, v0, v0 / kRadius, stiffness.empty() ? "epsd" : "epsd3", extra);
+    r.s.cmd("run 2000");
+    const double t1 = r.s.e.update->time(), v1 = r.s.v(1)[0];
+    r.s.cmd("run 18000");
+    const double t2 = r.s.e.update->time(), v2 = r.s.v(1)[0];
+    const double decel = (v1 - v2) / (t2 - t1);
+    INFO((stiffness.empty() ? "epsd" : "epsd3 with " + stiffness)
+         << ": v(" << t1 << ") = " << v1 << ", v(" << t2 << ") = " << v2);
+    CHECK(decel == Approx(5.0 / 7.0 * mu_r * g).epsilon(0.02));
+    CHECK(r.s.omega(1)[1] * kRadius == Approx(v2).epsilon(0.01));  // still rolling
+  }
 }
 
 // ---------------------------------------------------------------- free fall

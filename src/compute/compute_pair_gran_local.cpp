@@ -116,6 +116,7 @@ void ComputePairGranLocal::compute_local() {
       c.r_eff = c.r_i * c.r_j / (c.r_i + c.r_j);
       const double m_i = mass(i), m_j = mass(j);
       c.m_eff = m_i * m_j / (m_i + m_j);
+      c.i_roll = contact::rolling_inertia(m_i, c.r_i, m_j, c.r_j);
       c.v_rel = p.v[i] - p.v[j];
       c.omega_i = p.omega[i];
       c.omega_j = p.omega[j];

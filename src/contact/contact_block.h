@@ -59,8 +59,9 @@ template <class K, class S>
 ///     (shear, slip and roll arrive zero)
 ///   store(c, int nvalid, const ResultT<S>& out, shear, slip, roll)
 template <class K, class S, class Geometry, class Load, class Store>
-[[gnu::always_inline]] inline void evaluate_block(const ModelSpec& spec, int n, double dt, PreparedT<S>* prep,
-                                                  Geometry&& geometry, Load&& load, Store&& store) {
+[[gnu::always_inline]] inline void evaluate_block(const ModelSpec& spec, int n, HistoryDt dt,
+                                                  PreparedT<S>* prep, Geometry&& geometry, Load&& load,
+                                                  Store&& store) {
   constexpr int W = lane::width<S>();
   for (int m = 0; m < n; m += W) {
     int c[W];

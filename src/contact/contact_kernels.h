@@ -79,7 +79,8 @@ struct RuntimeKernel {
 template <class S>
 struct MaterialT {
   S Y_eff, G_eff, beta, friction, rolling_friction, char_velocity, cohesion_energy_density, dissipative_time;
-  S kn, kt, gamman, gammat;  ///< the stiffness models' coefficients as given
+  S kn, kt, gamman, gammat;              ///< the stiffness models' coefficients as given
+  S rolling_damping, rolling_stiffness;  ///< epsd, epsd3: eta_r and the prefactor of k_r
 };
 
 template <class S>
@@ -92,6 +93,8 @@ template <class S>
   lane::set(m.char_velocity, l, p.char_velocity);
   lane::set(m.cohesion_energy_density, l, p.cohesion_energy_density);
   lane::set(m.dissipative_time, l, p.dissipative_time);
+  lane::set(m.rolling_damping, l, p.rolling_damping);
+  lane::set(m.rolling_stiffness, l, p.rolling_stiffness);
   lane::set(m.kn, l, p.kn);
   lane::set(m.kt, l, p.kt);
   lane::set(m.gamman, l, p.gamman);
@@ -105,6 +108,7 @@ struct GeometryT {
   S overlap;       ///< r_i + r_j - |x_i - x_j| (> 0 in contact)
   S r_i, r_j;      ///< radii; r_j = 0: a wall
   S r_eff, m_eff;  ///< R*, m* (a wall: r_i, m_i)
+  S i_roll;        ///< epsd, epsd3 only: the rolling inertia I_r (rolling_inertia())
   lane::V3<S> omega_i, omega_j;
 };
 
@@ -122,6 +126,7 @@ struct PreparedT {
   lane::V3<S> omega_j;  ///< spin of the partner
   S spin;               ///< cdt: |omega_i - omega_j|
   S f_coh;              ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
+  S k_roll, c_roll;     ///< epsd, epsd3: rolling stiffness k_r and dashpot C_r; unset otherwise
 };
 
 /// The loading state of mindlin_deresiewicz contacts (history slot `slip`).
@@ -255,6 +260,14 @@ template <class K, class S>
   } else {
     q.spin = lane::splat<S>(0.0);
   }
+  if (rolling_dashpot(K::rolling(spec))) {
+    // epsd (Ai et al. 2011): k_r = 2.25 kn mu_r^2 R*^2 (epsd3: rollingStiffness
+    // in place of 2.25), C_r = eta_r 2 sqrt(I_r k_r)
+    q.k_roll = m.rolling_stiffness * q.kn * m.rolling_friction * m.rolling_friction * g.r_eff * g.r_eff;
+    q.c_roll = m.rolling_damping * 2.0 * sqrt(S(g.i_roll * q.k_roll));
+  } else if constexpr (!K::compiled) {
+    q.k_roll = q.c_roll = lane::splat<S>(0.0);  // read by no one; set so that the values are defined
+  }
 }
 
 /// Second stage: forces and torques of W contacts from the first stage's `q`,
@@ -266,12 +279,13 @@ template <class K, class S>
 /// result and a zero history.
 template <class K, class S>
 [[gnu::always_inline]] inline void interact(const ModelSpec& spec, const PreparedT<S>& q,
-                                            const lane::V3<S>& omega_i, const lane::V3<S>& v_rel, double dt,
-                                            lane::V3<S>& shear, SlipT<S>& slip, lane::V3<S>& roll,
-                                            ResultT<S>& out) {
+                                            const lane::V3<S>& omega_i, const lane::V3<S>& v_rel,
+                                            HistoryDt hdt, lane::V3<S>& shear, SlipT<S>& slip,
+                                            lane::V3<S>& roll, ResultT<S>& out) {
   using lane::select;
   using lane::splat;
   using V = lane::V3<S>;
+  const double dt = hdt.tangential;
   const V n = q.n;
   // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
   // pushes the bodies apart on approach and pulls on separation.
@@ -419,15 +433,19 @@ template <class K, class S>
       const S scale = -q.rolling_friction * fn_elastic * q.r_eff / w_full;
       mr = select(none, lane::zero3<S>(), V(scale * wr));
     } else {
-      // epsd2, an elastic-plastic spring: incremental spring torque with
-      // k_r = kt R*^2, capped at full mobilisation mu_r R* |Fn|.
-      const S kr = q.kt * q.r_eff * q.r_eff;
-      V t = roll - (kr * dt) * wr;
+      // epsd2, epsd, epsd3: an elastic-plastic spring, incremental spring
+      // torque with k_r = kt R*^2 (epsd2) or k_r of prepare() (epsd, epsd3),
+      // capped at full mobilisation mu_r R* |Fn|; epsd and epsd3 add the
+      // dashpot -C_r w_r while the spring is below the cap.
+      const S kr = rm == RollingModel::Epsd2 ? S(q.kt * q.r_eff * q.r_eff) : q.k_roll;
+      V t = roll - (kr * hdt.rolling) * wr;
       const S t_max = q.rolling_friction * q.r_eff * lane::abs(fn);
       const S t_mag = lane::sqrt(dot(t, t));
-      t = select(t_mag > t_max, V((t_max / t_mag) * t), t);
+      const auto capped = t_mag > t_max;
+      t = select(capped, V((t_max / t_mag) * t), t);
       roll_new = t;
       mr = t;
+      if (rolling_dashpot(rm)) mr = mr + select(capped, lane::zero3<S>(), V(-q.c_roll * wr));
     }
     torque_i = torque_i + mr;
     torque_j = torque_j - mr;
@@ -447,7 +465,7 @@ template <class K, class S>
     slip.t_max = select(touching, slip_new.t_max, splat<S>(0.0));
     slip.kt_prev = select(touching, slip_new.kt_prev, splat<S>(0.0));
   }
-  if (rm == RollingModel::Epsd2) roll = select(touching, roll_new, zero);
+  if (rolling_spring(rm)) roll = select(touching, roll_new, zero);
 }
 
 /// One contact given as a ContactState: the same formulas on one lane. Same
@@ -471,6 +489,7 @@ template <class K>
   g.r_j = c.r_j;
   g.r_eff = c.r_eff;
   g.m_eff = c.m_eff;
+  g.i_roll = c.i_roll;
   g.omega_i = v3(c.omega_i);
   g.omega_j = v3(c.omega_j);
   MaterialT<double> mat;
@@ -483,7 +502,7 @@ template <class K>
   if (po >= 0) load_slip(slip, 0, history + po);
   V roll = ro >= 0 ? V{history[ro], history[ro + 1], history[ro + 2]} : lane::zero3<double>();
   ResultT<double> r;
-  interact<K>(spec, q, g.omega_i, v3(c.v_rel), c.dt, shear, slip, roll, r);
+  interact<K>(spec, q, g.omega_i, v3(c.v_rel), HistoryDt{c.dt, c.dt}, shear, slip, roll, r);
   if (so >= 0) lane::store(shear, 0, history + so);
   if (po >= 0) store_slip(slip, 0, history + po);
   if (ro >= 0) lane::store(roll, 0, history + ro);

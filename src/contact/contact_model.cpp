@@ -65,7 +65,9 @@ const std::vector<std::pair<std::string, TangentialModel>> kTangentialNames = {
     {"no_history", TangentialModel::NoHistory},
     {"mindlin_deresiewicz", TangentialModel::MindlinDeresiewicz}};
 const std::vector<std::pair<std::string, RollingModel>> kRollingNames = {{"cdt", RollingModel::Cdt},
-                                                                         {"epsd2", RollingModel::Epsd2}};
+                                                                         {"epsd", RollingModel::Epsd},
+                                                                         {"epsd2", RollingModel::Epsd2},
+                                                                         {"epsd3", RollingModel::Epsd3}};
 const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjkr", CohesionModel::Sjkr},
                                                                            {"sjkr2", CohesionModel::Sjkr2}};
 const std::vector<std::pair<std::string, DampingModel>> kDampingNames = {
@@ -92,8 +94,6 @@ std::string join(const std::vector<std::string>& names) {
 bool is_known_unsupported(const std::string& slot, const std::string& name) {
   static const std::vector<std::pair<std::string, std::string>> known = {
       {"model", "hooke/hysteresis"},
-      {"rolling_friction", "epsd"},
-      {"rolling_friction", "epsd3"},
       {"cohesion", "easo/capillary/viscous"},
       {"cohesion", "washino/capillary/viscous"},
       {"surface", "superquadric"},
@@ -245,6 +245,12 @@ std::string model_words(const ModelSpec& spec) {
       break;
     case RollingModel::Epsd2:
       s += " rolling_friction epsd2";
+      break;
+    case RollingModel::Epsd:
+      s += " rolling_friction epsd";
+      break;
+    case RollingModel::Epsd3:
+      s += " rolling_friction epsd3";
       break;
   }
   if (spec.cohesion == CohesionModel::Sjkr) s += " cohesion sjkr";

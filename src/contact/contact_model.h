@@ -32,8 +32,20 @@ enum class NormalModel { Hertz, Hooke, HertzStiffness, HookeStiffness };
 /// as the force nears the Coulomb limit and after every reversal of the
 /// loading, so small tangential oscillations lose energy; Granary only).
 enum class TangentialModel { None, NoHistory, History, MindlinDeresiewicz };
-/// Rolling resistance: "rolling_friction off", "rolling_friction cdt", "rolling_friction epsd2".
-enum class RollingModel { None, Cdt, Epsd2 };
+/// Rolling resistance: "rolling_friction off", "rolling_friction cdt", and the
+/// elastic-plastic springs "rolling_friction epsd2" (stiffness kt R*^2, no
+/// dashpot), "rolling_friction epsd" (stiffness 2.25 kn mu_r^2 R*^2 and a
+/// rolling dashpot) and "rolling_friction epsd3" (epsd with the prefactor
+/// rollingStiffness instead of 2.25).
+enum class RollingModel { None, Cdt, Epsd2, Epsd, Epsd3 };
+/// Whether the rolling model keeps a spring torque in the history.
+constexpr bool rolling_spring(RollingModel r) {
+  return r == RollingModel::Epsd2 || r == RollingModel::Epsd || r == RollingModel::Epsd3;
+}
+/// Whether the rolling model has the dashpot of epsd (and needs I_r).
+constexpr bool rolling_dashpot(RollingModel r) {
+  return r == RollingModel::Epsd || r == RollingModel::Epsd3;
+}
 /// Cohesion: "cohesion off", "cohesion sjkr" (simplified JKR, F = k * contact
 /// area, the area of the circle where the spheres intersect), "cohesion sjkr2"
 /// (the same with the area 2 pi delta 2R*).
@@ -86,7 +98,7 @@ struct HistoryLayout {
   /// signed along the stored force [N], the largest force reached on the
   /// virgin curve [N], and the stiffness kt of the last step [N/m]; 3 doubles
   int slip = -1;
-  int rolling = -1;  ///< epsd2 rolling spring torque acting on i [N m], 3 doubles
+  int rolling = -1;  ///< epsd2, epsd, epsd3: rolling spring torque acting on i [N m], 3 doubles
   int size = 0;      ///< total number of doubles (== history_size)
 };
 /// The layout for a tangential and a rolling sub-model: [shear x,y,z if
@@ -103,7 +115,7 @@ constexpr HistoryLayout history_layout_of(TangentialModel t, RollingModel r) {
     layout.slip = layout.size;
     layout.size += 3;
   }
-  if (r == RollingModel::Epsd2) {
+  if (rolling_spring(r)) {
     layout.rolling = layout.size;
     layout.size += 3;
   }
@@ -152,7 +164,12 @@ struct PairMaterial {
   double beta = 0.0;              ///< ln(e)/sqrt(ln(e)^2 + pi^2) (e = 1 gives 0)
   double friction = 0.0;          ///< Coulomb mu
   double rolling_friction = 0.0;  ///< mu_r
-  double char_velocity = 0.0;     ///< Hooke only: characteristicVelocity [m/s]
+  /// epsd, epsd3: coefficientRollingViscousDamping eta_r (the rolling dashpot
+  /// is eta_r times its critical value)
+  double rolling_damping = 0.0;
+  /// epsd: 2.25; epsd3: rollingStiffness; k_r = this kn mu_r^2 R*^2
+  double rolling_stiffness = 0.0;
+  double char_velocity = 0.0;  ///< Hooke only: characteristicVelocity [m/s]
   /// cohesion sjkr: cohesionEnergyDensity k [J/m^3]; the cohesive pull is k * contact area
   double cohesion_energy_density = 0.0;
   /// damping viscoelastic: dissipativeTimeConstant A [s] of Brilliantov et al. (1996)
@@ -174,6 +191,8 @@ struct ContactState {
   double r_i = 0.0, r_j = 0.0;  ///< radii; r_j = 0 means j is a wall (flat, infinite radius)
   double r_eff = 0.0;           ///< R* = r_i r_j/(r_i+r_j), or r_i for a wall
   double m_eff = 0.0;           ///< m* = m_i m_j/(m_i+m_j), or m_i for a wall
+  /// epsd, epsd3 only: the rolling inertia I_r (rolling_inertia()) [kg m^2]
+  double i_roll = 0.0;
   Vec3 v_rel = Vec3::Zero();    ///< v_i - v_j (centre velocities; wall: its velocity at the contact)
   Vec3 omega_i = Vec3::Zero();  ///< spin of i [rad/s]
   Vec3 omega_j = Vec3::Zero();  ///< spin of j (0 for a wall)
@@ -188,6 +207,26 @@ struct ContactResult {
   double fn = 0.0;         ///< signed normal force (elastic + damping, after limit_force, minus cohesion)
   Vec3 ft = Vec3::Zero();  ///< tangential part of `force` (0 without a tangential model)
 };
+
+/// How far a contact's history advances in one force evaluation [s]: the
+/// tangential history by `tangential`, the rolling spring (epsd2, epsd, epsd3)
+/// by `rolling`. Both are the timestep during a run. The force evaluation of a
+/// run's setup advances neither history (what it writes is put back), but its
+/// rolling torque is that of a spring advanced by one step, as in LIGGGHTS 3.8
+/// (measured): there `tangential` is 0 and `rolling` the timestep.
+struct HistoryDt {
+  double tangential = 0.0, rolling = 0.0;
+};
+
+/// The rolling inertia of epsd and epsd3 for two solid spheres (I = 2/5 m r^2):
+/// I_r = 1 / (1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)); m_j = 0: a wall
+/// (I_r = I_i + m_i r_i^2).
+inline double rolling_inertia(double m_i, double r_i, double m_j, double r_j) {
+  const double a = 1.4 * m_i * r_i * r_i;
+  if (!(m_j > 0.0)) return a;
+  const double b = 1.4 * m_j * r_j * r_j;
+  return a * b / (a + b);
+}
 
 /// Evaluate one contact. `history` points to history_size(spec) doubles owned by
 /// the caller (zero at first touch); it is updated in place. A state with

@@ -44,7 +44,7 @@ constexpr int kWallBlock = 64;
 /// (contact/contact_block.h), W at a time; then apply(contact, force,
 /// torque) for each, in blk's order.
 template <class K, class S, class Apply>
-void evaluate_wall_block(const contact::ModelSpec& spec, double dt, const WallContact* blk, int n,
+void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, const WallContact* blk, int n,
                          const double* radius, const Vec3* omega, Apply&& apply) {
   using namespace contact;
   using lane::V3;
@@ -64,6 +64,8 @@ void evaluate_wall_block(const contact::ModelSpec& spec, double dt, const WallCo
     g.r_j = lane::splat<S>(0.0);
     g.r_eff = g.r_i;
     g.omega_j = lane::zero3<S>();
+    // epsd, epsd3: I_r = I_i + m_i r_i^2 of a solid sphere
+    g.i_roll = rolling_dashpot(K::rolling(spec)) ? S(1.4 * g.m_eff * g.r_i * g.r_i) : lane::splat<S>(0.0);
   };
   auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
       __attribute__((always_inline)) {
@@ -435,7 +437,7 @@ void FixWallGran::post_force() {
     return;
   }
   Particles& p = *engine_.particles;
-  const double dt = engine_.update->history_dt();
+  const contact::HistoryDt dt{engine_.update->history_dt(), engine_.update->dt};
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
   // sub-spheres of clumps use their body's mass (field filled by fix multisphere)
   const double* body_mass = body_mass_.data(p);
@@ -610,7 +612,7 @@ int FixWallGran::mesh_contacts(const Vec3& xi, double r, tagint tag, Candidate* 
 // rolling or sliding onto a neighbouring triangle keeps its tangential spring.
 void FixWallGran::post_force_mesh() {
   Particles& p = *engine_.particles;
-  const double dt = engine_.update->history_dt();
+  const contact::HistoryDt dt{engine_.update->history_dt(), engine_.update->dt};
   const double* body_mass = body_mass_.data(p);
   double* hist_base = nhist_ > 0 ? p.extras[field_].data.data() : nullptr;
   double* const count = nhist_ > 0 ? p.extras[count_field_].data.data() : nullptr;
@@ -820,6 +822,7 @@ void FixWallGran::local_contacts(int bits, const std::string& who, std::vector<L
     c.r_i = p.radius[i];
     c.r_eff = p.radius[i];
     c.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : p.rmass[i];
+    c.i_roll = contact::rolling_inertia(c.m_eff, c.r_i, 0.0, 0.0);
     c.v_rel = p.v[i] - lc.wall_v;
     c.omega_i = p.omega[i];
     lc.res = contact::ContactResult();

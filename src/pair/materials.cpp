@@ -63,12 +63,26 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
   if (spec.rolling != contact::RollingModel::None) {
     mur = &modify.require_property("coefficientRollingFriction", user);
   }
+  // epsd, epsd3: the rolling dashpot, and epsd3's prefactor of k_r (LIGGGHTS
+  // 3.8 reads it as rollingStiffness; its manual calls it coeffRollingStiffness)
+  const GlobalProperty *rdamp = nullptr, *rstiff = nullptr;
+  if (contact::rolling_dashpot(spec.rolling)) {
+    rdamp = &modify.require_property("coefficientRollingViscousDamping", user);
+  }
+  if (spec.rolling == contact::RollingModel::Epsd3) {
+    rstiff = modify.find_property("coeffRollingStiffness");
+    if (!rstiff) rstiff = &modify.require_property("rollingStiffness", user);
+    if (rstiff->kind != "scalar") {
+      throw InputError(user + ": " + rstiff->name + " (fix " + rstiff->owner_id +
+                       ") must be defined as 'scalar VALUE' for rolling_friction epsd3, not " + rstiff->kind);
+    }
+  }
   double vchar = 0.0;
   if (spec.normal == contact::NormalModel::Hooke) {
     vchar = modify.require_property("characteristicVelocity", user).scalar();
   }
   // A restart file remembers the materials of the run that wrote it.
-  for (const GlobalProperty* prop : {Y, nu, e, mu, mur, coh, diss, kn, kt, gn, gt}) {
+  for (const GlobalProperty* prop : {Y, nu, e, mu, mur, coh, diss, kn, kt, gn, gt, rdamp, rstiff}) {
     if (!prop) continue;
     auto it = modify.restart_materials.find(prop->name);
     if (it == modify.restart_materials.end()) continue;
@@ -82,7 +96,7 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     youngs_[a] = Y ? Y->per_type(a) : 0.0;
     poisson_[a] = nu ? nu->per_type(a) : 0.0;
   }
-  for (const GlobalProperty* prop : {e, mu, mur, coh, diss, kn, kt, gn, gt}) {
+  for (const GlobalProperty* prop : {e, mu, mur, coh, diss, kn, kt, gn, gt, rdamp}) {
     if (!prop) continue;
     for (int a = 1; a <= n; ++a)
       for (int b = a + 1; b <= n; ++b)
@@ -123,6 +137,16 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
           pm.cohesion_energy_density = coh->per_pair(a, b);
           if (!(pm.cohesion_energy_density >= 0.0))
             throw std::invalid_argument("cohesionEnergyDensity must be >= 0");
+        }
+        if (rdamp) {
+          pm.rolling_damping = rdamp->per_pair(a, b);
+          if (!(pm.rolling_damping >= 0.0))
+            throw std::invalid_argument("coefficientRollingViscousDamping must be >= 0");
+        }
+        if (spec.rolling == contact::RollingModel::Epsd) pm.rolling_stiffness = 2.25;
+        if (rstiff) {
+          pm.rolling_stiffness = rstiff->scalar();
+          if (!(pm.rolling_stiffness >= 0.0)) throw std::invalid_argument(rstiff->name + " must be >= 0");
         }
         if (diss) {
           pm.dissipative_time = diss->per_pair(a, b);

@@ -140,7 +140,7 @@ void PairGranular::loop() {
   L.hist = nh > 0 ? history_.values_.data() : nullptr;
   L.materials = &materials_;
   L.spec = &spec_;
-  L.dt = engine_.update->history_dt();
+  L.dt = {engine_.update->history_dt(), engine_.update->dt};
   // the particle of each list entry, for stage 1's single stream
   if (owner_build_ != list.nbuilds || owner_.size() != list.neigh.size()) {
     owner_.resize(list.neigh.size());

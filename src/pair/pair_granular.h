@@ -1,7 +1,7 @@
 // Granular contact pair style, assembled at run time from contact sub-models.
 //
 //   pair_style gran model hertz tangential history rolling_friction cdt   (LIGGGHTS spelling)
-//   pair_style hertz/rolling [rolling_friction cdt|epsd2|off] [tangential history|no_history] ...
+//   pair_style hertz/rolling [rolling_friction cdt|epsd|epsd2|epsd3|off] [tangential history|no_history] ...
 // Both build the same ContactModel; hertz/rolling defaults to Hertz normal
 // force, tangential history and cdt rolling friction.
 #pragma once

@@ -55,7 +55,7 @@ struct PairLoopData {
   double* hist = nullptr;         ///< per list entry: history_size doubles
   const MaterialTable* materials = nullptr;
   const contact::ModelSpec* spec = nullptr;
-  double dt = 0.0;  ///< timestep of the history integration
+  contact::HistoryDt dt;  ///< timesteps of the history integration
 };
 
 constexpr int kPairBlock = 64;
@@ -81,7 +81,7 @@ void pair_loop(const PairLoopData& L) {
   std::uint8_t* const touch = L.touch;
   double* const hist = L.hist;
   const MaterialTable& materials = *L.materials;
-  const double dt = L.dt;
+  const contact::HistoryDt dt = L.dt;
   const bool newton = L.newton;
   // the block: list position and particle of each contact, the first stage's
   // results; fewer than kPairBlock contacts before the last group of W entries
@@ -132,6 +132,16 @@ void pair_loop(const PairLoopData& L) {
       g.r_j = r_j;
       g.r_eff = r_eff;
       g.m_eff = m_eff;
+      if (rolling_dashpot(K::rolling(spec))) {
+        S i_roll{};
+        for (int l = 0; l < W; ++l)
+          lane::set(
+              i_roll, l,
+              rolling_inertia(lane::get(m_i, l), lane::get(r_i, l), lane::get(m_j, l), lane::get(r_j, l)));
+        g.i_roll = i_roll;
+      } else if constexpr (!K::compiled) {
+        g.i_roll = lane::splat<S>(0.0);  // read by no one
+      }
       g.omega_i = lane::gather<S>(omega, ii);
       g.omega_j = lane::gather<S>(omega, j);
       for (int l = 0; l < W; ++l)
