@@ -348,8 +348,12 @@ TEST_CASE("Swapping i and j with history_swap_signs gives the opposite contact",
   // the swap signs, and evaluate the mirrored state (n, v_rel negated, radii
   // and spins exchanged). Forces must be opposite, torques exchanged and the
   // updated histories mirror images (1e-12 relative).
-  const PairMaterial mat = mix_materials(kY, kNu, 2 * kY, 0.2, 0.6, 0.3, 0.1, 0.9);
-  for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
+  PairMaterial mat = mix_materials(kY, kNu, 2 * kY, 0.2, 0.6, 0.3, 0.1, 0.9);
+  mat.rolling_stiffness = 1.5;      // epsd, epsd3
+  mat.max_elastic_stiffness = 2.0;  // hooke/hysteresis
+  mat.adhesion_stiffness = 0.2;
+  mat.plasticity_depth = 0.05;
+  for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke, NormalModel::HookeHysteresis}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
                                TangentialModel::MindlinDeresiewicz}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,

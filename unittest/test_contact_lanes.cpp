@@ -40,7 +40,7 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   auto& [normal, tangential, rolling, cohesion, damping, tangential_reduce, limit_force, tangential_damping,
          kt_to_kn_user, absolute_damping] = spec;
   normal = std::array{NormalModel::Hertz, NormalModel::Hooke, NormalModel::HertzStiffness,
-                      NormalModel::HookeStiffness}[pick(4)];
+                      NormalModel::HookeStiffness, NormalModel::HookeHysteresis}[pick(5)];
   tangential = std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
                           TangentialModel::MindlinDeresiewicz}[pick(4)];
   rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
@@ -132,6 +132,9 @@ Sample random_contact(std::mt19937_64& rng, const Sample* first) {
   pm.gammat = 1e2 * u(rng);
   pm.rolling_damping = u(rng);
   pm.rolling_stiffness = 0.5 + 2.0 * u(rng);
+  pm.max_elastic_stiffness = 1.1 + 3.0 * u(rng);
+  pm.adhesion_stiffness = 0.5 * u(rng);
+  pm.plasticity_depth = 0.01 + 0.2 * u(rng);
   set_material(q.mat, 0, pm);
   q.v_rel = v3((u(rng) < 0.5 ? 1e-3 : 1.0) * u(rng) * unit(rng));
   q.shear = v3((u(rng) < 0.5 ? 1e-8 : 1e-5) * u(rng) * unit(rng));
@@ -140,6 +143,8 @@ Sample random_contact(std::mt19937_64& rng, const Sample* first) {
   q.slip.turn = u(rng) < 0.3 ? 0.0 : 2e-5 * (u(rng) - 0.5);
   q.slip.t_max = u(rng) < 0.3 ? 0.0 : 2e-5 * u(rng);
   q.slip.kt_prev = u(rng) < 0.3 ? 0.0 : 1e2 + 1e5 * u(rng);
+  // hooke/hysteresis: no plastic state yet, or a maximum overlap above or below this one
+  q.slip.d_max = u(rng) < 0.3 ? 0.0 : 2e-4 * u(rng);
   return q;
 }
 
@@ -193,12 +198,15 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
        pack(a.gamman, b.gamman),
        pack(a.gammat, b.gammat),
        pack(a.rolling_damping, b.rolling_damping),
-       pack(a.rolling_stiffness, b.rolling_stiffness)};
+       pack(a.rolling_stiffness, b.rolling_stiffness),
+       pack(a.max_elastic_stiffness, b.max_elastic_stiffness),
+       pack(a.adhesion_stiffness, b.adhesion_stiffness),
+       pack(a.plasticity_depth, b.plasticity_depth)};
   PreparedT<D2> q;
   prepare<K>(spec, g, m, q);
   V3<D2> shear = pack(s[0].shear, s[1].shear), roll = pack(s[0].roll, s[1].roll);
   SlipT<D2> slip{pack(s[0].slip.turn, s[1].slip.turn), pack(s[0].slip.t_max, s[1].slip.t_max),
-                 pack(s[0].slip.kt_prev, s[1].slip.kt_prev)};
+                 pack(s[0].slip.kt_prev, s[1].slip.kt_prev), pack(s[0].slip.d_max, s[1].slip.d_max)};
   ResultT<D2> r;
   interact<K>(spec, q, g.omega_i, pack(s[0].v_rel, s[1].v_rel), HistoryDt{dt, dt}, shear, slip, roll, r);
   for (int l = 0; l < 2; ++l) {
@@ -210,7 +218,7 @@ void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) 
     out[l].r.fn = r.fn[l];
     out[l].shear = v(shear);
     out[l].roll = v(roll);
-    out[l].slip = {slip.turn[l], slip.t_max[l], slip.kt_prev[l]};
+    out[l].slip = {slip.turn[l], slip.t_max[l], slip.kt_prev[l], slip.d_max[l]};
   }
 }
 
@@ -223,7 +231,7 @@ bool same_bits(const Out& a, const Out& b) {
          same_bits(e(a.r.torque_j), e(b.r.torque_j)) && same_bits(e(a.r.ft), e(b.r.ft)) &&
          same_bits(a.r.fn, b.r.fn) && same_bits(e(a.shear), e(b.shear)) && same_bits(e(a.roll), e(b.roll)) &&
          same_bits(a.slip.turn, b.slip.turn) && same_bits(a.slip.t_max, b.slip.t_max) &&
-         same_bits(a.slip.kt_prev, b.slip.kt_prev);
+         same_bits(a.slip.kt_prev, b.slip.kt_prev) && same_bits(a.slip.d_max, b.slip.d_max);
 }
 
 struct Counts {

@@ -137,7 +137,7 @@ TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][pars
 }
 
 TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
-  for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
+  for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke, NormalModel::HookeHysteresis}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
                               RollingModel::Epsd3}) {
@@ -225,6 +225,9 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   mat.cohesion_energy_density = 1e4;  // used by the sjkr kernels only
   mat.rolling_stiffness = 1.5;        // epsd, epsd3 only
   mat.rolling_damping = 0.2;          // epsd, epsd3 only
+  mat.max_elastic_stiffness = 2.0;    // hooke/hysteresis only
+  mat.adhesion_stiffness = 0.2;
+  mat.plasticity_depth = 0.05;
   ContactState c;
   c.n = Vec3(0, 0.6, 0.8);
   c.overlap = 1e-5;
@@ -237,7 +240,7 @@ TEST_CASE("Runtime dispatch matches the templated kernels", "[contact][dispatch]
   c.omega_i = Vec3(3, 1, -2);
   c.omega_j = Vec3(-1, 4, 0);
   c.dt = 1e-6;
-  for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
+  for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke, NormalModel::HookeHysteresis}) {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
                               RollingModel::Epsd3}) {

@@ -278,8 +278,12 @@ TEST_CASE("Pair collisions conserve linear and angular momentum", "[contact][nor
   for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
                           RollingModel::Epsd3}) {
     for (TangentialModel tm : {TangentialModel::NoHistory, TangentialModel::History}) {
-      for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke}) {
-        const PairMaterial mat = mix_materials(kY, kNu, kY, 0.2, 0.5, 0.4, 0.2, 1.0);
+      for (NormalModel nm : {NormalModel::Hertz, NormalModel::Hooke, NormalModel::HookeHysteresis}) {
+        PairMaterial mat = mix_materials(kY, kNu, kY, 0.2, 0.5, 0.4, 0.2, 1.0);
+        mat.rolling_stiffness = 1.5;      // epsd, epsd3
+        mat.max_elastic_stiffness = 2.0;  // hooke/hysteresis
+        mat.adhesion_stiffness = 0.2;
+        mat.plasticity_depth = 0.05;
         Body a = sphere(0.002, kDensity), b = sphere(0.0035, 2 * kDensity);
         a.x = Vec3(0.001, 0.0004, 0.0021);
         b.x = Vec3(0.0002, -0.0003, -0.0035);
@@ -329,4 +333,75 @@ TEST_CASE("limitForce forbids attractive normal forces", "[contact][normal]") {
       CHECK(a.v.z() > 0.0);  // it still bounces
     }
   }
+}
+
+TEST_CASE("hooke/hysteresis follows Luding's loading, unloading and adhesive branches", "[contact][normal]") {
+  // Prescribed overlap path on two equal spheres (R* = 1 mm) with no damping
+  // (e = 1): load to delta_1, unload into the adhesive branch, reload past
+  // the first maximum. Expected (Luding 2008), with k1 = kn of model hooke:
+  //   loading (delta at its maximum)  f = k1 delta
+  //   unloading / reloading           f = k2 (delta - delta_0),
+  //     k2 = k1 + (k2max - k1) min(delta_max / delta*, 1),
+  //     delta_0 = (1 - k1/k2) delta_max, delta* = k2max / (k2max - k1) phi_f 2 R*
+  //   adhesion at most                f = -kc delta,
+  //     where delta_max moves so that the k2 line passes through (delta, -kc delta)
+  PairMaterial mat = mix_materials(5e6, 0.45, 5e6, 0.45, 1.0, 0.0, 0.0, 2.0);
+  mat.max_elastic_stiffness = 2.0;
+  mat.adhesion_stiffness = 0.2;
+  mat.plasticity_depth = 0.05;
+  ModelSpec spec;
+  spec.normal = NormalModel::HookeHysteresis;
+  spec.tangential = TangentialModel::None;
+  REQUIRE(history_size(spec) == 1);
+  ContactState c;
+  c.n = Vec3::UnitX();
+  c.r_i = c.r_j = 0.002;
+  c.r_eff = 0.001;
+  c.m_eff = 4e-5;
+  c.dt = 1e-6;
+  double h = 0.0;
+  ContactResult res;
+  auto force_at = [&](double delta) {
+    c.overlap = delta;
+    evaluate(spec, c, mat, &h, res);
+    return res.fn;
+  };
+  // k1: the stiffness of model hooke
+  const double k1 = force_at(1e-6) / 1e-6;
+  const double kn_hooke = 16.0 / 15.0 * std::sqrt(c.r_eff) * mat.Y_eff *
+                          std::pow(15.0 * c.m_eff * 4.0 / (16.0 * std::sqrt(c.r_eff) * mat.Y_eff), 0.2);
+  CHECK(k1 == Approx(kn_hooke).epsilon(1e-12));
+  const double k2max = 2.0 * k1, kc = 0.2 * k1, d_star = 2.0 * 0.05 * 2.0 * c.r_eff;  // 2e-4 m
+  auto k2_of = [&](double dmax) { return k1 + (k2max - k1) * std::min(dmax / d_star, 1.0); };
+  // loading to 1.2e-4 (below delta*): f = k1 delta all the way
+  for (double d = 2e-6; d <= 1.2e-4 + 1e-12; d += 2e-6)
+    CHECK(force_at(d) == Approx(k1 * d).epsilon(1e-12));
+  CHECK(h == Approx(1.2e-4).epsilon(1e-12));  // delta_max
+  // unloading on k2 = k1 (1 + 0.6) down to where k2 (delta - delta_0) = -kc delta
+  const double dmax = 1.2e-4, k2 = k2_of(dmax), d0 = (1.0 - k1 / k2) * dmax;
+  const double d_adh = k2 * d0 / (k2 + kc);  // the start of the adhesive branch
+  double d = dmax;
+  for (; d > d_adh + 1e-6; d -= 1e-6)
+    CHECK(force_at(d) == Approx(k2 * (d - d0)).epsilon(1e-9).margin(1e-15));
+  CHECK(force_at(d_adh - 2e-6) == Approx(-kc * (d_adh - 2e-6)).epsilon(1e-12));
+  // on the adhesive branch down to 1.5e-5; delta_max moves with it
+  for (d = d_adh - 2e-6; d > 1.5e-5; d -= 1e-6)
+    CHECK(force_at(d) == Approx(-kc * d).epsilon(1e-12));
+  const double turn = d + 1e-6;
+  const double dmax_new = h;
+  const double k2_new = k2_of(dmax_new), d0_new = (1.0 - k1 / k2_new) * dmax_new;
+  CHECK(k2_new * (turn - d0_new) == Approx(-kc * turn).epsilon(1e-9));  // through the turning point
+  CHECK(dmax_new < dmax);
+  // reloading on the new k2 line up to the virgin curve, then on k1 delta again
+  for (d = turn + 1e-6; d < dmax_new - 1e-6; d += 1e-6)
+    CHECK(force_at(d) == Approx(k2_new * (d - d0_new)).epsilon(1e-9).margin(1e-15));
+  for (d = dmax_new + 1e-6; d < 1.8e-4; d += 1e-6)
+    CHECK(force_at(d) == Approx(k1 * d).epsilon(1e-12));
+  // beyond delta*, k2 = k2max: loading to 3e-4, unloading on k2max
+  for (d = 1.8e-4; d <= 3e-4 + 1e-12; d += 1e-6)
+    force_at(d);
+  CHECK(force_at(2.5e-4) == Approx(k2max * (2.5e-4 - 0.5 * h)).epsilon(1e-9));
+  // apart: no force, history cleared
+  CHECK(force_at(-1e-7) == 0.0);
+  CHECK(h == 0.0);
 }

@@ -196,6 +196,11 @@ TEST_CASE("a sphere rolling off another with rolling_friction epsd3 matches LIGG
   compare_exact("rolling_epsd3_pair");
 }
 
+TEST_CASE("three pairs colliding with model hooke/hysteresis match LIGGGHTS to the printed digits",
+          "[hysteresis]") {
+  compare_exact("hysteresis_pairs");
+}
+
 // At a wall LIGGGHTS 3.8's epsd spring and dashpot torques are 0.50 % above
 // its documented formula with R* = r (measured for one sphere of r = 1 mm at
 // an overlap of 1e-5 m; between two spheres they agree to every printed

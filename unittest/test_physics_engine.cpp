@@ -524,6 +524,42 @@ TEST_CASE("rolling_friction epsd and epsd3 need their properties and decelerate 
   }
 }
 
+// model hooke/hysteresis in a script: its three properties are required and
+// checked (the physics: unittest/test_contact_normal.cpp and the LIGGGHTS
+// agreement test on in.hysteresis_pairs).
+TEST_CASE("model hooke/hysteresis needs its properties with valid values", "[physics][engine]") {
+  auto script = [](const std::vector<std::string>& extra) {
+    auto lines = header("m m m", "-0.01 0.01 -0.01 0.01 0 0.01", 1);
+    append(lines, materials(1, 0.5, 0.5, -1.0));
+    lines.push_back("fix m9 all property/global characteristicVelocity scalar 2.0");
+    append(lines, extra);
+    append(lines, {"pair_style gran model hooke/hysteresis tangential history", "pair_coeff * *",
+                   "timestep 1e-6", "create_atoms 1 single 0 0 0.005 units box",
+                   "set type 1 diameter 0.002 density 2500", "fix integr all nve/sphere"});
+    return lines;
+  };
+  const std::string k2 = "fix h1 all property/global coefficientMaxElasticStiffness peratomtypepair 1 ";
+  const std::string kc = "fix h2 all property/global coefficientAdhesionStiffness peratomtypepair 1 0.2";
+  const std::string phi = "fix h3 all property/global coefficientPlasticityDepth peratomtypepair 1 0.05";
+  {
+    Sim s;
+    s.lines(script({kc, phi}));
+    CHECK_THROWS_WITH(s.cmd("run 1"), Catch::Matchers::Contains("coefficientMaxElasticStiffness"));
+  }
+  {
+    Sim s;
+    s.lines(script({k2 + "1.0", kc, phi}));
+    CHECK_THROWS_WITH(s.cmd("run 1"),
+                      Catch::Matchers::Contains("coefficientMaxElasticStiffness must be > 1"));
+  }
+  {
+    Sim s;
+    s.lines(script({k2 + "2.0", kc, phi}));
+    s.cmd("run 10");
+    CHECK(s.e.update->ntimestep == 10);
+  }
+}
+
 // ---------------------------------------------------------------- free fall
 
 // Under a constant force velocity Verlet is exact: x_{n+1} = x_n + dt v_n +

@@ -36,9 +36,11 @@ template <class K, class S>
 [[gnu::always_inline]] inline void load_history(const ModelSpec& spec, int l, const double* h,
                                                 lane::V3<S>& shear, SlipT<S>& slip, lane::V3<S>& roll) {
   const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
+  const int ho = K::hysteresis_offset(spec);
   if (so >= 0) lane::set(shear, l, h + so);
   if (po >= 0) load_slip(slip, l, h + po);
   if (ro >= 0) lane::set(roll, l, h + ro);
+  if (ho >= 0) lane::set(slip.d_max, l, h[ho]);
 }
 
 /// Lane l of the history state back into the history doubles h.
@@ -46,9 +48,11 @@ template <class K, class S>
 [[gnu::always_inline]] inline void store_history(const ModelSpec& spec, int l, const lane::V3<S>& shear,
                                                  const SlipT<S>& slip, const lane::V3<S>& roll, double* h) {
   const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
+  const int ho = K::hysteresis_offset(spec);
   if (so >= 0) lane::store(shear, l, h + so);
   if (po >= 0) store_slip(slip, l, h + po);
   if (ro >= 0) lane::store(roll, l, h + ro);
+  if (ho >= 0) h[ho] = lane::get(slip.d_max, l);
 }
 
 /// Evaluate the n contacts of a block (see the top of this file). `prep` holds
@@ -77,7 +81,7 @@ template <class K, class S, class Geometry, class Load, class Store>
     block_lanes<W>(m, n, c);
     lane::V3<S> omega_i = lane::zero3<S>(), v_rel = omega_i;  // filled by load
     lane::V3<S> shear = lane::zero3<S>(), roll = lane::zero3<S>();
-    SlipT<S> slip{lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0)};
+    SlipT<S> slip{lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0)};
     load(c, omega_i, v_rel, shear, slip, roll);
     interact<K>(spec, prep[m / W], omega_i, v_rel, dt, shear, slip, roll, out);
     store(c, std::min(W, n - m), out, shear, slip, roll);

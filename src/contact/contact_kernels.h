@@ -41,8 +41,9 @@ constexpr double kSqrtFiveSixths = 0.91287092917527685576;  // sqrt(5/6)
 /// Relative rolling spins below this fraction of |omega_i| + |omega_j| count as
 /// zero in the cdt model (round-off of equal spins, never real rolling).
 constexpr double kRollingSpinTolerance = 1e-10;
-/// Most history doubles any model needs (mindlin_deresiewicz 3 + 3, epsd2 torque 3).
-constexpr int kMaxHistory = 9;
+/// Most history doubles any model needs (mindlin_deresiewicz 3 + 3, rolling spring 3,
+/// hooke/hysteresis 1).
+constexpr int kMaxHistory = 10;
 
 /// Sub-model slots fixed at compile time. Every query takes the spec so that
 /// the formula text is the same as for RuntimeKernel; here it is ignored.
@@ -54,10 +55,11 @@ struct Kernel {
   static constexpr RollingModel rolling(const ModelSpec&) { return R; }
   static constexpr CohesionModel cohesion(const ModelSpec&) { return C; }
   static constexpr bool limit_force(const ModelSpec&) { return Limit; }
-  static constexpr HistoryLayout kLayout = history_layout_of(T, R);
+  static constexpr HistoryLayout kLayout = history_layout_of(N, T, R);
   static constexpr int shear_offset(const ModelSpec&) { return kLayout.shear; }
   static constexpr int slip_offset(const ModelSpec&) { return kLayout.slip; }
   static constexpr int rolling_offset(const ModelSpec&) { return kLayout.rolling; }
+  static constexpr int hysteresis_offset(const ModelSpec&) { return kLayout.hysteresis; }
   static constexpr int history_size(const ModelSpec&) { return kLayout.size; }
 };
 
@@ -72,6 +74,7 @@ struct RuntimeKernel {
   static int shear_offset(const ModelSpec& s) { return history_layout(s).shear; }
   static int slip_offset(const ModelSpec& s) { return history_layout(s).slip; }
   static int rolling_offset(const ModelSpec& s) { return history_layout(s).rolling; }
+  static int hysteresis_offset(const ModelSpec& s) { return history_layout(s).hysteresis; }
   static int history_size(const ModelSpec& s) { return history_layout(s).size; }
 };
 
@@ -81,6 +84,7 @@ struct MaterialT {
   S Y_eff, G_eff, beta, friction, rolling_friction, char_velocity, cohesion_energy_density, dissipative_time;
   S kn, kt, gamman, gammat;              ///< the stiffness models' coefficients as given
   S rolling_damping, rolling_stiffness;  ///< epsd, epsd3: eta_r and the prefactor of k_r
+  S max_elastic_stiffness, adhesion_stiffness, plasticity_depth;  ///< hooke/hysteresis
 };
 
 template <class S>
@@ -95,6 +99,9 @@ template <class S>
   lane::set(m.dissipative_time, l, p.dissipative_time);
   lane::set(m.rolling_damping, l, p.rolling_damping);
   lane::set(m.rolling_stiffness, l, p.rolling_stiffness);
+  lane::set(m.max_elastic_stiffness, l, p.max_elastic_stiffness);
+  lane::set(m.adhesion_stiffness, l, p.adhesion_stiffness);
+  lane::set(m.plasticity_depth, l, p.plasticity_depth);
   lane::set(m.kn, l, p.kn);
   lane::set(m.kt, l, p.kt);
   lane::set(m.gamman, l, p.gamman);
@@ -123,18 +130,22 @@ struct PreparedT {
   S kn, kt, gamma_n, gamma_t;  ///< stiffness and damping of the normal sub-model
   S cr_i, cr_j;                ///< lever arms r - overlap/2 (a wall: 0)
   S friction, rolling_friction;
-  lane::V3<S> omega_j;  ///< spin of the partner
-  S spin;               ///< cdt: |omega_i - omega_j|
-  S f_coh;              ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
-  S k_roll, c_roll;     ///< epsd, epsd3: rolling stiffness k_r and dashpot C_r; unset otherwise
+  lane::V3<S> omega_j;    ///< spin of the partner
+  S spin;                 ///< cdt: |omega_i - omega_j|
+  S f_coh;                ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
+  S k_roll, c_roll;       ///< epsd, epsd3: rolling stiffness k_r and dashpot C_r; unset otherwise
+  S k2_max, k_c, d_star;  ///< hooke/hysteresis: k2max, kc and delta_max*; unset otherwise
 };
 
-/// The loading state of mindlin_deresiewicz contacts (history slot `slip`).
+/// The scalar history of a contact: the loading state of mindlin_deresiewicz
+/// (history slot `slip`) and the plastic state of hooke/hysteresis (slot
+/// `hysteresis`).
 template <class S>
 struct SlipT {
   S turn;     ///< tangential force at the last reversal, signed along the stored force [N]
   S t_max;    ///< the largest force reached on the virgin curve [N]
   S kt_prev;  ///< kt of the last step (0 at first touch) [N/m]
+  S d_max;    ///< hooke/hysteresis: delta_max, which sets k2 and the unloading line [m]
 };
 
 /// Lane l of a slip state from its three history doubles, and back.
@@ -234,6 +245,15 @@ template <class K, class S>
     q.gamma_n = -2.0 * m.beta * sqrt(S(g.m_eff * q.kn));
     q.gamma_t = q.gamma_n;
   }
+  if (K::normal(spec) == NormalModel::HookeHysteresis) {
+    // Luding (2008) on the stiffness k1 = kn of model hooke: k2 grows with
+    // delta_max up to k2max, reached at delta_max* = k2max / (k2max - k1) phi_f 2 R*
+    q.k2_max = m.max_elastic_stiffness * q.kn;
+    q.k_c = m.adhesion_stiffness * q.kn;
+    q.d_star = m.max_elastic_stiffness / (m.max_elastic_stiffness - 1.0) * m.plasticity_depth * 2.0 * g.r_eff;
+  } else if constexpr (!K::compiled) {
+    q.k2_max = q.k_c = q.d_star = lane::splat<S>(0.0);  // read by no one
+  }
   if (!spec.tangential_damping) q.gamma_t = lane::splat<S>(0.0);
   q.n = g.n;
   q.overlap = g.overlap;
@@ -290,7 +310,28 @@ template <class K, class S>
   // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
   // pushes the bodies apart on approach and pulls on separation.
   const S vn = dot(v_rel, n);
-  const S fn_elastic = q.kn * q.overlap;
+  S fn_elastic = q.kn * q.overlap;
+  S d_max_new = slip.d_max;
+  if (K::normal(spec) == NormalModel::HookeHysteresis) {
+    // Luding (2008): loading on k1 delta; unloading and reloading on
+    // k2 (delta - delta_0), delta_0 = (1 - k1/k2) delta_max; no more pull than
+    // -kc delta, where delta_max follows so that the k2 line passes through
+    // (delta, -kc delta) and reloading starts from there.
+    const S k1 = q.kn, d = q.overlap;
+    const S dk = q.k2_max - k1;
+    const S d_max = select(slip.d_max > d, slip.d_max, d);
+    const S k2 = select(d_max >= q.d_star, q.k2_max, S(k1 + dk * (d_max / q.d_star)));
+    const S f2 = k2 * (d - (1.0 - k1 / k2) * d_max);
+    const S f1 = k1 * d, fc = -q.k_c * d;
+    fn_elastic = select(f2 >= f1, f1, select(f2 > fc, f2, fc));
+    // on the adhesive branch: x = delta_max / delta_max* solves
+    // dk delta* x^2 - dk delta x - (k1 + kc) delta = 0 (k2 below k2max),
+    // else delta_max = delta (k2max + kc) / (k2max - k1)
+    const S x = (dk * d + lane::sqrt(S(dk * dk * d * d + 4.0 * dk * q.d_star * (k1 + q.k_c) * d))) /
+                (2.0 * dk * q.d_star);
+    const S d_adh = select(x >= 1.0, S(d * (q.k2_max + q.k_c) / dk), S(x * q.d_star));
+    d_max_new = select(f2 > fc, d_max, d_adh);
+  }
   S fn = fn_elastic - q.gamma_n * vn;
   if (K::limit_force(spec)) fn = select(fn < 0.0, splat<S>(0.0), fn);
   // Cohesion pulls the bodies together after limitForce (which forbids only
@@ -466,6 +507,8 @@ template <class K, class S>
     slip.kt_prev = select(touching, slip_new.kt_prev, splat<S>(0.0));
   }
   if (rolling_spring(rm)) roll = select(touching, roll_new, zero);
+  if (K::normal(spec) == NormalModel::HookeHysteresis)
+    slip.d_max = select(touching, d_max_new, splat<S>(0.0));
 }
 
 /// One contact given as a ContactState: the same formulas on one lane. Same
@@ -498,14 +541,17 @@ template <class K>
   prepare<K>(spec, g, mat, q);
   const int so = K::shear_offset(spec), po = K::slip_offset(spec), ro = K::rolling_offset(spec);
   V shear = so >= 0 ? V{history[so], history[so + 1], history[so + 2]} : lane::zero3<double>();
-  SlipT<double> slip{0.0, 0.0, 0.0};
+  SlipT<double> slip{0.0, 0.0, 0.0, 0.0};
   if (po >= 0) load_slip(slip, 0, history + po);
+  const int ho = K::hysteresis_offset(spec);
+  if (ho >= 0) slip.d_max = history[ho];
   V roll = ro >= 0 ? V{history[ro], history[ro + 1], history[ro + 2]} : lane::zero3<double>();
   ResultT<double> r;
   interact<K>(spec, q, g.omega_i, v3(c.v_rel), HistoryDt{c.dt, c.dt}, shear, slip, roll, r);
   if (so >= 0) lane::store(shear, 0, history + so);
   if (po >= 0) store_slip(slip, 0, history + po);
   if (ro >= 0) lane::store(roll, 0, history + ro);
+  if (ho >= 0) history[ho] = slip.d_max;
   out.force = lane::get(r.force, 0);
   out.torque_i = lane::get(r.torque_i, 0);
   out.torque_j = lane::get(r.torque_j, 0);

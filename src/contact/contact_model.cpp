@@ -28,6 +28,7 @@ void history_swap_signs(const ModelSpec& spec, double* signs) {
   for (int h = 0; h < layout.size; ++h)
     signs[h] = -1.0;
   if (layout.slip >= 0) signs[layout.slip] = signs[layout.slip + 1] = signs[layout.slip + 2] = 1.0;
+  if (layout.hysteresis >= 0) signs[layout.hysteresis] = 1.0;  // delta_max: the same seen from j
 }
 
 // ---------------------------------------------------------------------------
@@ -59,7 +60,8 @@ const std::vector<std::pair<std::string, NormalModel>> kNormalNames = {
     {"hertz", NormalModel::Hertz},
     {"hooke", NormalModel::Hooke},
     {"hertz/stiffness", NormalModel::HertzStiffness},
-    {"hooke/stiffness", NormalModel::HookeStiffness}};
+    {"hooke/stiffness", NormalModel::HookeStiffness},
+    {"hooke/hysteresis", NormalModel::HookeHysteresis}};
 const std::vector<std::pair<std::string, TangentialModel>> kTangentialNames = {
     {"history", TangentialModel::History},
     {"no_history", TangentialModel::NoHistory},
@@ -93,7 +95,6 @@ std::string join(const std::vector<std::string>& names) {
 // LIGGGHTS sub-models that exist there but are not implemented here.
 bool is_known_unsupported(const std::string& slot, const std::string& name) {
   static const std::vector<std::pair<std::string, std::string>> known = {
-      {"model", "hooke/hysteresis"},
       {"cohesion", "easo/capillary/viscous"},
       {"cohesion", "washino/capillary/viscous"},
       {"surface", "superquadric"},
@@ -202,7 +203,8 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     }
     pos += 2;
   }
-  if (seen_kt_to_kn && spec.normal != NormalModel::Hooke) fail("'ktToKnUser' applies only to 'model hooke'");
+  if (seen_kt_to_kn && spec.normal != NormalModel::Hooke && spec.normal != NormalModel::HookeHysteresis)
+    fail("'ktToKnUser' applies only to 'model hooke' and 'model hooke/hysteresis'");
   if (seen_absolute && spec.normal != NormalModel::HookeStiffness)
     fail("'absolute_damping' applies only to 'model hooke/stiffness'");
   if (spec.damping == DampingModel::Viscoelastic && spec.normal != NormalModel::Hertz)

@@ -21,10 +21,12 @@ namespace granary::contact {
 
 using Vec3 = Eigen::Vector3d;
 
-/// Normal force law ("model hertz" / "model hooke", and the stiffness forms
+/// Normal force law ("model hertz" / "model hooke", the stiffness forms
 /// "model hertz/stiffness" / "model hooke/stiffness", whose spring and dashpot
-/// coefficients are given directly as kn, kt, gamman, gammat).
-enum class NormalModel { Hertz, Hooke, HertzStiffness, HookeStiffness };
+/// coefficients are given directly as kn, kt, gamman, gammat, and "model
+/// hooke/hysteresis": Luding's elastic-plastic spring with adhesion on the
+/// stiffness of model hooke).
+enum class NormalModel { Hertz, Hooke, HertzStiffness, HookeStiffness, HookeHysteresis };
 /// Tangential force law: "tangential off", "tangential no_history",
 /// "tangential history" (Hertz-Mindlin without micro-slip: the elastic spring
 /// kt times the accumulated displacement, capped by Coulomb), and
@@ -98,14 +100,16 @@ struct HistoryLayout {
   /// signed along the stored force [N], the largest force reached on the
   /// virgin curve [N], and the stiffness kt of the last step [N/m]; 3 doubles
   int slip = -1;
-  int rolling = -1;  ///< epsd2, epsd, epsd3: rolling spring torque acting on i [N m], 3 doubles
-  int size = 0;      ///< total number of doubles (== history_size)
+  int rolling = -1;     ///< epsd2, epsd, epsd3: rolling spring torque acting on i [N m], 3 doubles
+  int hysteresis = -1;  ///< hooke/hysteresis: the plastic state delta_max [m], 1 double
+  int size = 0;         ///< total number of doubles (== history_size)
 };
-/// The layout for a tangential and a rolling sub-model: [shear x,y,z if
-/// tangential history or mindlin_deresiewicz][reversal force, last kt if
-/// mindlin_deresiewicz][rolling torque x,y,z if epsd2]. The one definition, used
-/// by history_layout() and by the kernels (compile-time for the compiled ones).
-constexpr HistoryLayout history_layout_of(TangentialModel t, RollingModel r) {
+/// The layout for a normal, a tangential and a rolling sub-model: [shear
+/// x,y,z if tangential history or mindlin_deresiewicz][reversal force, last
+/// kt if mindlin_deresiewicz][rolling torque x,y,z if epsd2, epsd,
+/// epsd3][delta_max if hooke/hysteresis]. The one definition, used by
+/// history_layout() and by the kernels (compile-time for the compiled ones).
+constexpr HistoryLayout history_layout_of(NormalModel nm, TangentialModel t, RollingModel r) {
   HistoryLayout layout;
   if (t == TangentialModel::History || t == TangentialModel::MindlinDeresiewicz) {
     layout.shear = layout.size;
@@ -119,10 +123,14 @@ constexpr HistoryLayout history_layout_of(TangentialModel t, RollingModel r) {
     layout.rolling = layout.size;
     layout.size += 3;
   }
+  if (nm == NormalModel::HookeHysteresis) {
+    layout.hysteresis = layout.size;
+    layout.size += 1;
+  }
   return layout;
 }
 inline HistoryLayout history_layout(const ModelSpec& spec) {
-  return history_layout_of(spec.tangential, spec.rolling);
+  return history_layout_of(spec.normal, spec.tangential, spec.rolling);
 }
 
 /// Sign applied to each history value when the roles of i and j are swapped
@@ -169,6 +177,9 @@ struct PairMaterial {
   double rolling_damping = 0.0;
   /// epsd: 2.25; epsd3: rollingStiffness; k_r = this kn mu_r^2 R*^2
   double rolling_stiffness = 0.0;
+  /// hooke/hysteresis: coefficientMaxElasticStiffness (k2max / k1, > 1),
+  /// coefficientAdhesionStiffness (kc / k1, >= 0), coefficientPlasticityDepth (phi_f, > 0)
+  double max_elastic_stiffness = 0.0, adhesion_stiffness = 0.0, plasticity_depth = 0.0;
   double char_velocity = 0.0;  ///< Hooke only: characteristicVelocity [m/s]
   /// cohesion sjkr: cohesionEnergyDensity k [J/m^3]; the cohesive pull is k * contact area
   double cohesion_energy_density = 0.0;

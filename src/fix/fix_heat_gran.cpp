@@ -153,8 +153,10 @@ class FixHeatGran : public Fix {
         throw InputError(
             by + ": area_correction yes needs a granular pair style (pair_style gran model hertz|hooke)");
       const contact::NormalModel nm = pair->spec().normal;
-      const double e =
-          nm == contact::NormalModel::Hooke || nm == contact::NormalModel::HookeStiffness ? 1.0 : 2.0 / 3.0;
+      const double e = nm == contact::NormalModel::Hooke || nm == contact::NormalModel::HookeStiffness ||
+                               nm == contact::NormalModel::HookeHysteresis
+                           ? 1.0
+                           : 2.0 / 3.0;
       const GlobalProperty& y = m.require_property("youngsModulus", by);
       const GlobalProperty& nu = m.require_property("poissonsRatio", by);
       const GlobalProperty& yo = m.require_property("youngsModulusOriginal", by);

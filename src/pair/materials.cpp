@@ -77,12 +77,20 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
                        ") must be defined as 'scalar VALUE' for rolling_friction epsd3, not " + rstiff->kind);
     }
   }
+  // hooke/hysteresis: Luding's k2max / k1, kc / k1 and phi_f
+  const GlobalProperty *k2max = nullptr, *kc = nullptr, *phif = nullptr;
+  if (spec.normal == contact::NormalModel::HookeHysteresis) {
+    k2max = &modify.require_property("coefficientMaxElasticStiffness", user);
+    kc = &modify.require_property("coefficientAdhesionStiffness", user);
+    phif = &modify.require_property("coefficientPlasticityDepth", user);
+  }
   double vchar = 0.0;
-  if (spec.normal == contact::NormalModel::Hooke) {
+  if (spec.normal == contact::NormalModel::Hooke || spec.normal == contact::NormalModel::HookeHysteresis) {
     vchar = modify.require_property("characteristicVelocity", user).scalar();
   }
   // A restart file remembers the materials of the run that wrote it.
-  for (const GlobalProperty* prop : {Y, nu, e, mu, mur, coh, diss, kn, kt, gn, gt, rdamp, rstiff}) {
+  for (const GlobalProperty* prop :
+       {Y, nu, e, mu, mur, coh, diss, kn, kt, gn, gt, rdamp, rstiff, k2max, kc, phif}) {
     if (!prop) continue;
     auto it = modify.restart_materials.find(prop->name);
     if (it == modify.restart_materials.end()) continue;
@@ -96,7 +104,7 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
     youngs_[a] = Y ? Y->per_type(a) : 0.0;
     poisson_[a] = nu ? nu->per_type(a) : 0.0;
   }
-  for (const GlobalProperty* prop : {e, mu, mur, coh, diss, kn, kt, gn, gt, rdamp}) {
+  for (const GlobalProperty* prop : {e, mu, mur, coh, diss, kn, kt, gn, gt, rdamp, k2max, kc, phif}) {
     if (!prop) continue;
     for (int a = 1; a <= n; ++a)
       for (int b = a + 1; b <= n; ++b)
@@ -144,6 +152,18 @@ void MaterialTable::build(Engine& engine, const contact::ModelSpec& spec, const 
             throw std::invalid_argument("coefficientRollingViscousDamping must be >= 0");
         }
         if (spec.rolling == contact::RollingModel::Epsd) pm.rolling_stiffness = 2.25;
+        if (k2max) {
+          pm.max_elastic_stiffness = k2max->per_pair(a, b);
+          pm.adhesion_stiffness = kc->per_pair(a, b);
+          pm.plasticity_depth = phif->per_pair(a, b);
+          if (!(pm.max_elastic_stiffness > 1.0))
+            throw std::invalid_argument(
+                "coefficientMaxElasticStiffness must be > 1 (k2max / k1: unloading is stiffer than loading)");
+          if (!(pm.adhesion_stiffness >= 0.0))
+            throw std::invalid_argument("coefficientAdhesionStiffness must be >= 0");
+          if (!(pm.plasticity_depth > 0.0))
+            throw std::invalid_argument("coefficientPlasticityDepth must be > 0");
+        }
         if (rstiff) {
           pm.rolling_stiffness = rstiff->scalar();
           if (!(pm.rolling_stiffness >= 0.0)) throw std::invalid_argument(rstiff->name + " must be >= 0");
