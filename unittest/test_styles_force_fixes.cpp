@@ -10,6 +10,8 @@
 
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/modify.h"
+#include "fix/fix.h"
 #include "particles/particles.h"
 #include "script_engine.h"
 
@@ -181,4 +183,44 @@ TEST_CASE("fix store/force: the force as it was at the fix's turn", "[fix][store
   std::vector<double> out;
   CHECK_THROWS_WITH(s.e.fix_peratom("st", 0, out), Contains("column"));
   CHECK_THROWS_WITH(s.cmd("fix st2 all store/force now"), Contains("usage"));
+}
+
+TEST_CASE("fix spring tether: the centre of mass oscillates with period 2 pi sqrt(M/K) about the rest length",
+          "[fix][spring]") {
+  // two free particles (no pair style: no contacts) tethered by their centre
+  // of mass to (0, 0, 0) with rest length 0.02 m along x only (y, z NULL);
+  // released at rest 0.05 m out, the centre of mass moves as
+  // x(t) = 0.02 + 0.03 cos(w t), w = sqrt(K / M), the pair keeps its shape
+  World s(MPI_COMM_WORLD);
+  s.cmds(kBox);
+  s.cmds({"create_atoms 1 single 0.04 0.01 0", "create_atoms 2 single 0.06 -0.01 0.03",
+          "set type * diameter 0.01 density 2000", "fix ta all spring tether 2e-3 0.0 NULL NULL 0.02",
+          "fix i all nve/sphere", "run 0"});
+  const double K = 2e-3, M = 2 * kMass, w = std::sqrt(K / M);
+  CHECK(s.e.modify->find_fix("ta")->compute_scalar() == Approx(0.5 * K * 0.03 * 0.03).epsilon(1e-12));
+  CHECK(s.e.modify->find_fix("ta")->compute_vector(0) == Approx(-K * 0.03).epsilon(1e-12));
+  CHECK(s.e.modify->find_fix("ta")->compute_vector(3) == Approx(K * 0.03).epsilon(1e-12));
+  const int steps = 4000;  // t = 0.4 s
+  s.cmd("run " + std::to_string(steps));
+  const double t = steps * 1e-4;
+  Vec3 x1, v1, x2, v2;
+  REQUIRE(particle_state(s.e, 1, x1, v1));
+  REQUIRE(particle_state(s.e, 2, x2, v2));
+  CHECK(0.5 * (x1[0] + x2[0]) == Approx(0.02 + 0.03 * std::cos(w * t)).epsilon(1e-5));
+  CHECK(x2[0] - x1[0] == Approx(0.02).epsilon(1e-12));  // forces shared by mass: no deformation
+  CHECK(v1[1] == 0.0);
+  CHECK(v1[2] == 0.0);
+}
+
+TEST_CASE("fix spring: input errors", "[fix][spring]") {
+  World s(MPI_COMM_WORLD);
+  s.cmds(kBox);
+  s.cmds({"create_atoms 1 single 0 0 0", "set type * diameter 0.01 density 2000", "group one id 1"});
+  CHECK_THROWS_WITH(s.cmd("fix s all spring pull 1 0 0 0 0"), Contains("expected 'tether' or 'couple'"));
+  CHECK_THROWS_WITH(s.cmd("fix s all spring tether 1 0 0 0"), Contains("usage"));
+  CHECK_THROWS_WITH(s.cmd("fix s all spring tether -1 0 0 0 0"), Contains("must be positive"));
+  CHECK_THROWS_WITH(s.cmd("fix s all spring tether 1 NULL NULL NULL 0"), Contains("all NULL"));
+  CHECK_THROWS_WITH(s.cmd("fix s all spring tether 1 0 0 0 -0.1"), Contains("R0 must be >= 0"));
+  CHECK_THROWS_WITH(s.cmd("fix s all spring couple nosuch 1 0 0 0 0"), Contains("nosuch"));
+  s.cmd("fix s all spring couple one 1 0 0 NULL 0");
 }
