@@ -125,6 +125,50 @@ TEST_CASE("dump custom/vtk: .vtu files read back as vertex cells", "[dump][vtk]"
   CHECK(pvd_entries(dir + "/grid_.pvd").size() == 2);
 }
 
+TEST_CASE("dump atom/vtk: LIGGGHTS' arrays, read back", "[dump][vtk]") {
+  // LIGGGHTS 3.8 writes these point arrays (an UnstructuredGrid of vertex
+  // cells): radii, id, type, proc, mass, velocity_lin, velocity_ang, force
+  const std::string dir = fresh_dir("atom_vtk");
+  granary::Engine e(MPI_COMM_WORLD);
+  setup_bed(e);
+  e.input->one("dump d all atom/vtk 10 " + dir + "/atoms_*.vtu");
+  e.input->one("run 10");
+  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  reader->SetFileName((dir + "/atoms_10.vtu").c_str());
+  reader->Update();
+  vtkUnstructuredGrid* ug = reader->GetOutput();
+  REQUIRE(ug->GetNumberOfPoints() == 100);
+  CHECK(ug->GetCellType(0) == VTK_VERTEX);
+  vtkPointData* pd = ug->GetPointData();
+  CHECK(pd->GetNumberOfArrays() == 8);
+  for (const char* name : {"radii", "id", "type", "proc", "mass", "velocity_lin", "velocity_ang", "force"}) {
+    INFO(name);
+    CHECK(pd->GetArray(name) != nullptr);
+  }
+  REQUIRE(pd->GetArray("velocity_lin"));
+  CHECK(pd->GetArray("velocity_lin")->GetNumberOfComponents() == 3);
+  std::map<long long, int> idx;
+  for (int i = 0; i < e.particles->nlocal; ++i)
+    idx[e.particles->id[i]] = i;
+  int bad = 0;
+  for (vtkIdType k = 0; k < ug->GetNumberOfPoints(); ++k) {
+    const int i = idx.at(static_cast<long long>(pd->GetArray("id")->GetTuple1(k)));
+    if (pd->GetArray("radii")->GetTuple1(k) != e.particles->radius[i]) ++bad;
+    if (pd->GetArray("mass")->GetTuple1(k) != e.particles->rmass[i]) ++bad;
+    if (pd->GetArray("proc")->GetTuple1(k) != 0) ++bad;
+    for (int d = 0; d < 3; ++d) {
+      if (pd->GetArray("velocity_lin")->GetComponent(k, d) != e.particles->v[i][d]) ++bad;
+      if (pd->GetArray("velocity_ang")->GetComponent(k, d) != e.particles->omega[i][d]) ++bad;
+      if (pd->GetArray("force")->GetComponent(k, d) != e.particles->f[i][d]) ++bad;
+    }
+  }
+  CHECK(bad == 0);
+  CHECK_THROWS_WITH(e.input->one("dump d2 all atom/vtk 10 " + dir + "/a_*.vtu id"),
+                    Contains("atom/vtk takes no fields"));
+  CHECK_THROWS_WITH(e.input->one("dump d3 all atom/vtk 10 " + dir + "/a_*.txt"),
+                    Contains("atom/vtk needs a file name ending in .vtp"));
+}
+
 TEST_CASE("dump custom/vtk: a .pvtp name gives the parallel format on one rank", "[dump][vtk]") {
   const std::string dir = fresh_dir("pvtp");
   granary::Engine e(MPI_COMM_WORLD);

@@ -125,6 +125,7 @@ const std::vector<AtomProperty>& atom_properties() {
       {"tqx", false, torque_of<0>},
       {"tqy", false, torque_of<1>},
       {"tqz", false, torque_of<2>},
+      {"proc", true, [](const Engine& e, int) { return static_cast<double>(e.rank); }},
   };
   return table;
 }

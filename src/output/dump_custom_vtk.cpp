@@ -59,6 +59,16 @@ const Triple kTriples[] = {
 
 }  // namespace
 
+namespace {
+
+// atom/vtk: its fixed fields, and LIGGGHTS' names of the arrays they make
+const char* const kAtomVtkFields[] = {"radius", "id",     "type",   "proc",   "mass", "vx", "vy",
+                                      "vz",     "omegax", "omegay", "omegaz", "fx",   "fy", "fz"};
+const std::pair<const char*, const char*> kAtomVtkNames[] = {
+    {"radius", "radii"}, {"v", "velocity_lin"}, {"omega", "velocity_ang"}, {"f", "force"}};
+
+}  // namespace
+
 DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
     : Dump(engine, args),
       fields_(
@@ -66,12 +76,22 @@ DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
           [&] {
             // positions come first (they become the points), then the other fields
             Args words{"x", "y", "z"};
+            if (args.size() > 2 && args[2] == "atom/vtk") {
+              if (args.size() > 5) {
+                throw InputError("dump " + args[0] + " atom/vtk takes no fields after the file name (got '" +
+                                 args[5] + "'); use dump custom/vtk to choose them");
+              }
+              for (const char* w : kAtomVtkFields)
+                words.push_back(w);
+              return words;
+            }
             for (std::size_t k = 5; k < args.size(); ++k)
               if (args[k] != "x" && args[k] != "y" && args[k] != "z") words.push_back(args[k]);
             return words;
           }(),
           "dump " + args[0]) {
   const std::string ext = extension(filename);
+  const std::string style_name = args[2];
   if (ext == ".vtp" || ext == ".pvtp")
     kind_ = Kind::kPolyData;
   else if (ext == ".vtu" || ext == ".pvtu")
@@ -79,14 +99,13 @@ DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
   else if (ext == ".vtk")
     kind_ = Kind::kLegacy;
   else {
-    throw InputError("dump " + id +
-                     ": custom/vtk needs a file name ending in .vtp, .vtu, .pvtp, .pvtu or .vtk, got '" +
-                     filename + "'");
+    throw InputError("dump " + id + ": " + style_name +
+                     " needs a file name ending in .vtp, .vtu, .pvtp, .pvtu or .vtk, got '" + filename + "'");
   }
   parallel_ext_ = ext == ".pvtp" || ext == ".pvtu";
   if (filename.find('%') != std::string::npos) {
-    throw InputError("dump " + id +
-                     ": '%' is not needed in custom/vtk file names: on several ranks every rank "
+    throw InputError("dump " + id + ": '%' is not needed in " + style_name +
+                     " file names: on several ranks every rank "
                      "writes its own piece and rank 0 the ." +
                      std::string(kind_ == Kind::kUnstructured ? "pvtu" : "pvtp") + " index");
   }
@@ -120,6 +139,9 @@ DumpCustomVTK::DumpCustomVTK(Engine& engine, const Args& args)
     names.push_back(a.name);
     if (f.integer)
       a.type = (f.name == "id" || f.name == "body" || f.name == "mol" || f.name == "id_multisphere") ? 2 : 1;
+    if (style_name == "atom/vtk")
+      for (const auto& [from, to] : kAtomVtkNames)
+        if (a.name == from) a.name = to;
     arrays_.push_back(a);
   }
 }
@@ -310,5 +332,6 @@ void DumpCustomVTK::write() {
 }
 
 GRANARY_DUMP_STYLE("custom/vtk", DumpCustomVTK);
+GRANARY_DUMP_STYLE("atom/vtk", DumpCustomVTK);
 
 }  // namespace granary

@@ -12,6 +12,10 @@
 // index is written here; this works with any VTK build.) Rank 0 keeps a .pvd
 // collection listing every frame with its simulated time; it is rewritten
 // (temporary file + rename) after each frame.
+//
+// `dump ID group atom/vtk N file` (LIGGGHTS) is the same writer with a fixed
+// list of arrays under LIGGGHTS' names: radii, id, type, proc, mass,
+// velocity_lin, velocity_ang and force.
 #pragma once
 
 #include <cstdint>
