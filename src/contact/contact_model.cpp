@@ -223,38 +223,19 @@ std::vector<std::pair<std::string, std::vector<std::string>>> model_names() {
           {"damping", names_of(kDampingNames)}};
 }
 
+// The script name of `value` in `table`, or `none` when the table has no entry for it.
+template <class Enum>
+std::string name_of(const std::vector<std::pair<std::string, Enum>>& table, Enum value, const char* none) {
+  for (const auto& entry : table)
+    if (entry.second == value) return entry.first;
+  return none;
+}
+
 std::string model_words(const ModelSpec& spec) {
-  std::string s = "model " + names_of(kNormalNames)[static_cast<std::size_t>(spec.normal)];
-  switch (spec.tangential) {
-    case TangentialModel::None:
-      s += " tangential off";
-      break;
-    case TangentialModel::NoHistory:
-      s += " tangential no_history";
-      break;
-    case TangentialModel::History:
-      s += " tangential history";
-      break;
-    case TangentialModel::MindlinDeresiewicz:
-      s += " tangential mindlin_deresiewicz";
-      break;
-  }
-  switch (spec.rolling) {
-    case RollingModel::None:
-      break;
-    case RollingModel::Cdt:
-      s += " rolling_friction cdt";
-      break;
-    case RollingModel::Epsd2:
-      s += " rolling_friction epsd2";
-      break;
-    case RollingModel::Epsd:
-      s += " rolling_friction epsd";
-      break;
-    case RollingModel::Epsd3:
-      s += " rolling_friction epsd3";
-      break;
-  }
+  std::string s = "model " + name_of(kNormalNames, spec.normal, "");
+  s += " tangential " + name_of(kTangentialNames, spec.tangential, "off");
+  if (spec.rolling != RollingModel::None)
+    s += " rolling_friction " + name_of(kRollingNames, spec.rolling, "");
   if (spec.cohesion == CohesionModel::Sjkr) s += " cohesion sjkr";
   if (spec.cohesion == CohesionModel::Sjkr2) s += " cohesion sjkr2";
   if (spec.damping == DampingModel::Viscoelastic) s += " damping viscoelastic";
