@@ -1,5 +1,7 @@
 #include "neighbor/contact_history.h"
 
+#include <functional>
+
 #include <algorithm>
 #include <map>
 
@@ -227,7 +229,7 @@ void ContactHistory::pack_all(std::vector<double>& buf) const {
   }
 }
 
-void ContactHistory::unpack_all(const std::vector<double>& buf) {
+void ContactHistory::unpack_all(const std::vector<double>& buf, const std::function<bool(tagint)>& keep) {
   if (buf.size() < 2) return;
   const auto count = static_cast<std::size_t>(buf[0]);
   const int nv = static_cast<int>(buf[1]);
@@ -238,9 +240,11 @@ void ContactHistory::unpack_all(const std::vector<double>& buf) {
   std::size_t m = 2;
   for (std::size_t c = 0; c < count && m + 2 + nv <= buf.size(); ++c, m += 2 + nv) {
     const auto a = static_cast<tagint>(buf[m]), b = static_cast<tagint>(buf[m + 1]);
+    const bool keep_a = !keep || keep(a), keep_b = !keep || keep(b);
+    if (!keep_a && !keep_b) continue;
     if (!seen.emplace(std::make_pair(a, b), m).second) continue;
-    by_tag[a].push_back({b, m + 2});
-    by_tag[b].push_back({a, m + 2});
+    if (keep_a) by_tag[a].push_back({b, m + 2});
+    if (keep_b) by_tag[b].push_back({a, m + 2});
   }
   std::vector<tagint> partners;
   std::vector<double> vals;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -56,7 +57,7 @@ class ContactHistory {
 
   // restart: every stored entry
   void pack_all(std::vector<double>& buf) const;
-  void unpack_all(const std::vector<double>& buf);
+  void unpack_all(const std::vector<double>& buf, const std::function<bool(tagint)>& keep = {});
   /// Number of stored (row, partner) entries; a contact between two owned particles counts twice.
   std::size_t stored() const { return partner_.size(); }
 

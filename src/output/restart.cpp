@@ -23,6 +23,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -86,7 +87,7 @@ void put_string(std::string& out, const std::string& s) {
 // Bounds-checked reading of one section.
 class Reader {
  public:
-  Reader(const std::string& data, const std::string& file, const std::string& section)
+  Reader(std::string_view data, const std::string& file, const std::string& section)
       : data_(data), file_(file), section_(section) {}
   template <class T>
   T get() {
@@ -99,7 +100,7 @@ class Reader {
   std::string get_string() {
     const auto n = get<std::uint64_t>();
     need(n);
-    std::string s = data_.substr(pos_, n);
+    std::string s(data_.substr(pos_, n));
     pos_ += n;
     return s;
   }
@@ -110,6 +111,7 @@ class Reader {
     pos_ += n * sizeof(double);
   }
   bool done() const { return pos_ == data_.size(); }
+  std::size_t position() const { return pos_; }
   std::size_t remaining() const { return data_.size() - pos_; }
   /// A count read from the file that announces `count` items of at least
   /// `bytes_each` bytes still to come: refused before anything is allocated
@@ -130,7 +132,7 @@ class Reader {
                        "' ends early; the file is corrupted or was written by an incompatible program");
     }
   }
-  const std::string& data_;
+  std::string_view data_;
   std::string file_, section_;
   std::size_t pos_ = 0;
 };
@@ -303,8 +305,10 @@ std::string materials_section(Engine& e) {
 
 // ---------------------------------------------------------------------- read
 
+// The whole file in one buffer and each section as a view into it (no copies).
 struct FileSections {
-  std::map<std::string, std::string> sections;
+  std::string bytes;
+  std::map<std::string, std::string_view> sections;
 };
 
 // Rank 0: read and validate the whole file; returns an error message or "".
@@ -314,7 +318,8 @@ std::string load(const std::string& file, FileSections& out) {
     return "'" + file + "' is a directory, not a restart file; give the restart file's name";
   std::ifstream in(file, std::ios::binary);
   if (!in) return "cannot open restart file '" + file + "'; check the name and that it exists";
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string& bytes = out.bytes;
+  bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t head = 16 + 4 * 4;
   if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 16) != 0) {
     return "'" + file + "' is not a Granary restart file (its header does not start with " +
@@ -367,7 +372,7 @@ std::string load(const std::string& file, FileSections& out) {
       return "restart file '" + file + "' is corrupted: the checksum of section '" + name +
              "' does not match";
     }
-    out.sections[name] = bytes.substr(offset, size);
+    out.sections[name] = std::string_view(bytes).substr(offset, size);
   }
   for (const char* needed : {"global", "particles"}) {
     if (!out.sections.count(needed)) return "restart file '" + file + "' has no '" + needed + "' section";
@@ -456,7 +461,11 @@ void read_restart(Engine& e, const std::string& file) {
   std::string problem;
   if (e.rank == 0) problem = load(file, fs);
   agree(e, problem);
-  // every rank gets every section
+  // Every rank gets every section but the particle records, which stay on
+  // rank 0 and go out in chunks once the subdomains are known (each rank
+  // keeps its own): no rank ever holds all particles twice.
+  std::map<std::string, std::string> sec;
+  std::string_view records_view;  // rank 0: the particle records
   std::uint32_t n = static_cast<std::uint32_t>(fs.sections.size());
   MPI_Bcast(&n, 1, MPI_UINT32_T, 0, e.world);
   std::vector<std::string> names;
@@ -465,11 +474,12 @@ void read_restart(Engine& e, const std::string& file) {
   names.resize(n);
   for (std::uint32_t k = 0; k < n; ++k) {
     bcast_string(e.world, names[k]);
-    bcast_string(e.world, fs.sections[names[k]]);
+    if (e.rank == 0 && names[k] != "particles") sec[names[k]] = std::string(fs.sections[names[k]]);
+    if (names[k] != "particles") bcast_string(e.world, sec[names[k]]);
   }
 
   // Parse everything before changing any state, so a bad file changes nothing.
-  auto g = parse_global(fs.sections["global"]);
+  auto g = parse_global(sec["global"]);
   auto need = [&](const std::string& key, std::size_t count) -> const std::vector<std::string>& {
     auto it = g.find(key);
     if (it == g.end() || it->second.size() < count) {
@@ -524,55 +534,76 @@ void read_restart(Engine& e, const std::string& file) {
   for (long long v : neigh_int)
     if (v < 0 || v > 1000000000) throw bad("a neighbour setting is outside 0..1e9");
 
-  Reader pr(fs.sections["particles"], file, "particles");
+  // The particles section: its header (count, extra fields) on every rank;
+  // the records are checked on rank 0, in place.
+  std::string phead;
+  problem.clear();
+  if (e.rank == 0) {
+    const std::string_view psec = fs.sections["particles"];
+    try {
+      Reader pr(psec, file, "particles");
+      const auto count = pr.get<std::uint64_t>();
+      const auto nextra = pr.get<std::uint32_t>();
+      pr.check_count(nextra, 12, "per-particle fields");
+      std::size_t per = kCoreFields;
+      for (std::uint32_t k = 0; k < nextra; ++k) {
+        const std::string fname = pr.get_string();
+        const auto ncomp = pr.get<std::uint32_t>();
+        if (fname.empty() || ncomp < 1 || ncomp > 4096)
+          throw bad("per-particle field " + std::to_string(k + 1) + " has no name or " +
+                    std::to_string(ncomp) + " values (1..4096)");
+        per += ncomp;
+      }
+      pr.check_count(count, per * sizeof(double), "particles");
+      phead = std::string(psec.substr(0, pr.position()));
+      records_view = psec.substr(pr.position(), count * per * sizeof(double));
+      // every record's core values, checked before anything is applied
+      // (layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image)
+      std::vector<double> ids;
+      ids.reserve(count);
+      auto integral = [](double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); };
+      double rec[kCoreFields];
+      for (std::uint64_t r = 0; r < count; ++r) {
+        std::memcpy(rec, records_view.data() + r * per * sizeof(double), sizeof rec);
+        const std::string which = "particle record " + std::to_string(r + 1);
+        for (int c = 0; c < kCoreFields; ++c)
+          if (!std::isfinite(rec[c])) throw bad(which + " holds a value that is not a finite number");
+        if (!integral(rec[0], 1.0, 9.0e15)) throw bad(which + " has the id " + fmt(rec[0]));
+        if (!integral(rec[1], 1.0, ntypes))
+          throw bad(which + " has the type " + fmt(rec[1]) + " (1.." + std::to_string(ntypes) + ")");
+        if (!integral(rec[2], 0.0, 2147483647.0)) throw bad(which + " has the group mask " + fmt(rec[2]));
+        if (!(rec[18] > 0.0 && rec[19] > 0.0 && rec[20] > 0.0))
+          throw bad(which + " has a radius, density or mass that is not positive");
+        if (!integral(rec[21], -1.0, 9.0e15)) throw bad(which + " has the body " + fmt(rec[21]));
+        if (!integral(rec[22], -2147483648.0, 2147483647.0))
+          throw bad(which + " has the image flags " + fmt(rec[22]));
+        ids.push_back(rec[0]);
+      }
+      std::sort(ids.begin(), ids.end());
+      if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
+        throw bad("two particle records have the same id");
+    } catch (const InputError& x) {
+      problem = x.what();
+    }
+  }
+  agree(e, problem);
+  bcast_string(e.world, phead);
+  // (checked on rank 0: the same header parses the same way everywhere)
+  Reader pr(phead, file, "particles");
   const auto count = pr.get<std::uint64_t>();
   const auto nextra = pr.get<std::uint32_t>();
-  pr.check_count(nextra, 12, "per-particle fields");
   std::vector<std::string> fnames(nextra);
   std::vector<int> fncomp(nextra);
   std::size_t per = kCoreFields;
   for (std::uint32_t k = 0; k < nextra; ++k) {
     fnames[k] = pr.get_string();
-    const auto ncomp = pr.get<std::uint32_t>();
-    if (fnames[k].empty() || ncomp < 1 || ncomp > 4096)
-      throw bad("per-particle field " + std::to_string(k + 1) + " has no name or " + std::to_string(ncomp) +
-                " values (1..4096)");
-    fncomp[k] = static_cast<int>(ncomp);
+    fncomp[k] = static_cast<int>(pr.get<std::uint32_t>());
     per += fncomp[k];
-  }
-  pr.check_count(count, per * sizeof(double), "particles");
-  std::vector<double> records(count * per);
-  pr.get_doubles(records.data(), records.size());
-  // every record's core values, checked before anything is applied
-  // (layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image)
-  {
-    std::vector<double> ids;
-    ids.reserve(count);
-    auto integral = [](double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); };
-    for (std::uint64_t r = 0; r < count; ++r) {
-      const double* rec = &records[r * per];
-      const std::string which = "particle record " + std::to_string(r + 1);
-      for (int c = 0; c < kCoreFields; ++c)
-        if (!std::isfinite(rec[c])) throw bad(which + " holds a value that is not a finite number");
-      if (!integral(rec[0], 1.0, 9.0e15)) throw bad(which + " has the id " + fmt(rec[0]));
-      if (!integral(rec[1], 1.0, ntypes))
-        throw bad(which + " has the type " + fmt(rec[1]) + " (1.." + std::to_string(ntypes) + ")");
-      if (!integral(rec[2], 0.0, 2147483647.0)) throw bad(which + " has the group mask " + fmt(rec[2]));
-      if (!(rec[18] > 0.0 && rec[19] > 0.0 && rec[20] > 0.0))
-        throw bad(which + " has a radius, density or mass that is not positive");
-      if (!integral(rec[21], -1.0, 9.0e15)) throw bad(which + " has the body " + fmt(rec[21]));
-      if (!integral(rec[22], -2147483648.0, 2147483647.0))
-        throw bad(which + " has the image flags " + fmt(rec[22]));
-      ids.push_back(rec[0]);
-    }
-    std::sort(ids.begin(), ids.end());
-    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end())
-      throw bad("two particle records have the same id");
   }
 
   std::vector<double> history;
-  if (fs.sections.count("contact_history")) {
-    Reader hr(fs.sections["contact_history"], file, "contact_history");
+  if (sec.count("contact_history")) {
+    Reader hr(sec["contact_history"], file, "contact_history");
     const auto nentries = hr.get<std::uint64_t>();
     const auto nvalues = hr.get<std::uint32_t>();
     if (nvalues > 4096)
@@ -589,8 +620,8 @@ void read_restart(Engine& e, const std::string& file) {
     }
   }
   std::map<std::string, Modify::RestartState> states;
-  if (fs.sections.count("fixes")) {
-    Reader fr(fs.sections["fixes"], file, "fixes");
+  if (sec.count("fixes")) {
+    Reader fr(sec["fixes"], file, "fixes");
     const auto nf = fr.get<std::uint32_t>();
     for (std::uint32_t k = 0; k < nf; ++k) {
       const std::string id = fr.get_string();
@@ -601,8 +632,8 @@ void read_restart(Engine& e, const std::string& file) {
     }
   }
   std::map<std::string, std::vector<double>> materials;
-  if (fs.sections.count("materials")) {
-    Reader mr(fs.sections["materials"], file, "materials");
+  if (sec.count("materials")) {
+    Reader mr(sec["materials"], file, "materials");
     const auto nm = mr.get<std::uint32_t>();
     for (std::uint32_t k = 0; k < nm; ++k) {
       const std::string name = mr.get_string();
@@ -653,27 +684,37 @@ void read_restart(Engine& e, const std::string& file) {
     field[k] = p.add_field(fnames[k], fncomp[k], false, true);
   auto& stored = e.update->restart_forces;
   stored.clear();
-  for (std::uint64_t r = 0; r < count; ++r) {
-    const double* rec = &records[r * per];
-    const Vec3 x(rec[3], rec[4], rec[5]);
-    if (e.comm->owner_of(x) != e.rank) continue;
-    // record layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image
-    const int i = p.add_local(static_cast<tagint>(rec[0]), static_cast<int>(rec[1]), x, rec[18], rec[19]);
-    p.mask[i] = static_cast<int>(rec[2]);
-    p.v[i] = Vec3(rec[6], rec[7], rec[8]);
-    p.omega[i] = Vec3(rec[9], rec[10], rec[11]);
-    p.f[i] = Vec3(rec[12], rec[13], rec[14]);
-    p.torque[i] = Vec3(rec[15], rec[16], rec[17]);
-    p.rmass[i] = rec[20];
-    p.body[i] = static_cast<tagint>(rec[21]);
-    p.image[i] = static_cast<int>(rec[22]);
-    std::size_t m = kCoreFields;
-    for (std::uint32_t k = 0; k < nextra; ++k) {
-      double* dst = &p.extras[field[k]].data[static_cast<std::size_t>(i) * fncomp[k]];
-      std::copy_n(rec + m, fncomp[k], dst);
-      m += fncomp[k];
+  // the records in chunks of about 8 MB from rank 0; each rank keeps its own
+  const std::size_t chunk = std::max<std::size_t>(1, (std::size_t{8} << 20) / (per * sizeof(double)));
+  std::vector<double> chunk_records;
+  for (std::uint64_t r0 = 0; r0 < count; r0 += chunk) {
+    const std::size_t nrec = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, count - r0));
+    chunk_records.resize(nrec * per);
+    if (e.rank == 0)
+      std::memcpy(chunk_records.data(), records_view.data() + r0 * per * sizeof(double), chunk_records.size() * sizeof(double));
+    if (e.nprocs > 1) MPI_Bcast(chunk_records.data(), static_cast<int>(chunk_records.size()), MPI_DOUBLE, 0, e.world);
+    for (std::size_t r = 0; r < nrec; ++r) {
+      const double* rec = &chunk_records[r * per];
+      const Vec3 x(rec[3], rec[4], rec[5]);
+      if (e.comm->owner_of(x) != e.rank) continue;
+      // record layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image
+      const int i = p.add_local(static_cast<tagint>(rec[0]), static_cast<int>(rec[1]), x, rec[18], rec[19]);
+      p.mask[i] = static_cast<int>(rec[2]);
+      p.v[i] = Vec3(rec[6], rec[7], rec[8]);
+      p.omega[i] = Vec3(rec[9], rec[10], rec[11]);
+      p.f[i] = Vec3(rec[12], rec[13], rec[14]);
+      p.torque[i] = Vec3(rec[15], rec[16], rec[17]);
+      p.rmass[i] = rec[20];
+      p.body[i] = static_cast<tagint>(rec[21]);
+      p.image[i] = static_cast<int>(rec[22]);
+      std::size_t m = kCoreFields;
+      for (std::uint32_t k = 0; k < nextra; ++k) {
+        double* dst = &p.extras[field[k]].data[static_cast<std::size_t>(i) * fncomp[k]];
+        std::copy_n(rec + m, fncomp[k], dst);
+        m += fncomp[k];
+      }
+      stored[p.id[i]] = {rec[12], rec[13], rec[14], rec[15], rec[16], rec[17]};
     }
-    stored[p.id[i]] = {rec[12], rec[13], rec[14], rec[15], rec[16], rec[17]};
   }
   p.natoms = u.count_global();
   // forces stored after particles were changed between runs are not those of

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <algorithm>
+#include <unordered_set>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
@@ -98,7 +99,11 @@ void PairGranular::take_restart_history() {
   if (force.restart_history.size() < 2) return;
   const int nvalues = static_cast<int>(force.restart_history[1]);
   if (nvalues == history_size()) {
-    history_.unpack_all(force.restart_history);
+    // rows for this rank's particles only (a row travels with its particle
+    // when that moves to another rank later)
+    const Particles& p = *engine_.particles;
+    std::unordered_set<tagint> local(p.id.begin(), p.id.begin() + p.nlocal);
+    history_.unpack_all(force.restart_history, [&](tagint t) { return local.count(t) > 0; });
   } else if (force.restart_history[0] > 0) {
     engine_.logger->warning("the restart file's contact history has " + std::to_string(nvalues) +
                             " values per contact but pair_style " + style + " " + join(args_) + " uses " +
