@@ -3,6 +3,7 @@
 // defaults) and its first steps are checked against what they must do.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,52 @@ TEST_CASE("bench_silo_balanced: fill, balance and discharge run, and one rank ke
   CHECK(s.p().natoms > 20000);
   CHECK(s.e.update->ntimestep == 80);
   CHECK(s.e.comm->split[2] == std::vector<double>({0.0, 1.0}));
+}
+
+TEST_CASE("bench_silo_large: insert, settle from the restart, then discharge with balancing", "[example]") {
+  const double dt = 1e-5;
+  double mass = 0.0;
+  long long n = 0;
+  {
+    ScriptEngine s;  // a tenth of the bed's volume fraction, one step
+    s.cmds({"variable nfill index 1", "variable vf index 0.03", "variable out index bench_large_1.restart",
+            "variable dir index " + kBench, "include " + kBench + "/in.bench_silo_large"});
+    const auto& p = s.p();
+    long long clump_spheres = 0, singles = 0;
+    for (int i = 0; i < p.nlocal; ++i)
+      (p.body[i] >= 0 ? clump_spheres : singles) += 1;
+    INFO(clump_spheres << " clump spheres, " << singles << " glass spheres");
+    CHECK(clump_spheres % 10 == 0);
+    // the full bed (vf 0.3) has 17,383 clumps and 23,985 spheres: a tenth, within the draw's scatter
+    CHECK(clump_spheres / 10 == Approx(1738).margin(120));
+    CHECK(singles == Approx(2398).margin(150));
+    n = p.natoms;
+  }
+  {
+    // the fill goes on from the restart: apart, at one speed, nothing touches yet
+    ScriptEngine s;
+    s.cmds({"variable in index bench_large_1.restart", "variable open index 0", "variable save index 1",
+            "variable nsteps index 50", "variable out index bench_large_2.restart",
+            "variable dir index " + kBench, "include " + kBench + "/in.bench_silo_large_run"});
+    REQUIRE(s.p().natoms == n);
+    mass = s.e.group_function("mass", {"all"});
+    // inserted during step 1, then 50 steps of free fall: between 50 and 51
+    // steps' worth of gravity, and no contact has spun anything
+    const double v50 = 0.5 + 9.81 * 50 * dt, v51 = 0.5 + 9.81 * 51 * dt;
+    CHECK(thermo(s, "ke") > 0.5 * mass * v50 * v50);
+    CHECK(thermo(s, "ke") < 0.5 * mass * v51 * v51 * (1 + 1e-12));
+    CHECK(s.e.compute_value("rke", 0) == 0.0);
+  }
+  {
+    ScriptEngine s;
+    s.cmds({"variable in index bench_large_2.restart", "variable balance index 2", "variable nsteps index 20",
+            "variable dir index " + kBench, "include " + kBench + "/in.bench_silo_large_run"});
+    CHECK(s.p().natoms == n);
+    CHECK(s.e.update->ntimestep == 71);
+    CHECK(s.e.group_function("mass", {"all"}) == Approx(mass).epsilon(1e-12));
+  }
+  std::remove("bench_large_1.restart");
+  std::remove("bench_large_2.restart");
 }
 
 TEST_CASE("bench_drain: the frozen floor stays in place while the grains settle and drain", "[example]") {
