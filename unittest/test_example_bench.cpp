@@ -9,6 +9,7 @@
 
 #include "comm/comm.h"
 #include "core/update.h"
+#include "particles/particles.h"
 #include "script_engine.h"
 
 namespace {
@@ -22,6 +23,17 @@ double thermo(ScriptEngine& s, const std::string& key) {
   const double v = s.e.thermo_keyword(key, found);
   REQUIRE(found);
   return v;
+}
+
+// Sub-spheres of clumps and single spheres among the owned particles.
+struct Kinds {
+  long long clump_spheres = 0, singles = 0;
+};
+Kinds count_kinds(const granary::Particles& p) {
+  Kinds k;
+  for (int i = 0; i < p.nlocal; ++i)
+    (p.body[i] >= 0 ? k.clump_spheres : k.singles) += 1;
+  return k;
 }
 
 }  // namespace
@@ -46,9 +58,7 @@ TEST_CASE("bench_silo: clumps and glass spheres fill the silo and fall without l
           "include " + kBench + "/in.bench_silo"});
   const auto& p = s.p();
   // about 2700 particles at phi = 0.3 of the fill region: cylinders of 10 spheres and single spheres
-  long long clump_spheres = 0, singles = 0;
-  for (int i = 0; i < p.nlocal; ++i)
-    (p.body[i] >= 0 ? clump_spheres : singles) += 1;
+  const auto [clump_spheres, singles] = count_kinds(p);
   INFO(clump_spheres << " clump spheres, " << singles << " glass spheres");
   CHECK(clump_spheres % 10 == 0);
   CHECK(clump_spheres > 20000);
@@ -80,9 +90,7 @@ TEST_CASE("bench_silo_large: insert, settle from the restart, then discharge wit
     s.cmds({"variable nfill index 1", "variable vf index 0.03", "variable out index bench_large_1.restart",
             "variable dir index " + kBench, "include " + kBench + "/in.bench_silo_large"});
     const auto& p = s.p();
-    long long clump_spheres = 0, singles = 0;
-    for (int i = 0; i < p.nlocal; ++i)
-      (p.body[i] >= 0 ? clump_spheres : singles) += 1;
+    const auto [clump_spheres, singles] = count_kinds(p);
     INFO(clump_spheres << " clump spheres, " << singles << " glass spheres");
     CHECK(clump_spheres % 10 == 0);
     // the full bed (vf 0.3) has 17,383 clumps and 23,985 spheres: a tenth, within the draw's scatter

@@ -91,18 +91,7 @@ class FixAveHisto : public Fix {
       } else if (key == "file") {
         file_ = val;
       } else if (key == "ave") {
-        if (val == "one") {
-          ave_ = ONE;
-        } else if (val == "running") {
-          ave_ = RUNNING;
-        } else if (val == "window") {
-          if (k + 1 >= args.size()) throw InputError(what_ + ": ave window needs the number of outputs M");
-          ave_ = WINDOW;
-          window_ = parse_int(args[++k], what_ + " ave window M");
-          if (window_ <= 0) throw InputError(what_ + ": ave window M must be positive");
-        } else {
-          throw InputError(what_ + ": ave must be one, running or window M (got '" + val + "')");
-        }
+        ave_ = static_cast<Ave>(parse_ave_keyword(args, k, what_, window_));
       } else if (key == "start") {
         start_ = parse_int(val, what_ + " start");
       } else if (key == "beyond") {
@@ -311,13 +300,7 @@ class FixAveHisto : public Fix {
     for (int b = 0; b < nbins_; ++b)
       os << b + 1 << ' ' << coord_[b] << ' ' << out_[b] << ' ' << (stats_[0] > 0 ? out_[b] / stats_[0] : 0.0)
          << '\n';
-    if (overwrite_) {
-      const std::string err = replace_file(file_, header_ + os.str());
-      if (!err.empty()) throw InputError(what_ + ": " + err);
-    } else if (fp_) {
-      std::fputs(os.str().c_str(), fp_.get());
-      std::fflush(fp_.get());
-    }
+    write_output_block(file_, header_, os.str(), overwrite_, fp_, what_);
   }
 
   std::string what_;

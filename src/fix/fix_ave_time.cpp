@@ -81,19 +81,9 @@ class FixAveTime : public Fix {
               "fix ave/time mode vector is not supported; average vector elements c_ID[i] in mode scalar");
         if (val != "scalar") throw InputError("fix ave/time mode must be scalar (got '" + val + "')");
       } else if (key == "ave") {
-        if (val == "one") {
-          ave_ = ONE;
-        } else if (val == "running") {
-          ave_ = RUNNING;
-        } else if (val == "window") {
-          if (k + 2 >= args.size()) throw InputError("fix ave/time ave window needs the number of outputs M");
-          ave_ = WINDOW;
-          window_ = parse_int(args[k + 2], "fix ave/time ave window M");
-          if (window_ <= 0) throw InputError("fix ave/time ave window M must be positive");
-          ++k;
-        } else {
-          throw InputError("fix ave/time ave must be one, running or window M (got '" + val + "')");
-        }
+        std::size_t at = k + 1;
+        ave_ = static_cast<Ave>(parse_ave_keyword(args, at, "fix ave/time", window_));
+        k = at - 1;
       } else if (key == "start") {
         start_ = parse_int(val, "fix ave/time start");
       } else if (key == "file") {

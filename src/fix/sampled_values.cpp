@@ -148,6 +148,31 @@ bool SamplingSchedule::sampled(std::int64_t step) {
   return true;
 }
 
+void write_output_block(const std::string& path, const std::string& header, const std::string& block,
+                        bool overwrite, const OutputFile& fp, const std::string& what) {
+  if (overwrite) {
+    const std::string err = replace_file(path, header + block);
+    if (!err.empty()) throw InputError(what + ": " + err);
+  } else if (fp) {
+    std::fputs(block.c_str(), fp.get());
+    std::fflush(fp.get());
+  }
+}
+
+int parse_ave_keyword(const std::vector<std::string>& words, std::size_t& k, const std::string& what,
+                      long long& window) {
+  const std::string& val = words[k];
+  if (val == "one") return 0;
+  if (val == "running") return 1;
+  if (val == "window") {
+    if (k + 1 >= words.size()) throw InputError(what + ": ave window needs the number of outputs M");
+    window = parse_int(words[++k], what + " ave window M");
+    if (window <= 0) throw InputError(what + ": ave window M must be positive");
+    return 2;
+  }
+  throw InputError(what + ": ave must be one, running or window M (got '" + val + "')");
+}
+
 void parse_schedule(const std::string* words, const std::string& what, long long& every, long long& nrepeat,
                     long long& nfreq) {
   every = parse_int(words[0], what + " Nevery");

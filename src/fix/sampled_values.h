@@ -57,6 +57,11 @@ using OutputFile = std::unique_ptr<std::FILE, FileCloser>;
 OutputFile start_output_file(Engine& engine, const std::string& path, const std::string& header,
                              bool keep_open, const std::string& what);
 
+/// Rank 0: add `block` to an output file opened by start_output_file, or
+/// with `overwrite` replace the file by `header` + `block`.
+void write_output_block(const std::string& path, const std::string& header, const std::string& block,
+                        bool overwrite, const OutputFile& fp, const std::string& what);
+
 /// Per-atom values of the local particles (nlocal entries).
 void sample_peratom(Engine& engine, const SampledValue& v, std::vector<double>& out);
 
@@ -88,6 +93,12 @@ class SamplingSchedule {
   std::int64_t next_ = 0;  // next sampling step
   long long taken_ = 0;    // samples taken in the current window
 };
+
+/// The value of the keyword `ave` at words[k]: 0 for `one`, 1 for `running`,
+/// 2 for `window M` (M read from words[k + 1] into `window`, and k moved onto
+/// it); `what` names the fix in errors.
+int parse_ave_keyword(const std::vector<std::string>& words, std::size_t& k, const std::string& what,
+                      long long& window);
 
 /// Read Nevery, Nrepeat and Nfreq from words[0..2] and check them as LIGGGHTS
 /// states them (positive, Nfreq a multiple of Nevery, (Nrepeat-1)*Nevery < Nfreq).

@@ -463,7 +463,8 @@ void read_restart(Engine& e, const std::string& file) {
   agree(e, problem);
   // Every rank gets every section but the particle records, which stay on
   // rank 0 and go out in chunks once the subdomains are known (each rank
-  // keeps its own): no rank ever holds all particles twice.
+  // keeps its own): no rank ever holds all particles twice. The contact
+  // history is parsed on rank 0 and its values sent out in chunks.
   std::map<std::string, std::string> sec;
   std::string_view records_view;  // rank 0: the particle records
   std::uint32_t n = static_cast<std::uint32_t>(fs.sections.size());
@@ -474,8 +475,10 @@ void read_restart(Engine& e, const std::string& file) {
   names.resize(n);
   for (std::uint32_t k = 0; k < n; ++k) {
     bcast_string(e.world, names[k]);
-    if (e.rank == 0 && names[k] != "particles") sec[names[k]] = std::string(fs.sections[names[k]]);
-    if (names[k] != "particles") bcast_string(e.world, sec[names[k]]);
+    const bool bulk = names[k] == "particles" || names[k] == "contact_history";  // (below)
+    if (bulk) continue;
+    if (e.rank == 0) sec[names[k]] = std::string(fs.sections[names[k]]);
+    bcast_string(e.world, sec[names[k]]);
   }
 
   // Parse everything before changing any state, so a bad file changes nothing.
@@ -602,22 +605,38 @@ void read_restart(Engine& e, const std::string& file) {
   }
 
   std::vector<double> history;
-  if (sec.count("contact_history")) {
-    Reader hr(sec["contact_history"], file, "contact_history");
-    const auto nentries = hr.get<std::uint64_t>();
-    const auto nvalues = hr.get<std::uint32_t>();
-    if (nvalues > 4096)
-      throw bad("contact history entries of " + std::to_string(nvalues) + " values (0..4096)");
-    hr.check_count(nentries, 16 + nvalues * sizeof(double), "contact history entries");
-    history.push_back(static_cast<double>(nentries));
-    history.push_back(nvalues);
-    for (std::uint64_t c = 0; c < nentries; ++c) {
-      history.push_back(static_cast<double>(hr.get<std::int64_t>()));
-      history.push_back(static_cast<double>(hr.get<std::int64_t>()));
-      const std::size_t at = history.size();
-      history.resize(at + nvalues);
-      hr.get_doubles(&history[at], nvalues);
+  problem.clear();
+  if (e.rank == 0 && fs.sections.count("contact_history")) {
+    try {
+      Reader hr(fs.sections["contact_history"], file, "contact_history");
+      const auto nentries = hr.get<std::uint64_t>();
+      const auto nvalues = hr.get<std::uint32_t>();
+      if (nvalues > 4096)
+        throw bad("contact history entries of " + std::to_string(nvalues) + " values (0..4096)");
+      hr.check_count(nentries, 16 + nvalues * sizeof(double), "contact history entries");
+      history.reserve(2 + nentries * (2 + nvalues));
+      history.push_back(static_cast<double>(nentries));
+      history.push_back(nvalues);
+      for (std::uint64_t c = 0; c < nentries; ++c) {
+        history.push_back(static_cast<double>(hr.get<std::int64_t>()));
+        history.push_back(static_cast<double>(hr.get<std::int64_t>()));
+        const std::size_t at = history.size();
+        history.resize(at + nvalues);
+        hr.get_doubles(&history[at], nvalues);
+      }
+    } catch (const InputError& x) {
+      problem = x.what();
     }
+  }
+  agree(e, problem);
+  {
+    unsigned long long nh = history.size();
+    MPI_Bcast(&nh, 1, MPI_UNSIGNED_LONG_LONG, 0, e.world);
+    if (e.rank != 0) history.resize(nh);
+    const std::size_t piece = std::size_t{1} << 20;  // doubles per broadcast
+    for (std::size_t at = 0; e.nprocs > 1 && at < nh; at += piece)
+      MPI_Bcast(history.data() + at, static_cast<int>(std::min<std::size_t>(piece, nh - at)), MPI_DOUBLE, 0,
+                e.world);
   }
   std::map<std::string, Modify::RestartState> states;
   if (sec.count("fixes")) {
@@ -691,8 +710,10 @@ void read_restart(Engine& e, const std::string& file) {
     const std::size_t nrec = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, count - r0));
     chunk_records.resize(nrec * per);
     if (e.rank == 0)
-      std::memcpy(chunk_records.data(), records_view.data() + r0 * per * sizeof(double), chunk_records.size() * sizeof(double));
-    if (e.nprocs > 1) MPI_Bcast(chunk_records.data(), static_cast<int>(chunk_records.size()), MPI_DOUBLE, 0, e.world);
+      std::memcpy(chunk_records.data(), records_view.data() + r0 * per * sizeof(double),
+                  chunk_records.size() * sizeof(double));
+    if (e.nprocs > 1)
+      MPI_Bcast(chunk_records.data(), static_cast<int>(chunk_records.size()), MPI_DOUBLE, 0, e.world);
     for (std::size_t r = 0; r < nrec; ++r) {
       const double* rec = &chunk_records[r * per];
       const Vec3 x(rec[3], rec[4], rec[5]);
