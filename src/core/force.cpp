@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "core/style_list.h"
+#include "neighbor/contact_history.h"
 #include "pair/pair.h"
 
 namespace granary {
@@ -12,6 +13,7 @@ Force::Force(Engine& engine) : engine_(engine) {}
 Force::~Force() = default;
 
 ContactHistory* Force::contact_history() const {
+  if (pending_history) return pending_history.get();
   return pair ? pair->history() : nullptr;
 }
 

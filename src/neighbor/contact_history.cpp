@@ -229,6 +229,19 @@ void ContactHistory::pack_all(std::vector<double>& buf) const {
   }
 }
 
+void ContactHistory::adopt(const ContactHistory& pending) {
+  std::vector<double> vals;
+  for (const Row& row : pending.rows_) {
+    vals.assign(pending.vals_.begin() + static_cast<std::ptrdiff_t>(row.start) * nvalues_,
+                pending.vals_.begin() + static_cast<std::ptrdiff_t>(row.start + row.count) * nvalues_);
+    for (int e = 0; e < row.count; ++e)
+      if (row.tag > pending.partner_[row.start + e])
+        for (int c = 0; c < nvalues_; ++c)
+          vals[static_cast<std::size_t>(e) * nvalues_ + c] *= swap_signs_[c];
+    add_row(row.tag, row.count, &pending.partner_[row.start], vals.data());
+  }
+}
+
 void ContactHistory::unpack_all(const std::vector<double>& buf, const std::function<bool(tagint)>& keep) {
   if (buf.size() < 2) return;
   const auto count = static_cast<std::size_t>(buf[0]);

@@ -58,6 +58,10 @@ class ContactHistory {
   // restart: every stored entry
   void pack_all(std::vector<double>& buf) const;
   void unpack_all(const std::vector<double>& buf, const std::function<bool(tagint)>& keep = {});
+  /// Take over the rows of `pending` (a store configured with unit swap
+  /// signs, whose values are seen from the smaller id of each pair): a row's
+  /// values seen from its larger id get this history's swap signs.
+  void adopt(const ContactHistory& pending);
   /// Number of stored (row, partner) entries; a contact between two owned particles counts twice.
   std::size_t stored() const { return partner_.size(); }
 

@@ -22,9 +22,11 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "comm/collectives.h"
@@ -57,7 +59,8 @@ constexpr std::uint32_t kByteOrder = 0x01020304;
 constexpr std::size_t kNameBytes = 32;
 constexpr int kCoreFields = 23;  // doubles per particle before the extra fields
 
-std::uint32_t crc32(const char* data, std::size_t n) {
+// CRC-32 of data[0..n) continued from `crc` (0 for a new checksum).
+std::uint32_t crc32(const char* data, std::size_t n, std::uint32_t crc = 0) {
   static const std::array<std::uint32_t, 256> table = [] {
     std::array<std::uint32_t, 256> t{};
     for (std::uint32_t i = 0; i < 256; ++i) {
@@ -68,7 +71,7 @@ std::uint32_t crc32(const char* data, std::size_t n) {
     }
     return t;
   }();
-  std::uint32_t c = 0xFFFFFFFFu;
+  std::uint32_t c = crc ^ 0xFFFFFFFFu;
   for (std::size_t i = 0; i < n; ++i)
     c = table[(c ^ static_cast<unsigned char>(data[i])) & 0xFF] ^ (c >> 8);
   return c ^ 0xFFFFFFFFu;
@@ -87,8 +90,10 @@ void put_string(std::string& out, const std::string& s) {
 // Bounds-checked reading of one section.
 class Reader {
  public:
-  Reader(std::string_view data, const std::string& file, const std::string& section)
-      : data_(data), file_(file), section_(section) {}
+  /// `beyond`: bytes of the section that follow `data` in the file (a reader
+  /// of a section's first part counts them in check_count)
+  Reader(std::string_view data, const std::string& file, const std::string& section, std::uint64_t beyond = 0)
+      : data_(data), file_(file), section_(section), beyond_(beyond) {}
   template <class T>
   T get() {
     need(sizeof(T));
@@ -117,10 +122,11 @@ class Reader {
   /// `bytes_each` bytes still to come: refused before anything is allocated
   /// for them when the section cannot hold that many.
   void check_count(std::uint64_t count, std::size_t bytes_each, const char* what) const {
-    if (bytes_each > 0 && count > remaining() / bytes_each) {
+    const std::uint64_t left = remaining() + beyond_;
+    if (bytes_each > 0 && count > left / bytes_each) {
       throw InputError(
           "restart file '" + file_ + "': section '" + section_ + "' announces " + std::to_string(count) +
-          " " + what + ", more than its " + std::to_string(remaining()) +
+          " " + what + ", more than its " + std::to_string(left) +
           " remaining bytes hold; the file is corrupted or was written by an incompatible program");
     }
   }
@@ -134,6 +140,7 @@ class Reader {
   }
   std::string_view data_;
   std::string file_, section_;
+  std::uint64_t beyond_ = 0;
   std::size_t pos_ = 0;
 };
 
@@ -233,11 +240,9 @@ std::string particles_section(Engine& e) {
 std::string history_section(Engine& e) {
   std::vector<double> mine;
   ContactHistory* h = e.force->contact_history();
-  if (h) {
+  if (h) {  // (the history read from a restart file while no pair style has taken it)
     if (e.update->running) h->save(*e.neighbor, *e.particles);
     h->pack_all(mine);
-  } else if (e.rank == 0) {
-    mine = e.force->restart_history;  // read but not yet taken by a pair style
   }
   // each rank: count, nvalues, entries; merge on rank 0 (newton off keeps
   // cross-rank contacts on both ranks: identical entries, kept once)
@@ -305,35 +310,81 @@ std::string materials_section(Engine& e) {
 
 // ---------------------------------------------------------------------- read
 
-// The whole file in one buffer and each section as a view into it (no copies).
+// Rank 0's view of a restart file: the small sections in memory, the large
+// ones (particles, contact history) read from the file in pieces when needed.
 struct FileSections {
-  std::string bytes;
-  std::map<std::string, std::string_view> sections;
+  std::string file;
+  std::ifstream in;
+  std::vector<std::string> names;                     // in the file's order
+  std::map<std::string, std::string> small;           // held in memory
+  std::map<std::string, std::uint64_t> offset, size;  // of every section in the file
+  bool has(const std::string& name) const { return size.count(name) > 0; }
+  bool held(const std::string& name) const { return small.count(name) > 0; }
+  /// Bytes [pos, pos + n) of a section.
+  void read(const std::string& name, std::uint64_t pos, std::size_t n, char* out) {
+    if (held(name)) {
+      std::memcpy(out, small.at(name).data() + pos, n);
+      return;
+    }
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(offset.at(name) + pos));
+    in.read(out, static_cast<std::streamsize>(n));
+    if (static_cast<std::size_t>(in.gcount()) != n) {
+      throw InputError("restart file '" + file +
+                       "' changed or became unreadable while being read (section '" + name +
+                       "'); read it again");
+    }
+  }
+  /// The first min(n, size) bytes of a section.
+  std::string prefix(const std::string& name, std::size_t n) {
+    std::string out(static_cast<std::size_t>(std::min<std::uint64_t>(n, size.at(name))), '\0');
+    read(name, 0, out.size(), out.data());
+    return out;
+  }
 };
 
-// Rank 0: read and validate the whole file; returns an error message or "".
+constexpr std::size_t kChunkBytes = std::size_t{8} << 20;
+
+bool large_section(const std::string& name) {
+  return name == "particles" || name == "contact_history";
+}
+
+// Rank 0: open the file and check its header, section table and every
+// section's checksum (reading it in pieces); returns an error message or "".
 std::string load(const std::string& file, FileSections& out) {
   std::error_code ec;
   if (std::filesystem::is_directory(file, ec))
     return "'" + file + "' is a directory, not a restart file; give the restart file's name";
-  std::ifstream in(file, std::ios::binary);
+  out.file = file;
+  std::ifstream& in = out.in;
+  in.open(file, std::ios::binary);
   if (!in) return "cannot open restart file '" + file + "'; check the name and that it exists";
-  std::string& bytes = out.bytes;
-  bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.seekg(0, std::ios::end);
+  const auto file_size = static_cast<std::uint64_t>(in.tellg());
+  in.seekg(0);
+  auto read_at = [&](std::uint64_t pos, std::size_t n) {
+    std::string b(n, '\0');
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(pos));
+    in.read(b.data(), static_cast<std::streamsize>(n));
+    b.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    return b;
+  };
   const std::size_t head = 16 + 4 * 4;
-  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 16) != 0) {
+  const std::string header = read_at(0, static_cast<std::size_t>(std::min<std::uint64_t>(file_size, head)));
+  if (header.size() < 16 || std::memcmp(header.data(), kMagic, 16) != 0) {
     return "'" + file + "' is not a Granary restart file (its header does not start with " +
            std::string(kMagic) + ")";
   }
-  if (bytes.size() < head) {
-    return "restart file '" + file + "' is truncated: " + std::to_string(bytes.size()) +
+  if (header.size() < head) {
+    return "restart file '" + file + "' is truncated: " + std::to_string(file_size) +
            " bytes, fewer than the " + std::to_string(head) + " of its header";
   }
   std::uint32_t version, order, nsections, table_crc;
-  std::memcpy(&version, bytes.data() + 16, 4);
-  std::memcpy(&order, bytes.data() + 20, 4);
-  std::memcpy(&nsections, bytes.data() + 24, 4);
-  std::memcpy(&table_crc, bytes.data() + 28, 4);
+  std::memcpy(&version, header.data() + 16, 4);
+  std::memcpy(&order, header.data() + 20, 4);
+  std::memcpy(&nsections, header.data() + 24, 4);
+  std::memcpy(&table_crc, header.data() + 28, 4);
   if (order == __builtin_bswap32(kByteOrder)) {
     return "restart file '" + file +
            "' was written on a machine with the other byte order; "
@@ -350,32 +401,45 @@ std::string load(const std::string& file, FileSections& out) {
            "; this Granary reads version " + std::to_string(kVersion);
   }
   const std::size_t entry = kNameBytes + 8 + 8 + 4 + 4;
-  if (nsections > 64 || bytes.size() < head + nsections * entry) {
+  if (nsections > 64 || file_size < head + nsections * entry) {
     return "restart file '" + file + "' is truncated (its section table is incomplete)";
   }
-  if (crc32(bytes.data() + head, nsections * entry) != table_crc) {
+  const std::string table = read_at(head, nsections * entry);
+  if (table.size() != nsections * entry || crc32(table.data(), table.size()) != table_crc) {
     return "restart file '" + file + "' is corrupted (checksum of its section table does not match)";
   }
+  std::string piece;
   for (std::uint32_t k = 0; k < nsections; ++k) {
-    const char* t = bytes.data() + head + k * entry;
+    const char* t = table.data() + k * entry;
     std::string name(t, strnlen(t, kNameBytes));
     std::uint64_t offset, size;
     std::uint32_t crc;
     std::memcpy(&offset, t + kNameBytes, 8);
     std::memcpy(&size, t + kNameBytes + 8, 8);
     std::memcpy(&crc, t + kNameBytes + 16, 4);
-    if (offset + size > bytes.size() || offset + size < offset) {
+    if (offset + size > file_size || offset + size < offset) {
       return "restart file '" + file + "' is truncated: section '" + name + "' needs bytes up to " +
-             std::to_string(offset + size) + " but the file has " + std::to_string(bytes.size());
+             std::to_string(offset + size) + " but the file has " + std::to_string(file_size);
     }
-    if (crc32(bytes.data() + offset, size) != crc) {
+    std::uint32_t c = 0;
+    std::string kept;
+    for (std::uint64_t pos = 0; pos < size; pos += kChunkBytes) {
+      piece =
+          read_at(offset + pos, static_cast<std::size_t>(std::min<std::uint64_t>(kChunkBytes, size - pos)));
+      c = crc32(piece.data(), piece.size(), c);
+      if (!large_section(name)) kept += piece;
+    }
+    if (c != crc) {
       return "restart file '" + file + "' is corrupted: the checksum of section '" + name +
              "' does not match";
     }
-    out.sections[name] = std::string_view(bytes).substr(offset, size);
+    if (!out.has(name)) out.names.push_back(name);
+    out.offset[name] = offset;
+    out.size[name] = size;
+    if (!large_section(name)) out.small[name] = std::move(kept);
   }
   for (const char* needed : {"global", "particles"}) {
-    if (!out.sections.count(needed)) return "restart file '" + file + "' has no '" + needed + "' section";
+    if (!out.has(needed)) return "restart file '" + file + "' has no '" + needed + "' section";
   }
   return "";
 }
@@ -466,18 +530,17 @@ void read_restart(Engine& e, const std::string& file) {
   // keeps its own): no rank ever holds all particles twice. The contact
   // history is parsed on rank 0 and its values sent out in chunks.
   std::map<std::string, std::string> sec;
-  std::string_view records_view;  // rank 0: the particle records
-  std::uint32_t n = static_cast<std::uint32_t>(fs.sections.size());
+  std::uint32_t n = static_cast<std::uint32_t>(fs.names.size());
   MPI_Bcast(&n, 1, MPI_UINT32_T, 0, e.world);
   std::vector<std::string> names;
-  for (const auto& kv : fs.sections)
-    names.push_back(kv.first);
+  names = fs.names;
   names.resize(n);
   for (std::uint32_t k = 0; k < n; ++k) {
     bcast_string(e.world, names[k]);
-    const bool bulk = names[k] == "particles" || names[k] == "contact_history";  // (below)
+    const bool bulk =
+        names[k] == "particles" || names[k] == "contact_history" || names[k] == "fixes";  // (below)
     if (bulk) continue;
-    if (e.rank == 0) sec[names[k]] = std::string(fs.sections[names[k]]);
+    if (e.rank == 0) sec[names[k]] = std::move(fs.small[names[k]]);
     bcast_string(e.world, sec[names[k]]);
   }
 
@@ -540,11 +603,13 @@ void read_restart(Engine& e, const std::string& file) {
   // The particles section: its header (count, extra fields) on every rank;
   // the records are checked on rank 0, in place.
   std::string phead;
+  std::uint64_t records_at = 0;  // rank 0: where the records start in the section
   problem.clear();
   if (e.rank == 0) {
-    const std::string_view psec = fs.sections["particles"];
     try {
-      Reader pr(psec, file, "particles");
+      const std::uint64_t psize = fs.size.at("particles");
+      const std::string head = fs.prefix("particles", 1 << 20);  // the header is much shorter
+      Reader pr(head, file, "particles", psize - head.size());
       const auto count = pr.get<std::uint64_t>();
       const auto nextra = pr.get<std::uint32_t>();
       pr.check_count(nextra, 12, "per-particle fields");
@@ -558,16 +623,22 @@ void read_restart(Engine& e, const std::string& file) {
         per += ncomp;
       }
       pr.check_count(count, per * sizeof(double), "particles");
-      phead = std::string(psec.substr(0, pr.position()));
-      records_view = psec.substr(pr.position(), count * per * sizeof(double));
+      phead = head.substr(0, pr.position());
+      records_at = pr.position();
       // every record's core values, checked before anything is applied
       // (layout: id type mask x(3) v(3) omega(3) f(3) torque(3) radius density rmass body image)
       std::vector<double> ids;
       ids.reserve(count);
       auto integral = [](double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); };
-      double rec[kCoreFields];
+      const std::size_t chunk = std::max<std::size_t>(1, kChunkBytes / (per * sizeof(double)));
+      std::vector<double> block;
       for (std::uint64_t r = 0; r < count; ++r) {
-        std::memcpy(rec, records_view.data() + r * per * sizeof(double), sizeof rec);
+        if (r % chunk == 0) {
+          block.resize(static_cast<std::size_t>(std::min<std::uint64_t>(chunk, count - r)) * per);
+          fs.read("particles", records_at + r * per * sizeof(double), block.size() * sizeof(double),
+                  reinterpret_cast<char*>(block.data()));
+        }
+        const double* rec = &block[(r % chunk) * per];
         const std::string which = "particle record " + std::to_string(r + 1);
         for (int c = 0; c < kCoreFields; ++c)
           if (!std::isfinite(rec[c])) throw bad(which + " holds a value that is not a finite number");
@@ -604,50 +675,61 @@ void read_restart(Engine& e, const std::string& file) {
     per += fncomp[k];
   }
 
-  std::vector<double> history;
+  // the contact history: checked on rank 0, sent out in chunks once every
+  // rank knows its particles (below)
+  std::uint64_t hist_n = 0;
+  std::uint32_t hist_nv = 0;
+  std::uint64_t hist_at = 0;  // rank 0: where the entries start in the section
   problem.clear();
-  if (e.rank == 0 && fs.sections.count("contact_history")) {
+  if (e.rank == 0 && fs.has("contact_history")) {
     try {
-      Reader hr(fs.sections["contact_history"], file, "contact_history");
-      const auto nentries = hr.get<std::uint64_t>();
-      const auto nvalues = hr.get<std::uint32_t>();
-      if (nvalues > 4096)
-        throw bad("contact history entries of " + std::to_string(nvalues) + " values (0..4096)");
-      hr.check_count(nentries, 16 + nvalues * sizeof(double), "contact history entries");
-      history.reserve(2 + nentries * (2 + nvalues));
-      history.push_back(static_cast<double>(nentries));
-      history.push_back(nvalues);
-      for (std::uint64_t c = 0; c < nentries; ++c) {
-        history.push_back(static_cast<double>(hr.get<std::int64_t>()));
-        history.push_back(static_cast<double>(hr.get<std::int64_t>()));
-        const std::size_t at = history.size();
-        history.resize(at + nvalues);
-        hr.get_doubles(&history[at], nvalues);
-      }
+      const std::string head = fs.prefix("contact_history", 12);
+      Reader hr(head, file, "contact_history", fs.size.at("contact_history") - head.size());
+      hist_n = hr.get<std::uint64_t>();
+      hist_nv = hr.get<std::uint32_t>();
+      if (hist_nv > 4096)
+        throw bad("contact history entries of " + std::to_string(hist_nv) + " values (0..4096)");
+      hr.check_count(hist_n, 16 + hist_nv * sizeof(double), "contact history entries");
+      hist_at = hr.position();
     } catch (const InputError& x) {
       problem = x.what();
     }
   }
   agree(e, problem);
-  {
-    unsigned long long nh = history.size();
-    MPI_Bcast(&nh, 1, MPI_UNSIGNED_LONG_LONG, 0, e.world);
-    if (e.rank != 0) history.resize(nh);
-    const std::size_t piece = std::size_t{1} << 20;  // doubles per broadcast
-    for (std::size_t at = 0; e.nprocs > 1 && at < nh; at += piece)
-      MPI_Bcast(history.data() + at, static_cast<int>(std::min<std::size_t>(piece, nh - at)), MPI_DOUBLE, 0,
-                e.world);
-  }
+  MPI_Bcast(&hist_n, 1, MPI_UINT64_T, 0, e.world);
+  MPI_Bcast(&hist_nv, 1, MPI_UINT32_T, 0, e.world);
+  // the fixes' states: parsed on rank 0 and sent one by one (no rank holds
+  // the section and its parsed copy at once)
   std::map<std::string, Modify::RestartState> states;
-  if (sec.count("fixes")) {
-    Reader fr(sec["fixes"], file, "fixes");
-    const auto nf = fr.get<std::uint32_t>();
-    for (std::uint32_t k = 0; k < nf; ++k) {
-      const std::string id = fr.get_string();
-      Modify::RestartState st;
-      st.style = fr.get_string();
-      st.data = fr.get_string();
-      states[id] = st;
+  problem.clear();
+  std::uint32_t nstates = 0;
+  if (e.rank == 0 && fs.held("fixes")) {
+    try {
+      Reader fr(fs.small["fixes"], file, "fixes");
+      nstates = fr.get<std::uint32_t>();
+      for (std::uint32_t k = 0; k < nstates; ++k) {
+        const std::string id = fr.get_string();
+        Modify::RestartState st;
+        st.style = fr.get_string();
+        st.data = fr.get_string();
+        states[id] = std::move(st);
+      }
+      nstates = static_cast<std::uint32_t>(states.size());
+    } catch (const InputError& x) {
+      problem = x.what();
+    }
+  }
+  agree(e, problem);
+  MPI_Bcast(&nstates, 1, MPI_UINT32_T, 0, e.world);
+  {
+    auto it = states.begin();
+    for (std::uint32_t k = 0; k < nstates; ++k) {
+      std::string id = e.rank == 0 ? it->first : std::string();
+      bcast_string(e.world, id);
+      Modify::RestartState& st = states[id];
+      bcast_string(e.world, st.style);
+      bcast_string(e.world, st.data);
+      if (e.rank == 0) ++it;
     }
   }
   std::map<std::string, std::vector<double>> materials;
@@ -710,8 +792,8 @@ void read_restart(Engine& e, const std::string& file) {
     const std::size_t nrec = static_cast<std::size_t>(std::min<std::uint64_t>(chunk, count - r0));
     chunk_records.resize(nrec * per);
     if (e.rank == 0)
-      std::memcpy(chunk_records.data(), records_view.data() + r0 * per * sizeof(double),
-                  chunk_records.size() * sizeof(double));
+      fs.read("particles", records_at + r0 * per * sizeof(double), chunk_records.size() * sizeof(double),
+              reinterpret_cast<char*>(chunk_records.data()));
     if (e.nprocs > 1)
       MPI_Bcast(chunk_records.data(), static_cast<int>(chunk_records.size()), MPI_DOUBLE, 0, e.world);
     for (std::size_t r = 0; r < nrec; ++r) {
@@ -742,7 +824,38 @@ void read_restart(Engine& e, const std::string& file) {
   // the stored state: the next run recomputes them
   if (!forces_current) stored.clear();
   u.forces_current = forces_current;
-  e.force->restart_history = std::move(history);
+  // contact history: each rank keeps the contacts of its own particles, as
+  // rows (a row travels with its particle when that moves before the pair
+  // style takes the history)
+  e.force->pending_history.reset();
+  if (hist_n > 0) {
+    std::unordered_set<tagint> own(p.id.begin(), p.id.begin() + p.nlocal);
+    const std::size_t entry = 16 + hist_nv * sizeof(double);
+    const std::size_t per_chunk = std::max<std::size_t>(1, (std::size_t{8} << 20) / entry);
+    std::vector<double> kept = {0.0, static_cast<double>(hist_nv)};
+    std::vector<char> bytes;
+    std::vector<double> values(hist_nv);
+    for (std::uint64_t c0 = 0; c0 < hist_n; c0 += per_chunk) {
+      const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(per_chunk, hist_n - c0));
+      bytes.resize(n * entry);
+      if (e.rank == 0) fs.read("contact_history", hist_at + c0 * entry, bytes.size(), bytes.data());
+      if (e.nprocs > 1) MPI_Bcast(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, 0, e.world);
+      for (std::size_t c = 0; c < n; ++c) {
+        std::int64_t ab[2];
+        std::memcpy(ab, bytes.data() + c * entry, 16);
+        if (!own.count(static_cast<tagint>(ab[0])) && !own.count(static_cast<tagint>(ab[1]))) continue;
+        std::memcpy(values.data(), bytes.data() + c * entry + 16, hist_nv * sizeof(double));
+        kept.push_back(static_cast<double>(ab[0]));
+        kept.push_back(static_cast<double>(ab[1]));
+        kept.insert(kept.end(), values.begin(), values.end());
+        kept[0] += 1.0;
+      }
+    }
+    auto pending = std::make_unique<ContactHistory>();
+    pending->configure(static_cast<int>(hist_nv), std::vector<double>(hist_nv, 1.0));
+    pending->unpack_all(kept, [&](tagint t) { return own.count(t) > 0; });
+    e.force->pending_history = std::move(pending);
+  }
   e.modify->restart_states = std::move(states);
   e.modify->restart_materials = std::move(materials);
   char buf[256];

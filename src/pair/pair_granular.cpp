@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <algorithm>
-#include <unordered_set>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
@@ -96,23 +95,19 @@ void PairGranular::init() {
 // that uses it initialises; its layout must match this model's.
 void PairGranular::take_restart_history() {
   Force& force = *engine_.force;
-  if (force.restart_history.size() < 2) return;
-  const int nvalues = static_cast<int>(force.restart_history[1]);
-  if (nvalues == history_size()) {
-    // rows for this rank's particles only (a row travels with its particle
-    // when that moves to another rank later)
-    const Particles& p = *engine_.particles;
-    std::unordered_set<tagint> local(p.id.begin(), p.id.begin() + p.nlocal);
-    history_.unpack_all(force.restart_history, [&](tagint t) { return local.count(t) > 0; });
-  } else if (force.restart_history[0] > 0) {
-    engine_.logger->warning("the restart file's contact history has " + std::to_string(nvalues) +
+  if (!force.pending_history) return;
+  const ContactHistory& pending = *force.pending_history;
+  if (pending.nvalues() == history_size()) {
+    history_.adopt(pending);
+  } else if (pending.stored() > 0) {
+    engine_.logger->warning("the restart file's contact history has " + std::to_string(pending.nvalues()) +
                             " values per contact but pair_style " + style + " " + join(args_) + " uses " +
                             std::to_string(history_size()) + "; contacts start without history");
   }
   if (!force.restart_pair_style.empty() && force.restart_pair_style != style + " " + join(args_)) {
     engine_.logger->warning("pair style differs from the restart file's (" + force.restart_pair_style + ")");
   }
-  force.restart_history.clear();
+  force.pending_history.reset();
 }
 
 // One loop for every model (pair/pair_loop.h), two contacts at a time.
