@@ -183,6 +183,11 @@ TEST_CASE("two bcc layers landing on each other match LIGGGHTS to the printed di
   compare_exact("bcc_layers");
 }
 
+// fix nve: translation only; the contacts' torques turn nothing (rke 0 in both)
+TEST_CASE("two spheres colliding on a floor under fix nve match LIGGGHTS to the printed digits", "[nve]") {
+  compare_exact("nve_two_spheres");
+}
+
 TEST_CASE("a pour into a box matches LIGGGHTS") {
   compare_pour("pour_small");
 }

@@ -89,6 +89,31 @@ TEST_CASE("nve/noforce moves particles with their velocity only", "[fix][mpi]") 
   CHECK_THROWS_WITH(s.cmd("run 1"), Contains("are spheres of clumps"));
 }
 
+TEST_CASE("nve integrates positions and velocities, not spins", "[fix][mpi]") {
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds(scene());
+  // particle 1 spins at 3 rad/s and falls; velocity Verlet is exact for a constant force
+  s.cmds({"group one id 1", "velocity one set 0.3 -0.2 0.1", "velocity one setAngular 0 0 3",
+          "fix gravi all gravity 9.81 vector 0 0 -1", "fix integr all nve", "compute rot all erotate/sphere",
+          "run 0"});
+  const double spin_energy = s.e.compute_value("rot", 0);
+  REQUIRE(spin_energy > 0.0);
+  s.cmd("run 1000");
+  Vec3 v;
+  const Vec3 p1 = position(s.e, 1, &v);
+  const double t = 0.1;  // 1000 steps of 0.1 ms
+  CHECK(p1.x() == Approx(-0.5 + 0.3 * t).epsilon(1e-13));
+  CHECK(p1.y() == Approx(-0.5 - 0.2 * t).epsilon(1e-13));
+  CHECK(p1.z() == Approx(-0.5 + 0.1 * t - 0.5 * 9.81 * t * t).epsilon(1e-12));
+  CHECK(v.z() == Approx(0.1 - 9.81 * t).epsilon(1e-12));
+  CHECK(s.e.compute_value("rot", 0) == spin_energy);  // the spin is kept as it was
+  s.cmds(
+      {"fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
+       "ntry 1000000 spheres -0.01 0 0 0.01 0.01 0 0 0.01 type 1",
+       "fix ms all multisphere", "create_clump dumb 0 0.5 0.5"});
+  CHECK_THROWS_WITH(s.cmd("run 1"), Contains("are spheres of clumps"));
+}
+
 TEST_CASE("spring/self makes harmonic oscillators in the chosen directions and keeps its anchors in restarts",
           "[fix][mpi][restart]") {
   const std::string dir = granary::test::shared_temp_dir("granary_spring_");
