@@ -373,3 +373,15 @@ TEST_CASE("shell runs cd mkdir mv rm rmdir putenv and programs and its errors na
   }
   CHECK(std::string(::getcwd(now, sizeof now)) == home);  // a failed cd changes nothing
 }
+
+TEST_CASE("run_style verlet is accepted and changes nothing, respa is refused", "[input]") {
+  using Catch::Matchers::Contains;
+  granary::test::ScriptEngine s;
+  s.cmds(granary::test::free_box());
+  s.cmds({"create_atoms 1 single 0 0 0 units box", "set group all diameter 0.002 density 2500",
+          "velocity all set 0 0 1 units box", "fix integr all nve/sphere", "run_style verlet", "run 10"});
+  CHECK(s.p().x[0].z() == Approx(10 * 1e-4 * 1.0).epsilon(1e-12));
+  CHECK_THROWS_WITH(s.cmd("run_style respa 2 2"), Contains("velocity Verlet only"));
+  CHECK_THROWS_WITH(s.cmd("run_style verlet inner"), Contains("takes no arguments"));
+  CHECK_THROWS_WITH(s.cmd("run_style"), Contains("needs a style"));
+}

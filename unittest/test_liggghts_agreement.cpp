@@ -302,6 +302,25 @@ TEST_CASE("fix spring tether and couple match LIGGGHTS to the printed digits", "
   }
 }
 
+// fix drag (a NULL direction, particles within delta left alone): the total
+// drag forces (f_ID[1..3]) and the kinetic energy to the digits LIGGGHTS prints.
+TEST_CASE("fix drag matches LIGGGHTS to the printed digits", "[drag]") {
+  run_granary("drag");
+  const auto ref =
+      all_columns(std::string(GRANARY_SOURCE_DIR) + "/unittest/reference/drag.liggghts.csv", true);
+  const auto run = all_columns("agreement_drag.log", false);
+  REQUIRE(ref.size() == 21);
+  REQUIRE(run.size() == ref.size());
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    REQUIRE(run[k].size() == 9);
+    REQUIRE(ref[k].size() == 9);
+    for (std::size_t c = 0; c < 9; ++c) {
+      INFO("step " << ref[k][0] << " column " << c);
+      CHECK(run[k][c] == Approx(ref[k][c]).epsilon(1e-12).margin(1e-20));
+    }
+  }
+}
+
 TEST_CASE("the stored LIGGGHTS output is what LIGGGHTS prints") {
   if (std::system("command -v liggghts > /dev/null 2>&1") != 0) {
     granary::test::skip(

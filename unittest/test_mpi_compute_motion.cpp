@@ -76,9 +76,11 @@ TEST_CASE("displace/atom, msd, com and gyration follow particles in free flight"
   s.cmds(scene());
   set_motion(s.e);
   s.cmds({"compute d all displace/atom", "compute m all msd", "compute mc all msd com yes",
-          "compute c all com", "compute g all gyration"});
+          "compute c all com", "compute g all gyration", "compute n all msd/nongauss",
+          "compute nc all msd/nongauss com yes"});
   const Vec3 c0(s.e.compute_value("c", 1), s.e.compute_value("c", 2), s.e.compute_value("c", 3));
   CHECK(s.e.compute_value("m", 4) == 0.0);
+  CHECK(s.e.compute_value("n", 3) == 0.0);  // no displacement yet: 0, not a division by 0
   s.cmd("run 1000");
   const double t = 1000 * kDt;
   const auto& p = s.p();
@@ -88,7 +90,7 @@ TEST_CASE("displace/atom, msd, com and gyration follow particles in free flight"
   s.e.compute_peratom("d", 2, dy);
   s.e.compute_peratom("d", 3, dz);
   s.e.compute_peratom("d", 4, dn);
-  double vx2 = 0, vy2 = 0;
+  double vx2 = 0, vy2 = 0, v4 = 0;
   Vec3 vsum(0, 0, 0);
   int crossed = 0;
   for (int i = 0; i < p.nlocal; ++i) {
@@ -99,6 +101,7 @@ TEST_CASE("displace/atom, msd, com and gyration follow particles in free flight"
     CHECK(dn[i] == Approx(v.norm() * t).margin(1e-13));
     vx2 += v[0] * v[0];
     vy2 += v[1] * v[1];
+    v4 += v.squaredNorm() * v.squaredNorm();
     vsum += v;
     int ix, iy, iz;
     granary::Particles::image_unpack(p.image[i], ix, iy, iz);
@@ -112,6 +115,13 @@ TEST_CASE("displace/atom, msd, com and gyration follow particles in free flight"
   CHECK(s.e.compute_value("m", 2) == Approx(vy2 * t * t).epsilon(1e-10));
   CHECK(s.e.compute_value("m", 3) == Approx(0.0).margin(1e-24));
   CHECK(s.e.compute_value("m", 4) == Approx((vx2 + vy2) * t * t).epsilon(1e-10));
+  // msd/nongauss: <dr^2>, <dr^4> and the non-Gaussian parameter 3 <dr^4> / (5 <dr^2>^2) - 1
+  const double r2 = (vx2 + vy2) * t * t, r4 = sum(v4) / 27 * t * t * t * t;
+  CHECK(s.e.compute_value("n", 1) == Approx(r2).epsilon(1e-10));
+  CHECK(s.e.compute_value("n", 2) == Approx(r4).epsilon(1e-10));
+  CHECK(s.e.compute_value("n", 3) == Approx(3 * r4 / (5 * r2 * r2) - 1).epsilon(1e-9));
+  CHECK(s.e.compute_value("n", 3) > -0.4);  // its lower bound: all displacements of one length
+  CHECK(s.e.compute_value("nc", 1) == Approx(s.e.compute_value("mc", 4)).epsilon(1e-12));
   // with com yes the mean flow is taken out: the variance of the velocities
   const double varx = vx2 - vcm[0] * vcm[0], vary = vy2 - vcm[1] * vcm[1];
   CHECK(s.e.compute_value("mc", 1) == Approx(varx * t * t).epsilon(1e-9));

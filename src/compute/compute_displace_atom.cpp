@@ -50,19 +50,23 @@ class ComputeDisplaceAtom : public Compute {
   std::unique_ptr<OriginField> origin_;
 };
 
+// compute ID group msd/nongauss [com yes|no]: the same displacements, as the
+// global vector <dr^2>, <dr^4> and the non-Gaussian parameter
+// 3 <dr^4> / (5 <dr^2>^2) - 1 (0 when <dr^2> is 0).
 class ComputeMSD : public Compute {
  public:
   ComputeMSD(Engine& engine, const Args& args) : Compute(engine, args) {
-    const std::string usage = "compute ID group-ID msd [com yes|no]";
+    nongauss_ = style == "msd/nongauss";
+    const std::string usage = "compute ID group-ID " + style + " [com yes|no]";
     if (args.size() != 3 && args.size() != 5)
-      throw InputError("wrong number of arguments for compute " + id + " msd; usage: " + usage);
+      throw InputError("wrong number of arguments for compute " + id + " " + style + "; usage: " + usage);
     if (args.size() == 5) {
       if (args[3] != "com")
-        throw InputError("unknown compute msd keyword '" + args[3] + "'; usage: " + usage);
-      com_ = parse_bool(args[4], "compute msd com");
+        throw InputError("unknown compute " + style + " keyword '" + args[3] + "'; usage: " + usage);
+      com_ = parse_bool(args[4], "compute " + style + " com");
     }
-    size_vector = 4;
-    vector.assign(4, 0.0);
+    size_vector = nongauss_ ? 3 : 4;
+    vector.assign(size_vector, 0.0);
     origin_ = std::make_unique<OriginField>(engine, "origin/" + id);
   }
 
@@ -87,7 +91,7 @@ class ComputeMSD : public Compute {
       MPI_Allreduce(local, all, 7, MPI_DOUBLE, MPI_SUM, engine_.world);
       if (all[6] > 0.0) drift = Vec3(all[0] - all[3], all[1] - all[4], all[2] - all[5]) / all[6];
     }
-    double local[5] = {0, 0, 0, 0, 0};
+    double local[6] = {0, 0, 0, 0, 0, 0};  // dx^2 dy^2 dz^2 dr^2 count dr^4
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
       const Vec3 d = engine_.groups->unwrapped(i) - origin_->at(i) - drift;
@@ -95,21 +99,29 @@ class ComputeMSD : public Compute {
         local[c] += d[c] * d[c];
       local[3] += d.squaredNorm();
       local[4] += 1.0;
+      local[5] += d.squaredNorm() * d.squaredNorm();
     }
-    double all[5];
-    MPI_Allreduce(local, all, 5, MPI_DOUBLE, MPI_SUM, engine_.world);
+    double all[6];
+    MPI_Allreduce(local, all, 6, MPI_DOUBLE, MPI_SUM, engine_.world);
+    const double n = all[4];
+    if (nongauss_) {
+      const double r2 = n > 0.0 ? all[3] / n : 0.0, r4 = n > 0.0 ? all[5] / n : 0.0;
+      vector = {r2, r4, r2 > 0.0 ? 3.0 * r4 / (5.0 * r2 * r2) - 1.0 : 0.0};
+      return;
+    }
     for (int k = 0; k < 4; ++k)
-      vector[k] = all[4] > 0.0 ? all[k] / all[4] : 0.0;
+      vector[k] = n > 0.0 ? all[k] / n : 0.0;
   }
 
  private:
   std::unique_ptr<OriginField> origin_;
-  bool com_ = false;
+  bool com_ = false, nongauss_ = false;
 };
 
 }  // namespace
 
 GRANARY_COMPUTE_STYLE("displace/atom", ComputeDisplaceAtom);
 GRANARY_COMPUTE_STYLE("msd", ComputeMSD);
+GRANARY_COMPUTE_STYLE("msd/nongauss", ComputeMSD);
 
 }  // namespace granary

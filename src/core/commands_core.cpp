@@ -187,8 +187,20 @@ void cmd_pair_coeff(Engine& e, const Args& a) {
   e.force->pair->coeff(a);
 }
 
+// run_style verlet: the one time integrator (velocity Verlet), as LIGGGHTS'
+// default; rRESPA (multiple timestepping) is not available.
+void cmd_run_style(Engine&, const Args& a) {
+  if (a.empty()) throw InputError("run_style needs a style; usage: run_style verlet");
+  if (a[0] != "verlet")
+    throw InputError("run_style " + a[0] +
+                     " is not available: Granary integrates with velocity Verlet only; use "
+                     "run_style verlet or leave the command out");
+  if (a.size() > 1) throw InputError("run_style verlet takes no arguments");
+}
+
 }  // namespace
 
+GRANARY_COMMAND("run_style", cmd_run_style);
 GRANARY_COMMAND("units", cmd_units);
 GRANARY_COMMAND("atom_style", cmd_atom_style);
 GRANARY_COMMAND("atom_modify", cmd_atom_modify);
