@@ -47,6 +47,14 @@ Vec3 position(granary::Engine& e, long long id, Vec3* v = nullptr) {
   return x;
 }
 
+/// A clump of two spheres (fix multisphere), for the fixes that refuse them.
+void add_clump(granary::test::ScriptEngine& s) {
+  s.cmds(
+      {"fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
+       "ntry 1000000 spheres -0.01 0 0 0.01 0.01 0 0 0.01 type 1",
+       "fix ms all multisphere", "create_clump dumb 0 0.5 0.5"});
+}
+
 }  // namespace
 
 TEST_CASE("planeforce and lineforce keep the force in a plane or along a line", "[fix][mpi]") {
@@ -81,11 +89,8 @@ TEST_CASE("nve/noforce moves particles with their velocity only", "[fix][mpi]") 
   CHECK(v == Vec3(0.3, -0.2, 0.1));
   CHECK(position(s.e, 3).z() == Approx(-0.5 * 9.81 * 0.01).epsilon(1e-12));
   // spheres of a clump are moved by fix multisphere: refused
-  s.cmds(
-      {"fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
-       "ntry 1000000 spheres -0.01 0 0 0.01 0.01 0 0 0.01 type 1",
-       "fix ms all multisphere", "create_clump dumb 0 0.5 0.5", "group clump id > 3",
-       "fix carried2 clump nve/noforce"});
+  add_clump(s);
+  s.cmds({"group clump id > 3", "fix carried2 clump nve/noforce"});
   CHECK_THROWS_WITH(s.cmd("run 1"), Contains("are spheres of clumps"));
 }
 
@@ -107,10 +112,7 @@ TEST_CASE("nve integrates positions and velocities, not spins", "[fix][mpi]") {
   CHECK(p1.z() == Approx(-0.5 + 0.1 * t - 0.5 * 9.81 * t * t).epsilon(1e-12));
   CHECK(v.z() == Approx(0.1 - 9.81 * t).epsilon(1e-12));
   CHECK(s.e.compute_value("rot", 0) == spin_energy);  // the spin is kept as it was
-  s.cmds(
-      {"fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
-       "ntry 1000000 spheres -0.01 0 0 0.01 0.01 0 0 0.01 type 1",
-       "fix ms all multisphere", "create_clump dumb 0 0.5 0.5"});
+  add_clump(s);
   CHECK_THROWS_WITH(s.cmd("run 1"), Contains("are spheres of clumps"));
 }
 

@@ -320,16 +320,20 @@ struct FileSections {
   std::map<std::string, std::uint64_t> offset, size;  // of every section in the file
   bool has(const std::string& name) const { return size.count(name) > 0; }
   bool held(const std::string& name) const { return small.count(name) > 0; }
+  /// Up to n bytes of the file from `pos` (fewer where it ends); returns how many.
+  std::size_t read_file(std::uint64_t pos, std::size_t n, char* out) {
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(pos));
+    in.read(out, static_cast<std::streamsize>(n));
+    return static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0));
+  }
   /// Bytes [pos, pos + n) of a section.
   void read(const std::string& name, std::uint64_t pos, std::size_t n, char* out) {
     if (held(name)) {
       std::memcpy(out, small.at(name).data() + pos, n);
       return;
     }
-    in.clear();
-    in.seekg(static_cast<std::streamoff>(offset.at(name) + pos));
-    in.read(out, static_cast<std::streamsize>(n));
-    if (static_cast<std::size_t>(in.gcount()) != n) {
+    if (read_file(offset.at(name) + pos, n, out) != n) {
       throw InputError("restart file '" + file +
                        "' changed or became unreadable while being read (section '" + name +
                        "'); read it again");
@@ -364,10 +368,7 @@ std::string load(const std::string& file, FileSections& out) {
   in.seekg(0);
   auto read_at = [&](std::uint64_t pos, std::size_t n) {
     std::string b(n, '\0');
-    in.clear();
-    in.seekg(static_cast<std::streamoff>(pos));
-    in.read(b.data(), static_cast<std::streamsize>(n));
-    b.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    b.resize(out.read_file(pos, n, b.data()));
     return b;
   };
   const std::size_t head = 16 + 4 * 4;
