@@ -171,8 +171,8 @@ TEST_CASE("mesh/surface/stress reports the force and torque of a resting sphere"
   }
   CHECK(load == Approx(mg).epsilon(1e-3));
   CHECK(tangential < 1e-3 * mg);
-  REQUIRE_THROWS_WITH(s.cmd("fix w all mesh/surface/stress file " + floor_file() + " type 1 wear finnie"),
-                      Contains("wear finnie"));
+  REQUIRE_THROWS_WITH(s.cmd("fix w all mesh/surface/stress file " + floor_file() + " type 1 wear archard"),
+                      Contains("not a wear model"));
   REQUIRE_THROWS_WITH(s.cmd("fix w all mesh/surface file " + floor_file() + " type 1 wear off"),
                       Contains("unknown keyword 'wear'"));
 }

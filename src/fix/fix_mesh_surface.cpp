@@ -18,6 +18,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "core/global_property.h"
 #include "core/modify.h"
 #include "particles/particles.h"
 
@@ -306,12 +307,12 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args, bool stress) : 
       k += 2;
     } else if (stress && key == "wear") {
       need(2, key);
-      if (args[k + 1] != "off") {
-        throw InputError(
-            where + ": 'wear " + args[k + 1] +
-            "' is not supported: Granary has no wear model (LIGGGHTS' Finnie model is documented "
-            "only in a separate report); remove 'wear " +
-            args[k + 1] + "' to get the per-triangle forces and stresses");
+      if (args[k + 1] == "finnie") {
+        wear_finnie = true;
+      } else if (args[k + 1] != "off") {
+        throw InputError(where + ": 'wear " + args[k + 1] +
+                         "' is not a wear model; use 'wear finnie' (Finnie's erosion model, with fix "
+                         "property/global k_finnie peratomtypepair) or 'wear off'");
       }
       k += 2;
     } else if (stress && key == "reference_point") {
@@ -412,6 +413,15 @@ FixMeshSurface::FixMeshSurface(Engine& engine, const Args& args, bool stress) : 
 }
 
 void FixMeshSurface::init() {
+  if (wear_finnie) {
+    const GlobalProperty& kf = engine_.modify->require_property(
+        "k_finnie", "fix " + id + " " + style + " wear finnie (Finnie's wear constant per pair of types)");
+    const int ntypes = engine_.particles->ntypes;
+    k_finnie.assign(ntypes + 1, 0.0);
+    for (int t = 1; t <= ntypes; ++t)
+      k_finnie[t] = kf.per_pair(t, wall_type);
+    if (mesh.tri_wear.size() != static_cast<std::size_t>(mesh.ntri())) mesh.tri_wear.assign(mesh.ntri(), 0.0);
+  }
   // fix move/mesh, if any, sets the motion again in its init (called after this one)
   mesh.velocity.setZero();
   mesh.omega.setZero();
@@ -437,12 +447,22 @@ void FixMeshSurface::pre_force() {
     f.setZero();
 }
 
+void FixMeshSurface::prepare_restart() {
+  // the wear of every rank's contacts, summed on rank 0 (which writes the state)
+  if (!wear_finnie) return;
+  wear_total_.assign(mesh.ntri(), 0.0);
+  if (!mesh.tri_wear.empty())
+    MPI_Reduce(mesh.tri_wear.data(), wear_total_.data(), mesh.ntri(), MPI_DOUBLE, MPI_SUM, 0, engine_.world);
+}
+
 void FixMeshSurface::pack_restart(std::string& out) const {
   const std::uint64_t ntri = mesh.ntri(), nnodes = mesh.nnodes();
   put_bytes(out, &ntri, sizeof ntri);
   put_bytes(out, &nnodes, sizeof nnodes);
   for (int k = 0; k < mesh.nnodes(); ++k)
     put_bytes(out, mesh.node(k).data(), 3 * sizeof(double));
+  // wear finnie: the accumulated wear of every triangle after the nodes
+  if (wear_finnie && wear_total_.size() == ntri) put_bytes(out, wear_total_.data(), ntri * sizeof(double));
 }
 
 void FixMeshSurface::unpack_restart(const std::string& in) {
@@ -451,9 +471,10 @@ void FixMeshSurface::unpack_restart(const std::string& in) {
     throw InputError("fix " + id + " mesh/surface: bad restart state");
   std::memcpy(&ntri, in.data(), sizeof ntri);
   std::memcpy(&nnodes, in.data() + sizeof ntri, sizeof nnodes);
+  const std::size_t base = 2 * sizeof(std::uint64_t) + nnodes * 3 * sizeof(double);
   if (ntri != static_cast<std::uint64_t>(mesh.ntri()) ||
       nnodes != static_cast<std::uint64_t>(mesh.nnodes()) ||
-      in.size() != 2 * sizeof(std::uint64_t) + nnodes * 3 * sizeof(double)) {
+      (in.size() != base && in.size() != base + ntri * sizeof(double))) {
     throw InputError("fix " + id + " mesh/surface: the restart file holds a mesh of " + std::to_string(ntri) +
                      " triangles (" + std::to_string(nnodes) + " nodes), but '" + file + "' has " +
                      std::to_string(mesh.ntri()) + " (" + std::to_string(mesh.nnodes()) +
@@ -463,6 +484,13 @@ void FixMeshSurface::unpack_restart(const std::string& in) {
   std::memcpy(static_cast<void*>(nodes.data()), in.data() + 2 * sizeof(std::uint64_t),
               nnodes * 3 * sizeof(double));
   mesh.set_nodes(nodes);
+  // the wear goes on from the stored values (held by rank 0, which sums the
+  // ranks' contributions when writing); a state without wear starts from 0
+  if (wear_finnie) {
+    mesh.tri_wear.assign(ntri, 0.0);
+    if (in.size() > base && engine_.rank == 0)
+      std::memcpy(mesh.tri_wear.data(), in.data() + base, ntri * sizeof(double));
+  }
 }
 
 FixMeshSurface& FixMeshSurface::find(const Modify& modify, const std::string& mesh_id,

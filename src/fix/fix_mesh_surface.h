@@ -25,12 +25,19 @@ class FixMeshSurface : public Fix {
   /// Per-triangle forces are summed afresh every step.
   void pre_force() override;
 
+  /// wear finnie: sums the ranks' wear on rank 0 for pack_restart.
+  void prepare_restart() override;
   void pack_restart(std::string& out) const override;
   void unpack_restart(const std::string& in) override;
 
   TriMesh mesh;
   int wall_type = 1;  ///< atom type whose material the mesh has
   std::string file;   ///< the STL file it was read from
+  /// mesh/surface/stress wear finnie: the wall contacts add Finnie's wear to
+  /// mesh.tri_wear; k_finnie[t] is the constant for particle type t (1-based)
+  /// against this wall's type (fix property/global k_finnie).
+  bool wear_finnie = false;
+  std::vector<double> k_finnie;
 
  protected:
   /// `stress`: also read the keywords of mesh/surface/stress (stress,
@@ -40,6 +47,7 @@ class FixMeshSurface : public Fix {
   Vec3 reference_point_ = Vec3::Zero();  ///< mesh/surface/stress: torque reference
   Vec3 surface_vel_ = Vec3::Zero();      ///< conveyor belt velocity (surface_vel)
   bool has_surface_vel_ = false;
+  std::vector<double> wear_total_;  ///< wear of all ranks, on rank 0 at write_restart
 
  public:
   /// The mesh/surface fix with this ID, or an InputError saying what needs it.

@@ -1,12 +1,14 @@
 // fix ID group mesh/surface/stress file F.stl type T [mesh/surface keywords]
-//     [stress on] [wear off] [reference_point RX RY RZ]
+//     [stress on] [wear off|finnie] [reference_point RX RY RZ]
 // (LIGGGHTS syntax): a fix mesh/surface whose forces are reported. The wall
 // fixes sum the force of the particles on every triangle each step (for every
 // mesh); this style adds the global outputs f_ID[1..9]: the total force on the
 // mesh (3), the torque about the reference point (3, each triangle's force
 // taken at its centroid) and the reference point itself (3, moved, scaled and
 // rotated with the mesh). The per-triangle normal and shear stresses are
-// written by dump mesh/vtk. Wear models (LIGGGHTS' `wear finnie`) are refused.
+// written by dump mesh/vtk. `wear finnie` accumulates Finnie's erosive wear
+// per triangle (fix wall/gran adds it, see add_finnie_wear; dump mesh/vtk
+// writes it).
 // See doc/fixes/mesh_surface_stress.md.
 #include <mpi.h>
 

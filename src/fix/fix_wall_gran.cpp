@@ -591,6 +591,38 @@ int FixWallGran::mesh_contacts(const Vec3& xi, double r, tagint tag, Candidate* 
   return nkept;
 }
 
+// Finnie's erosion model as LIGGGHTS' mesh/surface/stress `wear finnie`
+// defines it (doc/fixes/mesh_surface_stress.md): while the particle
+// approaches the wall (its velocity relative to the wall has a component
+// towards the contact point), the triangle gains
+//   2 k v f(gamma) |F| dt / A,
+// v the speed relative to the wall, gamma the impact angle between that
+// velocity and the triangle's plane (tan gamma = v_n / v_t), f(gamma) =
+// sin(2 gamma) - 3 sin^2(gamma) for tan gamma <= 1/3 and cos^2(gamma) / 3
+// above, |F| the contact force, A the triangle's area, k = k_finnie of the
+// particle's and the wall's types.
+static void add_finnie_wear(FixMeshSurface& fm, const WallContact& w, const Vec3& force, int type,
+                            double dt) {
+  const double vn = -w.v_rel.dot(w.n);  // > 0: towards the contact point
+  if (!(vn > 0.0)) return;
+  const double v2 = w.v_rel.squaredNorm();
+  const double v = std::sqrt(v2);
+  const double vt = std::sqrt(std::max(0.0, v2 - vn * vn));
+  double fg;
+  if (3.0 * vn > vt) {
+    const double c = vt / v;  // cos(gamma)
+    fg = c * c / 3.0;
+  } else {
+    const double sg = vn / v, cg = vt / v;
+    fg = 2.0 * sg * cg - 3.0 * sg * sg;
+  }
+  TriMesh& mesh = fm.mesh;
+  const double area = 0.5 * (mesh.corner(w.tri, 1) - mesh.corner(w.tri, 0))
+                                .cross(mesh.corner(w.tri, 2) - mesh.corner(w.tri, 0))
+                                .norm();
+  mesh.tri_wear[w.tri] += 2.0 * fm.k_finnie[type] * v * fg * force.norm() * dt / area;
+}
+
 // Sphere-triangle contacts of the mesh form. For each particle: the triangles
 // near its centre (bin grid), the closest point on each, and then the contacts
 // the sphere physically has, in this order:
@@ -657,11 +689,14 @@ void FixWallGran::post_force_mesh() {
     // At run setup the forces leave the history as it was: the per-particle
     // slots are restored by Update, the extra ones are not written.
     const bool keep_extra = engine_.update->in_setup_forces;
+    const double step_dt = engine_.update->dt;
     auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
       f[w.i] += force;
       torque[w.i] += tq;
       total -= force;
-      meshes_[w.mesh]->mesh.tri_force[w.tri] -= force;
+      FixMeshSurface& fm = *meshes_[w.mesh];
+      fm.mesh.tri_force[w.tri] -= force;
+      if (fm.wear_finnie) add_finnie_wear(fm, w, force, type[w.i], step_dt);
     };
     // a particle's slots after its contacts were evaluated
     auto write_back = [&](const Staged& st) {

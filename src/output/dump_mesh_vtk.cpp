@@ -1,15 +1,13 @@
 // `dump ID group mesh/vtk N file.vtp|file.vtk [output face] [id] [vel] [area] [stress]
-// [stresscomponents] [mesh-IDs ...]`: the triangles of fix mesh/surface walls
-// as VTK XML PolyData (or legacy VTK for a .vtk name). Meshes are
-// replicated on every rank, so rank 0 writes the whole frame; per-triangle
-// forces are summed over the ranks first. Cell data: mesh (index of the mesh
-// in the dump's list, from 0), normal, velocity, force (of the particles on
-// the triangle on the last step), area, pressure and shear_stress (the
-// normal and tangential force over the area), stress_components (the force
-// over the area, a vector); velocity is that of the wall
-// material at the triangle's centroid (rotation and surface_vel included); field data TimeValue and Step.
-// A .pvd collection lists every frame with its simulated time. The group is
-// ignored. See doc/commands/dump.md.
+// [stresscomponents] [wear] [mesh-IDs ...]` (also named mesh/gran/VTK): the triangles of fix mesh/surface
+// walls as VTK XML PolyData (or legacy VTK for a .vtk name). Meshes are replicated on every rank, so rank 0
+// writes the whole frame; per-triangle forces are summed over the ranks first. Cell data: mesh (index of the
+// mesh in the dump's list, from 0), normal, velocity, force (of the particles on the triangle on the last
+// step), area, pressure and shear_stress (the normal and tangential force over the area), stress_components
+// (the force over the area, a vector), wear (where a mesh has wear finnie: the accumulated Finnie wear,
+// kg/m^2); velocity is that of the wall material at the triangle's centroid (rotation and surface_vel
+// included); field data TimeValue and Step. A .pvd collection lists every frame with its simulated time. The
+// group is ignored. See doc/commands/dump.md.
 #include <mpi.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -46,6 +44,7 @@ namespace {
 class DumpMeshVTK : public Dump {
  public:
   DumpMeshVTK(Engine& engine, const Args& args) : Dump(engine, args) {
+    bool want_wear = false;
     const std::string where = "dump " + id + " mesh/vtk";
     const std::string ext = vtkio::extension(filename);
     if (ext != ".vtp" && ext != ".vtk") {
@@ -64,14 +63,24 @@ class DumpMeshVTK : public Dump {
         ++k;
       } else if (w == "id" || w == "vel" || w == "area" || w == "stress" || w == "stresscomponents") {
         // LIGGGHTS' dump identifiers: the mesh index, velocity, area, force and stresses are always written
+      } else if (w == "wear") {
+        want_wear = true;
       } else if (engine.modify->find_fix(w)) {
         FixMeshSurface::find(*engine.modify, w, where);
         mesh_ids_.push_back(w);
       } else {
         throw InputError(where + ": '" + w +
                          "' is neither the ID of a fix mesh/surface nor one of output, id, vel, area, "
-                         "stress, stresscomponents");
+                         "stress, stresscomponents, wear");
       }
+    }
+    // the wear array: written when a mesh of the dump has wear finnie
+    for (FixMeshSurface* m : meshes())
+      if (m->wear_finnie) wear_ = true;
+    if (want_wear && !wear_) {
+      throw InputError(where +
+                       ": 'wear' needs a fix mesh/surface/stress with 'wear finnie' among the meshes "
+                       "written; add 'wear finnie' to the mesh fix or remove 'wear'");
     }
     dumpio::check_directory(engine.world, filename, "dump " + id);
     legacy_ = ext == ".vtk";
@@ -121,9 +130,23 @@ class DumpMeshVTK : public Dump {
     all.resize(local.size());
     MPI_Reduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, 0,
                engine_.world);
+    // accumulated wear of all ranks (0 on meshes without wear finnie)
+    std::vector<double> wear_local, wear_all;
+    if (wear_) {
+      for (FixMeshSurface* m : list) {
+        if (m->wear_finnie && m->mesh.tri_wear.size() == static_cast<std::size_t>(m->mesh.ntri()))
+          wear_local.insert(wear_local.end(), m->mesh.tri_wear.begin(), m->mesh.tri_wear.end());
+        else
+          wear_local.insert(wear_local.end(), m->mesh.ntri(), 0.0);
+      }
+      wear_all.resize(wear_local.size());
+      MPI_Reduce(wear_local.data(), wear_all.data(), static_cast<int>(wear_local.size()), MPI_DOUBLE, MPI_SUM,
+                 0, engine_.world);
+    }
     std::string err;
     if (engine_.rank == 0)
-      err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), list, all);
+      err =
+          write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), list, all, wear_all);
     err = dumpio::first_error(engine_.world, err);
     if (!err.empty()) throw RunError("dump " + id + ": " + err);
   }
@@ -134,7 +157,7 @@ class DumpMeshVTK : public Dump {
   }
 
   std::string write_frame(const std::string& frame, const std::vector<FixMeshSurface*>& list,
-                          const std::vector<double>& force) {
+                          const std::vector<double>& force, const std::vector<double>& wear) {
     vtkIdType npts = 0, ncells = 0;
     for (const FixMeshSurface* m : list) {
       npts += m->mesh.nnodes();
@@ -155,6 +178,7 @@ class DumpMeshVTK : public Dump {
     auto pressure = vtkio::named_array<vtkDoubleArray>("pressure", 1, ncells);
     auto shear = vtkio::named_array<vtkDoubleArray>("shear_stress", 1, ncells);
     auto traction = vtkio::named_array<vtkDoubleArray>("stress_components", 3, ncells);
+    auto wear_arr = vtkio::named_array<vtkDoubleArray>("wear", 1, wear_ ? ncells : 0);
     vtkIdType p0 = 0, cell = 0;
     for (std::size_t mi = 0; mi < list.size(); ++mi) {
       const TriMesh& mesh = list[mi]->mesh;
@@ -184,6 +208,7 @@ class DumpMeshVTK : public Dump {
         shear->SetValue(cell, (f - fn * mesh.normal(t)).norm() / a);
         const Vec3 tr = f / a;
         traction->SetTypedTuple(cell, tr.data());
+        if (wear_) wear_arr->SetValue(cell, wear[cell]);
       }
       p0 += mesh.nnodes();
     }
@@ -196,11 +221,13 @@ class DumpMeshVTK : public Dump {
     for (vtkDataArray* a :
          std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area, pressure, shear, traction})
       ds->GetCellData()->AddArray(a);
+    if (wear_) ds->GetCellData()->AddArray(wear_arr);
     return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep, options_,
                                        pvd_);
   }
 
   std::vector<std::string> mesh_ids_;
+  bool wear_ = false;  ///< a mesh of the dump has wear finnie: the "wear" array is written
   bool legacy_ = false;
   vtkio::WriteOptions options_;
   vtkio::PvdCollection pvd_;
@@ -209,5 +236,7 @@ class DumpMeshVTK : public Dump {
 }  // namespace
 
 GRANARY_DUMP_STYLE("mesh/vtk", DumpMeshVTK);
+// LIGGGHTS' older name of the same dump
+GRANARY_DUMP_STYLE("mesh/gran/VTK", DumpMeshVTK);
 
 }  // namespace granary
