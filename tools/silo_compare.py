@@ -8,7 +8,8 @@ rate, clogs) and, with arch removal, the avalanche sizes.
 
     /usr/bin/python3 tools/silo_compare.py run --out DIR [--configs granary,liggghts,liggghts_beads]
                      [--seeds 8] [--slit 3.5] [--jobs 2] [-var NAME VALUE ...]
-    /usr/bin/python3 tools/silo_compare.py report DIR [--json FILE]
+    /usr/bin/python3 tools/silo_compare.py export DIR TO
+    /usr/bin/python3 tools/silo_compare.py report DIR|TO [--json FILE]
 
 Configurations (the script's variable nve_all says which particles fix
 nve/sphere integrates):
@@ -24,7 +25,9 @@ and 95 % confidence interval of each observable over the seeds, and for each
 pair of configurations Welch's t-test, Levene's test (spread) and the
 Mann-Whitney test; with several slit widths a Beverloo fit of the flow rate;
 with arch removal the avalanche sizes (pooled) with a two-sample
-Kolmogorov-Smirnov test. Needs numpy and scipy (Debian's python3-numpy,
+Kolmogorov-Smirnov test. `export` writes the finished runs of DIR as compact
+files (runs.csv, avalanches.csv, settings.json) that `report` reads in place
+of the logs. Needs numpy and scipy (Debian's python3-numpy,
 python3-scipy).
 """
 import argparse
@@ -246,6 +249,78 @@ def compare(x, y):
             "mannwhitney_p": float(stats.mannwhitneyu(x, y, alternative="two-sided").pvalue)}
 
 
+RUN_KEYS = ["bed_phi", "bed_bodies", "mass_passed", "flow_rate", "clogs", "first_clog"]
+
+
+def runs_by_config(d, slit, v):
+    """{configuration: [observables of each finished run]} at one slit width, from the
+    run folders of `run` or, where d holds runs.csv and avalanches.csv, from those (`export`)."""
+    per = {}
+    if os.path.exists(os.path.join(d, "runs.csv")):
+        import csv
+        sizes = {}
+        with open(os.path.join(d, "avalanches.csv")) as f:
+            for row in csv.DictReader(line for line in f if not line.startswith("#")):
+                key = (row["config"], float(row["slit"]), int(row["seed"]))
+                sizes.setdefault(key, []).append(float(row["mass_kg"]))
+        with open(os.path.join(d, "runs.csv")) as f:
+            for row in csv.DictReader(line for line in f if not line.startswith("#")):
+                if float(row["slit"]) != float(slit):
+                    continue
+                r = {k: float(row[k]) for k in RUN_KEYS}
+                r["clogs"] = int(r["clogs"])
+                r["avalanches"] = sizes.get((row["config"], float(row["slit"]), int(row["seed"])), [])
+                per.setdefault(row["config"], []).append(r)
+        return dict(sorted(per.items()))
+    for c in sorted(os.listdir(d)):
+        base = os.path.join(d, c, f"s{slit:g}")
+        if c not in CONFIGS or not os.path.isdir(base):
+            continue
+        runs = []
+        for seed_dir in sorted(os.listdir(base)):
+            rd = os.path.join(base, seed_dir)
+            if finished(rd):
+                runs.append(observables(parse_log(os.path.join(rd, "log")), v))
+        if runs:
+            per[c] = runs
+    return per
+
+
+def cmd_export(a):
+    """The finished runs of a.dir as compact CSV files in a.to: runs.csv (one row per run),
+    avalanches.csv (the avalanche sizes, in order) and settings.json; `report` reads them."""
+    with open(os.path.join(a.dir, "settings.json")) as f:
+        settings = json.load(f)
+    v = settings["variables"]
+    os.makedirs(a.to, exist_ok=True)
+    runs_rows, av_rows = [], []
+    for slit in settings["slits"]:
+        for c in sorted(os.listdir(a.dir)):
+            base = os.path.join(a.dir, c, f"s{slit:g}")
+            if c not in CONFIGS or not os.path.isdir(base):
+                continue
+            for seed_dir in sorted(os.listdir(base)):
+                rd = os.path.join(base, seed_dir)
+                if not finished(rd):
+                    continue
+                seed = int(seed_dir.replace("seed", ""))
+                r = observables(parse_log(os.path.join(rd, "log")), v)
+                runs_rows.append([c, f"{slit:g}", str(seed)] + [repr(r[k]) for k in RUN_KEYS])
+                for k, m in enumerate(r["avalanches"]):
+                    av_rows.append([c, f"{slit:g}", str(seed), str(k), repr(m)])
+    head = f"# tools/silo_compare.py export of {os.path.basename(os.path.normpath(a.dir))}: variables {json.dumps(v)}\n"
+    with open(os.path.join(a.to, "runs.csv"), "w") as f:
+        f.write(head + "config,slit,seed," + ",".join(RUN_KEYS) + "\n")
+        f.writelines(",".join(r) + "\n" for r in runs_rows)
+    with open(os.path.join(a.to, "avalanches.csv"), "w") as f:
+        f.write(head + "config,slit,seed,index,mass_kg\n")
+        f.writelines(",".join(r) + "\n" for r in av_rows)
+    with open(os.path.join(a.to, "settings.json"), "w") as f:
+        json.dump(settings, f, indent=1)
+    print(f"silo_compare: {len(runs_rows)} runs, {len(av_rows)} avalanches -> {a.to}")
+    return 0
+
+
 def cmd_report(a):
     import numpy as np
     from scipy import optimize, stats
@@ -253,23 +328,12 @@ def cmd_report(a):
         settings = json.load(f)
     v = settings["variables"]
     result = {"settings": settings, "cases": {}}
-    keys = ["bed_phi", "bed_bodies", "mass_passed", "flow_rate", "clogs", "first_clog"]
+    keys = RUN_KEYS
     flows = {}
     for slit in settings["slits"]:
         print(f"== slit {slit:g} dc (W {v['W']}, D {v['D']}, phi {v['phi']}, r {v['r']}, nres {v['nres']}, "
               f"tmax {v['tmax']} s, arch removal {v['arch']})")
-        per = {}
-        for c in sorted(os.listdir(a.dir)):
-            base = os.path.join(a.dir, c, f"s{slit:g}")
-            if c not in CONFIGS or not os.path.isdir(base):
-                continue
-            runs = []
-            for seed_dir in sorted(os.listdir(base)):
-                d = os.path.join(base, seed_dir)
-                if finished(d):
-                    runs.append(observables(parse_log(os.path.join(d, "log")), v))
-            if runs:
-                per[c] = runs
+        per = runs_by_config(a.dir, slit, v)
         case = {}
         print(f"  {'configuration':16s} {'n':>3s} " + " ".join(f"{k:>30s}" for k in keys))
         for c, runs in per.items():
@@ -316,8 +380,9 @@ def cmd_report(a):
                 return c_ * math.sqrt(9.81) * depth * np.clip(s_ - k_ * DC, 0, None) ** 1.5
 
             try:
-                popt, pcov = optimize.curve_fit(bev, s, w, p0=(600.0, 1.0), sigma=np.where(e > 0, e, None) if
-                                                np.all(e > 0) else None, absolute_sigma=bool(np.all(e > 0)))
+                weighted = bool(np.all(e > 0))
+                popt, pcov = optimize.curve_fit(bev, s, w, p0=(600.0, 1.0), sigma=e if weighted else None,
+                                                absolute_sigma=weighted)
                 perr = np.sqrt(np.diag(pcov))
                 print(f"  Beverloo {c}: C rho_b = {popt[0]:.4g} ± {perr[0]:.2g} kg/m^3, k = {popt[1]:.3g} ± "
                       f"{perr[1]:.2g}")
@@ -343,11 +408,14 @@ def main(argv=None):
     r.add_argument("--jobs", type=int, default=2)
     r.add_argument("--granary", default=os.path.join(ROOT, "build", "granary"))
     r.add_argument("-var", nargs=2, action="append", metavar=("NAME", "VALUE"))
+    x = sub.add_parser("export", help="the finished runs as compact CSV files (report reads them)")
+    x.add_argument("dir")
+    x.add_argument("to")
     p = sub.add_parser("report", help="statistics of the finished runs")
     p.add_argument("dir")
     p.add_argument("--json")
     a = ap.parse_args(argv)
-    return cmd_run(a) if a.cmd == "run" else cmd_report(a)
+    return {"run": cmd_run, "export": cmd_export, "report": cmd_report}[a.cmd](a)
 
 
 if __name__ == "__main__":

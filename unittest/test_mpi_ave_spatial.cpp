@@ -116,8 +116,10 @@ TEST_CASE("fix ave/spatial: bins of LIGGGHTS' script agree with LIGGGHTS on any 
 
 TEST_CASE("fix ave/spatial: a particle past a periodic face is binned where it wraps to",
           "[fix][ave/spatial]") {
-  // (one file name per rank count: ctest runs them at once)
-  const std::string tag = "ave_spatial_wrap_np" + std::to_string(world_size()) + "_";
+  // (one file name per rank count, since ctest runs them at once, and per
+  // rank: each rank runs this serial engine on its own)
+  const std::string tag =
+      "ave_spatial_wrap_np" + std::to_string(world_size()) + "_r" + std::to_string(world_rank()) + "_";
   granary::test::ScriptEngine s;
   s.cmds({"units si", "atom_style granular", "atom_modify map array", "boundary p f f", "newton off",
           "communicate single vel yes", "region box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box",

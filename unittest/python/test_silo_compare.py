@@ -84,6 +84,50 @@ class Accounting(unittest.TestCase):
         self.assertEqual(p[0], 32452867)
 
 
+class Export(unittest.TestCase):
+    def test_report_of_the_export_is_the_report_of_the_logs(self):
+        # two configurations, three seeds each, with clogs and arch removals: the compact files
+        # that `export` writes give `report` the same statistics, test by test, as the logs
+        rng = np.random.default_rng(7)
+        with tempfile.TemporaryDirectory() as tmp:
+            runs = os.path.join(tmp, "runs")
+            for c in ("granary", "liggghts_beads"):
+                for seed in sc.primes_from(32452843, 3):
+                    d = sc.run_dir(runs, c, 2.0, seed)
+                    os.makedirs(d)
+                    n1, n2, t, ev = 1000, 50, 0.31, []
+                    for _ in range(4):
+                        for _ in range(int(rng.integers(2, 6))):
+                            n1 -= 10 * int(rng.integers(0, 4))
+                            n2 -= int(rng.integers(0, 2))
+                            ev.append(("FLOW", round(t, 2), n1, n2))
+                            t += 0.01
+                        ev += [("CLOG", round(t, 2)), ("ARCH", round(t, 2), n1 - 20, n2)]
+                        n1 -= 20
+                    ev.append(("FLOW", round(t, 2), n1, n2))
+                    with open(os.path.join(d, "log"), "w") as f:
+                        f.write(synthetic_log(1000, 50, ev))
+            with open(os.path.join(runs, "settings.json"), "w") as f:
+                json.dump({"variables": dict(sc.DEFAULTS), "slits": [2.0], "seeds": sc.primes_from(32452843, 3),
+                           "configs": ["granary", "liggghts_beads"]}, f)
+            compact = os.path.join(tmp, "compact")
+            tool = [sys.executable, os.path.join(TOOLS, "silo_compare.py")]
+            subprocess.run(tool + ["export", runs, compact], check=True, capture_output=True)
+            self.assertEqual(sorted(os.listdir(compact)), ["avalanches.csv", "runs.csv", "settings.json"])
+            reports = []
+            for src in (runs, compact):
+                out = os.path.join(tmp, os.path.basename(src) + ".json")
+                subprocess.run(tool + ["report", src, "--json", out], check=True, capture_output=True)
+                with open(out) as f:
+                    reports.append(json.load(f)["cases"]["2"])
+            self.assertEqual(reports[0]["granary"]["avalanches"], reports[1]["granary"]["avalanches"])
+            self.assertEqual(len(reports[0]["granary"]["avalanches"]), 12)
+            self.assertEqual(reports[0]["tests"], reports[1]["tests"])
+            for k in sc.RUN_KEYS:
+                for a, b in zip(reports[0]["liggghts_beads"][k], reports[1]["liggghts_beads"][k]):
+                    self.assertAlmostEqual(a, b, places=8, msg=k)
+
+
 GRANARY = os.environ.get("GRANARY_BINARY", os.path.join(ROOT, "build", "granary"))
 
 
