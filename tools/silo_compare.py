@@ -8,8 +8,8 @@ rate, clogs) and, with arch removal, the avalanche sizes.
 
     /usr/bin/python3 tools/silo_compare.py run --out DIR [--configs granary,liggghts,liggghts_beads]
                      [--seeds 8] [--slit 3.5] [--jobs 2] [-var NAME VALUE ...]
-    /usr/bin/python3 tools/silo_compare.py export DIR TO
-    /usr/bin/python3 tools/silo_compare.py report DIR|TO [--json FILE]
+    /usr/bin/python3 tools/silo_compare.py export DIR TO [--window T0,T1]
+    /usr/bin/python3 tools/silo_compare.py report DIR|TO [--json FILE] [--window T0,T1]
 
 Configurations (the script's variable nve_all says which particles fix
 nve/sphere integrates):
@@ -27,7 +27,9 @@ Mann-Whitney test; with several slit widths a Beverloo fit of the flow rate;
 with arch removal the avalanche sizes (pooled) with a two-sample
 Kolmogorov-Smirnov test. `export` writes the finished runs of DIR as compact
 files (runs.csv, avalanches.csv, settings.json) that `report` reads in place
-of the logs. Needs numpy and scipy (Debian's python3-numpy,
+of the logs. The flow rate is the mass passed over the 0.01 s chunks in which
+something passed, within a window of discharge time (--window; default from
+0.05 s, the start of the flow left out, to the end). Needs numpy and scipy (Debian's python3-numpy,
 python3-scipy).
 """
 import argparse
@@ -181,7 +183,22 @@ def masses(nres, r):
     return RHO_C * vc, RHO_B * math.pi / 6 * db ** 3, vc, math.pi / 6 * db ** 3
 
 
-def observables(rec, v):
+DEFAULT_WINDOW = (0.05, math.inf)
+
+
+def parse_window(text):
+    """'T0,T1' (seconds of discharge; T1 may be 'end') -> (T0, T1)."""
+    try:
+        a, b = text.split(",")
+        w = (float(a), math.inf if b.strip() == "end" else float(b))
+    except ValueError:
+        raise SystemExit(f"silo_compare: --window takes T0,T1 in seconds of discharge (e.g. 0.05,0.25), got '{text}'")
+    if not 0 <= w[0] < w[1]:
+        raise SystemExit(f"silo_compare: --window {text}: needs 0 <= T0 < T1")
+    return w
+
+
+def observables(rec, v, window=DEFAULT_WINDOW):
     """Per-run numbers from a parsed log."""
     nres = int(float(v["nres"]))
     mc, mb, vc, vb = masses(nres, v["r"])
@@ -213,11 +230,12 @@ def observables(rec, v):
     out["mass_passed"] = series[-1][1]
     out["clogs"] = len(rec["clog"])
     out["first_clog"] = (rec["clog"][0] - t0) if rec["clog"] else float("nan")
-    # flow rate while flowing: passed mass over the chunks in which something passed
-    # (the first 0.05 s, the start of the flow, left out)
+    # flow rate while flowing: passed mass over the chunks in which something passed,
+    # chunks inside the window of discharge time (default: from 0.05 s, the start of the
+    # flow left out, to the end)
     dm = dt = 0.0
     for (ta, ma), (tb, mb_) in zip(series, series[1:]):
-        if ta - t0 >= 0.05 and mb_ > ma:
+        if ta - t0 >= window[0] - 1e-9 and tb - t0 <= window[1] + 1e-9 and mb_ > ma:
             dm += mb_ - ma
             dt += tb - ta
     out["flow_rate"] = dm / dt if dt > 0 else float("nan")
@@ -252,7 +270,7 @@ def compare(x, y):
 RUN_KEYS = ["bed_phi", "bed_bodies", "mass_passed", "flow_rate", "clogs", "first_clog"]
 
 
-def runs_by_config(d, slit, v):
+def runs_by_config(d, slit, v, window=DEFAULT_WINDOW):
     """{configuration: [observables of each finished run]} at one slit width, from the
     run folders of `run` or, where d holds runs.csv and avalanches.csv, from those (`export`)."""
     per = {}
@@ -280,7 +298,7 @@ def runs_by_config(d, slit, v):
         for seed_dir in sorted(os.listdir(base)):
             rd = os.path.join(base, seed_dir)
             if finished(rd):
-                runs.append(observables(parse_log(os.path.join(rd, "log")), v))
+                runs.append(observables(parse_log(os.path.join(rd, "log")), v, window))
         if runs:
             per[c] = runs
     return per
@@ -292,6 +310,8 @@ def cmd_export(a):
     with open(os.path.join(a.dir, "settings.json")) as f:
         settings = json.load(f)
     v = settings["variables"]
+    window = parse_window(a.window)
+    settings["flow_window"] = a.window
     os.makedirs(a.to, exist_ok=True)
     runs_rows, av_rows = [], []
     for slit in settings["slits"]:
@@ -304,7 +324,7 @@ def cmd_export(a):
                 if not finished(rd):
                     continue
                 seed = int(seed_dir.replace("seed", ""))
-                r = observables(parse_log(os.path.join(rd, "log")), v)
+                r = observables(parse_log(os.path.join(rd, "log")), v, window)
                 runs_rows.append([c, f"{slit:g}", str(seed)] + [repr(r[k]) for k in RUN_KEYS])
                 for k, m in enumerate(r["avalanches"]):
                     av_rows.append([c, f"{slit:g}", str(seed), str(k), repr(m)])
@@ -327,13 +347,22 @@ def cmd_report(a):
     with open(os.path.join(a.dir, "settings.json")) as f:
         settings = json.load(f)
     v = settings["variables"]
+    # the flow-rate window: from the logs as asked; exported files hold the rates of
+    # the window they were exported with
+    stored = settings.get("flow_window")
+    if os.path.exists(os.path.join(a.dir, "runs.csv")) and a.window and a.window != stored:
+        raise SystemExit(f"silo_compare: {a.dir} holds flow rates of the window {stored or '0.05,end'}; "
+                         f"export the run folder again with --window {a.window}")
+    window = parse_window(a.window or stored or "0.05,end")
+    print(f"flow rate over {window[0]:g} to {'the end' if math.isinf(window[1]) else f'{window[1]:g} s'} "
+          f"of discharge")
     result = {"settings": settings, "cases": {}}
     keys = RUN_KEYS
     flows = {}
     for slit in settings["slits"]:
         print(f"== slit {slit:g} dc (W {v['W']}, D {v['D']}, phi {v['phi']}, r {v['r']}, nres {v['nres']}, "
               f"tmax {v['tmax']} s, arch removal {v['arch']})")
-        per = runs_by_config(a.dir, slit, v)
+        per = runs_by_config(a.dir, slit, v, window)
         case = {}
         print(f"  {'configuration':16s} {'n':>3s} " + " ".join(f"{k:>30s}" for k in keys))
         for c, runs in per.items():
@@ -411,9 +440,13 @@ def main(argv=None):
     x = sub.add_parser("export", help="the finished runs as compact CSV files (report reads them)")
     x.add_argument("dir")
     x.add_argument("to")
+    x.add_argument("--window", default="0.05,end",
+                   help="seconds of discharge over which the flow rate is taken (default 0.05,end)")
     p = sub.add_parser("report", help="statistics of the finished runs")
     p.add_argument("dir")
     p.add_argument("--json")
+    p.add_argument("--window", help="seconds of discharge over which the flow rate is taken, T0,T1 (T1 may be "
+                                    "'end'; default 0.05,end or that of an export)")
     a = ap.parse_args(argv)
     return {"run": cmd_run, "export": cmd_export, "report": cmd_report}[a.cmd](a)
 

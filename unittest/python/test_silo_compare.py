@@ -62,6 +62,13 @@ class Accounting(unittest.TestCase):
         self.assertAlmostEqual(o["bed_phi"], (4000 / NRES * VC + 200 * VB) / 1e-5, places=12)
         # flow rate: the mass over the 0.01 s chunks in which something passed, after the first 0.05 s
         self.assertAlmostEqual(o["flow_rate"], (4 * MC) / 0.02, places=9)
+        # a window of discharge time: only its chunks (0.01-0.02 and 0.02-0.03 s after the start)
+        early = sc.observables(rec, dict(sc.DEFAULTS), sc.parse_window("0,0.03"))
+        self.assertAlmostEqual(early["flow_rate"], (10 * MC + 5 * MB) / 0.02, places=9)
+        self.assertEqual(sc.parse_window("0.05,end"), sc.DEFAULT_WINDOW)
+        for bad in ("0.2,0.1", "0.1", "a,b"):
+            with self.assertRaises(SystemExit):
+                sc.parse_window(bad)
 
     def test_statistics(self):
         m, sd, h = sc.ci95([1.0, 2.0, 3.0, 4.0])
@@ -123,6 +130,10 @@ class Export(unittest.TestCase):
             self.assertEqual(reports[0]["granary"]["avalanches"], reports[1]["granary"]["avalanches"])
             self.assertEqual(len(reports[0]["granary"]["avalanches"]), 12)
             self.assertEqual(reports[0]["tests"], reports[1]["tests"])
+            # an export holds the rates of its window: another window needs another export
+            r = subprocess.run(tool + ["report", compact, "--window", "0,0.03"], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("export the run folder again", r.stderr)
             for k in sc.RUN_KEYS:
                 for a, b in zip(reports[0]["liggghts_beads"][k], reports[1]["liggghts_beads"][k]):
                     self.assertAlmostEqual(a, b, places=8, msg=k)
