@@ -617,10 +617,7 @@ static void add_finnie_wear(FixMeshSurface& fm, const WallContact& w, const Vec3
     fg = 2.0 * sg * cg - 3.0 * sg * sg;
   }
   TriMesh& mesh = fm.mesh;
-  const double area = 0.5 * (mesh.corner(w.tri, 1) - mesh.corner(w.tri, 0))
-                                .cross(mesh.corner(w.tri, 2) - mesh.corner(w.tri, 0))
-                                .norm();
-  mesh.tri_wear[w.tri] += 2.0 * fm.k_finnie[type] * v * fg * force.norm() * dt / area;
+  mesh.tri_wear[w.tri] += 2.0 * fm.k_finnie[type] * v * fg * force.norm() * dt / mesh.area(w.tri);
 }
 
 // Sphere-triangle contacts of the mesh form. For each particle: the triangles

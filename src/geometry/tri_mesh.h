@@ -42,6 +42,10 @@ class TriMesh {
   const std::array<int, 3>& tri(int t) const { return tri_[t]; }
   const Vec3& corner(int t, int c) const { return node_[tri_[t][c]]; }
   const Vec3& normal(int t) const { return normal_[t]; }
+  /// Area of triangle t [m^2].
+  double area(int t) const {
+    return 0.5 * (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).norm();
+  }
 
   /// Rigid translation of every node (the bin grid moves along).
   void translate(const Vec3& d);

@@ -122,31 +122,27 @@ class DumpMeshVTK : public Dump {
 
   void write() override {
     std::vector<FixMeshSurface*> list = meshes();
-    // per-triangle forces of all ranks, summed on rank 0
+    // per-triangle forces (3 per triangle) and, with wear, the accumulated
+    // wear (1 per triangle; 0 on meshes without wear finnie) of all ranks,
+    // summed on rank 0 in one reduction
     std::vector<double> local, all;
     for (FixMeshSurface* m : list)
       for (const Vec3& f : m->mesh.tri_force)
         local.insert(local.end(), f.data(), f.data() + 3);
-    all.resize(local.size());
-    MPI_Reduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, 0,
-               engine_.world);
-    // accumulated wear of all ranks (0 on meshes without wear finnie)
-    std::vector<double> wear_local, wear_all;
     if (wear_) {
       for (FixMeshSurface* m : list) {
         if (m->wear_finnie && m->mesh.tri_wear.size() == static_cast<std::size_t>(m->mesh.ntri()))
-          wear_local.insert(wear_local.end(), m->mesh.tri_wear.begin(), m->mesh.tri_wear.end());
+          local.insert(local.end(), m->mesh.tri_wear.begin(), m->mesh.tri_wear.end());
         else
-          wear_local.insert(wear_local.end(), m->mesh.ntri(), 0.0);
+          local.insert(local.end(), m->mesh.ntri(), 0.0);
       }
-      wear_all.resize(wear_local.size());
-      MPI_Reduce(wear_local.data(), wear_all.data(), static_cast<int>(wear_local.size()), MPI_DOUBLE, MPI_SUM,
-                 0, engine_.world);
     }
+    all.resize(local.size());
+    MPI_Reduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, 0,
+               engine_.world);
     std::string err;
     if (engine_.rank == 0)
-      err =
-          write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), list, all, wear_all);
+      err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), list, all);
     err = dumpio::first_error(engine_.world, err);
     if (!err.empty()) throw RunError("dump " + id + ": " + err);
   }
@@ -157,7 +153,7 @@ class DumpMeshVTK : public Dump {
   }
 
   std::string write_frame(const std::string& frame, const std::vector<FixMeshSurface*>& list,
-                          const std::vector<double>& force, const std::vector<double>& wear) {
+                          const std::vector<double>& sums) {
     vtkIdType npts = 0, ncells = 0;
     for (const FixMeshSurface* m : list) {
       npts += m->mesh.nnodes();
@@ -196,19 +192,18 @@ class DumpMeshVTK : public Dump {
           const Vec3 vc = mesh.velocity_at(t, centroid);
           vel->SetTypedTuple(cell, vc.data());
         }
-        fa->SetTypedTuple(cell, force.data() + 3 * cell);
-        const double a =
-            0.5 * (mesh.corner(t, 1) - mesh.corner(t, 0)).cross(mesh.corner(t, 2) - mesh.corner(t, 0)).norm();
+        fa->SetTypedTuple(cell, sums.data() + 3 * cell);
+        const double a = mesh.area(t);
         area->SetValue(cell, a);
         // mean stresses of the particles on the triangle: normal (pressure,
         // positive when the particles push against the normal) and shear
-        const Vec3 f(force[3 * cell], force[3 * cell + 1], force[3 * cell + 2]);
+        const Vec3 f(sums[3 * cell], sums[3 * cell + 1], sums[3 * cell + 2]);
         const double fn = f.dot(mesh.normal(t));
         pressure->SetValue(cell, -fn / a);
         shear->SetValue(cell, (f - fn * mesh.normal(t)).norm() / a);
         const Vec3 tr = f / a;
         traction->SetTypedTuple(cell, tr.data());
-        if (wear_) wear_arr->SetValue(cell, wear[cell]);
+        if (wear_) wear_arr->SetValue(cell, sums[3 * ncells + cell]);
       }
       p0 += mesh.nnodes();
     }
