@@ -290,18 +290,21 @@ def runs_by_config(d, slit, v, window=DEFAULT_WINDOW):
                 r["avalanches"] = sizes.get((row["config"], float(row["slit"]), int(row["seed"])), [])
                 per.setdefault(row["config"], []).append(r)
         return dict(sorted(per.items()))
+    for c, _, rd in finished_runs(d, slit):
+        per.setdefault(c, []).append(observables(parse_log(os.path.join(rd, "log")), v, window))
+    return per
+
+
+def finished_runs(d, slit):
+    """(configuration, seed, folder) of every finished run at one slit width of the run folder d."""
     for c in sorted(os.listdir(d)):
         base = os.path.join(d, c, f"s{slit:g}")
         if c not in CONFIGS or not os.path.isdir(base):
             continue
-        runs = []
         for seed_dir in sorted(os.listdir(base)):
             rd = os.path.join(base, seed_dir)
             if finished(rd):
-                runs.append(observables(parse_log(os.path.join(rd, "log")), v, window))
-        if runs:
-            per[c] = runs
-    return per
+                yield c, int(seed_dir.replace("seed", "")), rd
 
 
 def cmd_export(a):
@@ -315,19 +318,11 @@ def cmd_export(a):
     os.makedirs(a.to, exist_ok=True)
     runs_rows, av_rows = [], []
     for slit in settings["slits"]:
-        for c in sorted(os.listdir(a.dir)):
-            base = os.path.join(a.dir, c, f"s{slit:g}")
-            if c not in CONFIGS or not os.path.isdir(base):
-                continue
-            for seed_dir in sorted(os.listdir(base)):
-                rd = os.path.join(base, seed_dir)
-                if not finished(rd):
-                    continue
-                seed = int(seed_dir.replace("seed", ""))
-                r = observables(parse_log(os.path.join(rd, "log")), v, window)
-                runs_rows.append([c, f"{slit:g}", str(seed)] + [repr(r[k]) for k in RUN_KEYS])
-                for k, m in enumerate(r["avalanches"]):
-                    av_rows.append([c, f"{slit:g}", str(seed), str(k), repr(m)])
+        for c, seed, rd in finished_runs(a.dir, slit):
+            r = observables(parse_log(os.path.join(rd, "log")), v, window)
+            runs_rows.append([c, f"{slit:g}", str(seed)] + [repr(r[k]) for k in RUN_KEYS])
+            for k, m in enumerate(r["avalanches"]):
+                av_rows.append([c, f"{slit:g}", str(seed), str(k), repr(m)])
     head = f"# tools/silo_compare.py export of {os.path.basename(os.path.normpath(a.dir))}: variables {json.dumps(v)}\n"
     with open(os.path.join(a.to, "runs.csv"), "w") as f:
         f.write(head + "config,slit,seed," + ",".join(RUN_KEYS) + "\n")
