@@ -380,6 +380,54 @@ TEST_CASE("restart records with impossible values are refused before anything is
   CHECK(e.particles->natoms > 3);
 }
 
+TEST_CASE("restart settings outside their range are refused before anything is read") {
+  {
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    run_lines(e, restart_scene::fresh());
+    e.input->one("run 20");
+    e.input->one("write_restart set_good.restart");
+  }
+  const std::string good = read_file("set_good.restart");
+  const std::size_t at = good.find("\nneighbor ");
+  REQUIRE(at != std::string::npos);
+  // "neighbor SKIN EVERY DELAY CHECK SORT BINSIZE": EVERY is the third word
+  const std::size_t every = good.find(' ', good.find(' ', at + 1) + 1) + 1;
+  REQUIRE(good[every] == '1');
+  REQUIRE(good[every + 1] == ' ');
+  struct Case {
+    std::string name;
+    char every;
+    std::string expect;
+  };
+  // an interval of 0 would divide by zero at the first neighbour-list decision
+  for (const Case& c : {Case{"every_0", '0', "'every' is 0, not >= 1"}, Case{"every_neg", '-', "every"}}) {
+    ParticleSection ps(good);
+    ps.bytes[every] = c.every;
+    write_file("set_" + c.name + ".restart", ps.sealed());
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    INFO(c.name);
+    CHECK_THROWS_WITH(e.input->one("read_restart set_" + c.name + ".restart"),
+                      Catch::Contains(c.expect) && Catch::Contains("corrupted"));
+    CHECK_FALSE(e.domain->box_exist);
+    CHECK(e.particles->nlocal == 0);
+  }
+  {  // a group index that is not a number
+    const std::size_t grp = good.find("\ngroup 0 all\n");
+    REQUIRE(grp != std::string::npos);
+    ParticleSection ps(good);
+    ps.bytes[grp + 7] = 'x';
+    write_file("set_group.restart", ps.sealed());
+    granary::Engine e(MPI_COMM_SELF);
+    e.logger->set_screen(false);
+    CHECK_THROWS_WITH(e.input->one("read_restart set_group.restart"),
+                      Catch::Contains("group index") && Catch::Contains("corrupted"));
+    CHECK_FALSE(e.domain->box_exist);
+    CHECK(e.particles->nlocal == 0);
+  }
+}
+
 TEST_CASE("read_restart refuses an engine that already has a box") {
   granary::Engine e(MPI_COMM_SELF);
   e.logger->set_screen(false);

@@ -547,33 +547,48 @@ void read_restart(Engine& e, const std::string& file) {
 
   // Parse everything before changing any state, so a bad file changes nothing.
   auto g = parse_global(sec["global"]);
+  auto bad = [&](const std::string& what) {
+    return InputError("restart file '" + file + "': " + what +
+                      "; the file is corrupted or was written by an incompatible program");
+  };
+  // a global value that is not a number: the same error as any other bad value
+  auto pint = [&](const std::string& word, const std::string& what) {
+    try {
+      return parse_int(word, what);
+    } catch (const InputError& err) {
+      throw bad(err.what());
+    }
+  };
+  auto pdouble = [&](const std::string& word, const std::string& what) {
+    try {
+      return parse_double(word, what);
+    } catch (const InputError& err) {
+      throw bad(err.what());
+    }
+  };
   auto need = [&](const std::string& key, std::size_t count) -> const std::vector<std::string>& {
     auto it = g.find(key);
     if (it == g.end() || it->second.size() < count) {
-      throw InputError("restart file '" + file + "': the global section lacks '" + key + "'");
+      throw bad("the global section lacks '" + key + "'");
     }
     return it->second;
   };
   auto vec = [&](const std::string& key) {
     const auto& w = need(key, 3);
-    return Vec3(parse_double(w[0], key), parse_double(w[1], key), parse_double(w[2], key));
+    return Vec3(pdouble(w[0], key), pdouble(w[1], key), pdouble(w[2], key));
   };
   const std::string units = need("units", 1)[0];
-  const auto step = parse_int(need("step", 1)[0], "step");
-  const double atime = parse_double(need("atime", 1)[0], "atime");
-  const auto atimestep = parse_int(need("atimestep", 1)[0], "atimestep");
-  const double dt = parse_double(need("dt", 1)[0], "dt");
+  const auto step = pint(need("step", 1)[0], "step");
+  const double atime = pdouble(need("atime", 1)[0], "atime");
+  const auto atimestep = pint(need("atimestep", 1)[0], "atimestep");
+  const double dt = pdouble(need("dt", 1)[0], "dt");
   // (files without the key predate it and were always written after a run)
   const bool forces_current =
       !g.count("forces_current") || g["forces_current"].empty() || g["forces_current"][0] == "1";
   const auto& bnd = need("boundary", 3);
   const Vec3 boxlo = vec("boxlo"), boxhi = vec("boxhi"), minlo = vec("minlo"), minhi = vec("minhi");
-  const long long ntypes_read = parse_int(need("ntypes", 1)[0], "ntypes");
+  const long long ntypes_read = pint(need("ntypes", 1)[0], "ntypes");
   const auto& nb = need("neighbor", 6);
-  auto bad = [&](const std::string& what) {
-    return InputError("restart file '" + file + "': " + what +
-                      "; the file is corrupted or was written by an incompatible program");
-  };
   // the global values, checked before anything is applied
   if (ntypes_read < 1 || ntypes_read > Particles::kMaxTypes)
     throw bad("the number of atom types " + std::to_string(ntypes_read) + " is outside 1.." +
@@ -591,15 +606,25 @@ void read_restart(Engine& e, const std::string& file) {
   if (step < 0 || atimestep < 0 || atimestep > step || !std::isfinite(atime))
     throw bad("the step or time is not valid");
   if (units != "si" && units != "cgs") throw bad("unknown units '" + units + "'");
-  const double skin_read = parse_double(nb[0], "skin");
-  long long neigh_int[4] = {parse_int(nb[1], "every"), parse_int(nb[2], "delay"), 0,
-                            parse_int(nb[4], "sort")};
-  const double sort_binsize = parse_double(nb[5], "sort binsize");
+  const double skin_read = pdouble(nb[0], "skin");
+  long long neigh_int[4] = {pint(nb[1], "every"), pint(nb[2], "delay"), 0, pint(nb[4], "sort")};
+  const double sort_binsize = pdouble(nb[5], "sort binsize");
   if (!(std::isfinite(skin_read) && skin_read >= 0.0) ||
       !(std::isfinite(sort_binsize) && sort_binsize >= 0.0))
     throw bad("the neighbour skin or sort bin size is not a number >= 0");
   for (long long v : neigh_int)
     if (v < 0 || v > 1000000000) throw bad("a neighbour setting is outside 0..1e9");
+  if (neigh_int[0] < 1)
+    throw bad("the neighbour list interval 'every' is " + std::to_string(neigh_int[0]) + ", not >= 1");
+  std::vector<std::pair<int, std::string>> group_names;
+  for (const auto& kv : g) {
+    if (kv.first.rfind("group#", 0) != 0 || kv.second.size() < 2) continue;
+    const long long index = pint(kv.second[0], "group index");
+    if (index < 0 || index >= Groups::kMaxGroups)
+      throw bad("group index " + std::to_string(index) + " is outside 0.." +
+                std::to_string(Groups::kMaxGroups - 1));
+    group_names.emplace_back(static_cast<int>(index), kv.second[1]);
+  }
 
   // The particles section: its header (count, extra fields) on every rank;
   // the records are checked on rank 0, in place.
@@ -772,11 +797,8 @@ void read_restart(Engine& e, const std::string& file) {
   ne.check = nb[3] == "1";
   ne.sort_every = static_cast<int>(neigh_int[3]);
   ne.sort_binsize = sort_binsize;
-  for (const auto& kv : g) {
-    if (kv.first.rfind("group#", 0) != 0 || kv.second.size() < 2) continue;
-    const long long index = parse_int(kv.second[0], "group index");
-    if (index >= 0 && index < Groups::kMaxGroups) e.groups->names[index] = kv.second[1];
-  }
+  for (const auto& gn : group_names)
+    e.groups->names[gn.first] = gn.second;
   if (g.count("pair_style")) e.force->restart_pair_style = join(g["pair_style"]);
   e.comm->setup(0.0);
 
