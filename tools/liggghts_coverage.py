@@ -230,8 +230,8 @@ def granary_names(binary):
 
 def registered(kind, name, names):
     """Does Granary register this LIGGGHTS entry?"""
-    if kind == "mesh_module":
-        return ("fix", "mesh/surface/" + name) in names
+    if kind == "mesh_module":  # a fix mesh/surface/MODULE[/MODULE...] with it
+        return any(k == "fix" and n.startswith("mesh/surface/") and name in n.split("/")[2:] for k, n in names)
     return (kind, name) in names
 
 
@@ -317,9 +317,10 @@ def find_doc(kind, name):
         if found is None and kind == "pair":
             found = _style_on_command_page("pair_style", name)
         return found
-    if kind == "mesh_module":
+    if kind == "mesh_module":  # the page of a fix mesh/surface/.../MODULE
         return _page_showing("fixes", "mesh_surface_" + stem,
-                             lambda w: len(w) > 3 and w[0] == "fix" and w[3] == "mesh/surface/" + name)
+                             lambda w: len(w) > 3 and w[0] == "fix" and w[3].startswith("mesh/surface/") and
+                             name in w[3].split("/")[2:])
     if kind in ("region", "atom_style", "dump"):
         return _style_on_command_page(kind, name)
     if kind in CONTACT_SLOTS or kind == "damping":
@@ -402,8 +403,10 @@ def build(entries, names, data, problems):
         problems.add(f"{DATA.name} has a row for {key[0]} {key[1]}, which the LIGGGHTS manual does not list")
 
     liggghts = set(entries)
-    if any(k == "mesh_module" for k, _ in liggghts):
-        liggghts |= {("fix", "mesh/surface/" + n) for k, n in entries if k == "mesh_module"}
+    modules = {n for k, n in entries if k == "mesh_module"}
+    # fix mesh/surface/M1[/M2...] with LIGGGHTS' mesh modules is LIGGGHTS' syntax
+    liggghts |= {(k, n) for k, n in names
+                 if k == "fix" and n.startswith("mesh/surface/") and set(n.split("/")[2:]) <= modules}
     only = []
     for kind, name in sorted(names - liggghts, key=lambda k: (kind_order(k[0]), k[1])):
         doc = find_doc(kind, name)

@@ -136,7 +136,7 @@ TEST_CASE("mesh/surface/stress reports the force and torque of a resting sphere"
   ScriptEngine s;
   s.cmds(scene());
   // on the centroid of a triangle (cell x 0.02..0.04, y -0.02..0 cut along its
-  // rising diagonal): the torque takes each triangle's force at its centroid
+  // rising diagonal): the torque takes the force at the contact point, under the centre
   const double cx = 0.02 + 0.04 / 3.0, cy = -0.02 + 0.02 / 3.0;
   s.cmds(sphere_on_floor(cx, cy));
   s.cmds({"fix cad all mesh/surface/stress file " + floor_file() +

@@ -357,6 +357,7 @@ class FixMassflowMesh : public Fix {
       p.f[i] += f;
       total += f;
       if (!mesh.tri_force.empty()) mesh.tri_force[tri] -= f;
+      if (!mesh.tri_moment.empty()) mesh.tri_moment[tri] -= cp.cross(f);
     }
     sieve_force_ = -total;
   }

@@ -445,6 +445,8 @@ void FixMeshSurface::init() {
 void FixMeshSurface::pre_force() {
   for (Vec3& f : mesh.tri_force)
     f.setZero();
+  for (Vec3& m : mesh.tri_moment)
+    m.setZero();
 }
 
 void FixMeshSurface::prepare_restart() {

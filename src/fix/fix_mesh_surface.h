@@ -38,6 +38,9 @@ class FixMeshSurface : public Fix {
   /// against this wall's type (fix property/global k_finnie).
   bool wear_finnie = false;
   std::vector<double> k_finnie;
+  /// mesh/surface/stress/servo: the mesh is moved by its own controller (fix
+  /// move/mesh refuses it).
+  bool servo_wall = false;
 
  protected:
   /// `stress`: also read the keywords of mesh/surface/stress (stress,

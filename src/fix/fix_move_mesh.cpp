@@ -37,6 +37,9 @@ class FixMoveMesh : public Fix {
       throw InputError(where + ": expected 'mesh MESH-ID' first; usage: " + usage);
     mesh_id_ = args[4];
     FixMeshSurface& m = FixMeshSurface::find(*engine.modify, mesh_id_, where);
+    if (m.servo_wall)
+      throw InputError(where + ": mesh " + mesh_id_ +
+                       " is a servo wall (mesh/surface/stress/servo), moved by its controller only");
     if (args.size() < 6) throw InputError(where + ": missing the motion style; usage: " + usage);
     if (args[5] == "linear") {
       require_args(args, 9, 9, usage);

@@ -693,6 +693,10 @@ void FixWallGran::post_force_mesh() {
       total -= force;
       FixMeshSurface& fm = *meshes_[w.mesh];
       fm.mesh.tri_force[w.tri] -= force;
+      if (!fm.mesh.tri_moment.empty()) {  // at the contact point, on the triangle
+        const Vec3 cp = x[w.i] - w.n * (radius[w.i] - w.overlap);
+        fm.mesh.tri_moment[w.tri] -= cp.cross(force);
+      }
       if (fm.wear_finnie) add_finnie_wear(fm, w, force, type[w.i], step_dt);
     };
     // a particle's slots after its contacts were evaluated

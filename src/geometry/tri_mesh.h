@@ -107,6 +107,9 @@ class TriMesh {
   Vec3 origin = Vec3::Zero();          ///< a point on the rotation axis [m]
   std::vector<Vec3> surface_velocity;  ///< per triangle, tangential (empty: none) [m/s]
   std::vector<Vec3> tri_force;         ///< force of the particles on each triangle this step (this rank) [N]
+  /// Moment about the coordinate origin of those forces, each taken at its
+  /// contact point (this rank; sized by the stress meshes, empty otherwise) [N m]
+  std::vector<Vec3> tri_moment;
   /// Finnie wear of each triangle accumulated by this rank's contacts (fix
   /// mesh/surface/stress wear finnie; empty otherwise) [kg/m^2]
   std::vector<double> tri_wear;
