@@ -8,8 +8,8 @@ rate, clogs) and, with arch removal, the avalanche sizes.
 
     /usr/bin/python3 tools/silo_compare.py run --out DIR [--configs granary,liggghts,liggghts_beads]
                      [--seeds 8] [--slit 3.5] [--jobs 2] [-var NAME VALUE ...]
-    /usr/bin/python3 tools/silo_compare.py export DIR TO [--window T0,T1]
-    /usr/bin/python3 tools/silo_compare.py report DIR|TO [--json FILE] [--window T0,T1]
+    /usr/bin/python3 tools/silo_compare.py export DIR TO [--window T0,T1] [--until T]
+    /usr/bin/python3 tools/silo_compare.py report DIR|TO [--json FILE] [--window T0,T1] [--until T]
 
 Configurations (the script's variable nve_all says which particles fix
 nve/sphere integrates):
@@ -29,8 +29,10 @@ Kolmogorov-Smirnov test. `export` writes the finished runs of DIR as compact
 files (runs.csv, avalanches.csv, settings.json) that `report` reads in place
 of the logs. The flow rate is the mass passed over the 0.01 s chunks in which
 something passed, within a window of discharge time (--window; default from
-0.05 s, the start of the flow left out, to the end). Needs numpy and scipy (Debian's python3-numpy,
-python3-scipy).
+0.05 s, the start of the flow left out, to the end). With --until T every
+observable is taken over the first T seconds of discharge only, and a run
+that was stopped after T counts as finished (runs cut short by a time limit).
+Needs numpy and scipy (Debian's python3-numpy, python3-scipy).
 """
 import argparse
 import concurrent.futures
@@ -198,8 +200,33 @@ def parse_window(text):
     return w
 
 
-def observables(rec, v, window=DEFAULT_WINDOW):
-    """Per-run numbers from a parsed log."""
+def discharge_start(rec):
+    """The time the discharge started: one chunk before the first FLOW line."""
+    f = rec["flow"]
+    return f[0][0] - (f[1][0] - f[0][0]) if len(f) > 1 else rec["filled"][0]
+
+
+def reached(rec, until):
+    """Does a parsed log reach `until` seconds of discharge?"""
+    return "filled" in rec and "bed" in rec and bool(rec["flow"]) and \
+        rec["flow"][-1][0] - discharge_start(rec) >= until - 1e-9
+
+
+def parse_until(text):
+    """'T' (seconds of discharge) or None -> T (infinity when None)."""
+    if not text:
+        return math.inf
+    try:
+        t = float(text)
+    except ValueError:
+        raise SystemExit(f"silo_compare: --until takes seconds of discharge (e.g. 0.3), got '{text}'")
+    if not t > 0:
+        raise SystemExit(f"silo_compare: --until {text}: needs a positive time")
+    return t
+
+
+def observables(rec, v, window=DEFAULT_WINDOW, until=math.inf):
+    """Per-run numbers from a parsed log (over the first `until` seconds of discharge)."""
     nres = int(float(v["nres"]))
     mc, mb, vc, vb = masses(nres, v["r"])
     t_fill, n1_0, n2_0 = rec["filled"]
@@ -208,7 +235,11 @@ def observables(rec, v, window=DEFAULT_WINDOW):
     out["bed_phi"] = (s1 / nres * vc + s2 * vb) / slab_v
     out["bed_bodies"] = n1_0 / nres + n2_0
     # passed mass vs time; arch deletions are not passage
-    t0 = rec["flow"][0][0] - (rec["flow"][1][0] - rec["flow"][0][0]) if len(rec["flow"]) > 1 else t_fill
+    t0 = discharge_start(rec)
+    if not math.isinf(until):
+        rec = dict(rec, flow=[e for e in rec["flow"] if e[0] - t0 <= until + 1e-9],
+                   clog=[t for t in rec["clog"] if t - t0 <= until + 1e-9],
+                   arch=[e for e in rec["arch"] if e[0] - t0 <= until + 1e-9])
     deleted1 = deleted2 = 0
     prev = (n1_0, n2_0)
     series = [(t0, 0.0)]
@@ -270,7 +301,7 @@ def compare(x, y):
 RUN_KEYS = ["bed_phi", "bed_bodies", "mass_passed", "flow_rate", "clogs", "first_clog"]
 
 
-def runs_by_config(d, slit, v, window=DEFAULT_WINDOW):
+def runs_by_config(d, slit, v, window=DEFAULT_WINDOW, until=math.inf):
     """{configuration: [observables of each finished run]} at one slit width, from the
     run folders of `run` or, where d holds runs.csv and avalanches.csv, from those (`export`)."""
     per = {}
@@ -290,20 +321,22 @@ def runs_by_config(d, slit, v, window=DEFAULT_WINDOW):
                 r["avalanches"] = sizes.get((row["config"], float(row["slit"]), int(row["seed"])), [])
                 per.setdefault(row["config"], []).append(r)
         return dict(sorted(per.items()))
-    for c, _, rd in finished_runs(d, slit):
-        per.setdefault(c, []).append(observables(parse_log(os.path.join(rd, "log")), v, window))
+    for c, _, rd in finished_runs(d, slit, until):
+        per.setdefault(c, []).append(observables(parse_log(os.path.join(rd, "log")), v, window, until))
     return per
 
 
-def finished_runs(d, slit):
-    """(configuration, seed, folder) of every finished run at one slit width of the run folder d."""
+def finished_runs(d, slit, until=math.inf):
+    """(configuration, seed, folder) of every finished run at one slit width of the run folder d
+    (with `until`: also every run whose log reaches that many seconds of discharge)."""
     for c in sorted(os.listdir(d)):
         base = os.path.join(d, c, f"s{slit:g}")
         if c not in CONFIGS or not os.path.isdir(base):
             continue
         for seed_dir in sorted(os.listdir(base)):
             rd = os.path.join(base, seed_dir)
-            if finished(rd):
+            if finished(rd) or (not math.isinf(until) and os.path.exists(os.path.join(rd, "log")) and
+                                reached(parse_log(os.path.join(rd, "log")), until)):
                 yield c, int(seed_dir.replace("seed", "")), rd
 
 
@@ -315,11 +348,14 @@ def cmd_export(a):
     v = settings["variables"]
     window = parse_window(a.window)
     settings["flow_window"] = a.window
+    until = parse_until(a.until)
+    if a.until:
+        settings["until"] = a.until
     os.makedirs(a.to, exist_ok=True)
     runs_rows, av_rows = [], []
     for slit in settings["slits"]:
-        for c, seed, rd in finished_runs(a.dir, slit):
-            r = observables(parse_log(os.path.join(rd, "log")), v, window)
+        for c, seed, rd in finished_runs(a.dir, slit, until):
+            r = observables(parse_log(os.path.join(rd, "log")), v, window, until)
             runs_rows.append([c, f"{slit:g}", str(seed)] + [repr(r[k]) for k in RUN_KEYS])
             for k, m in enumerate(r["avalanches"]):
                 av_rows.append([c, f"{slit:g}", str(seed), str(k), repr(m)])
@@ -349,15 +385,21 @@ def cmd_report(a):
         raise SystemExit(f"silo_compare: {a.dir} holds flow rates of the window {stored or '0.05,end'}; "
                          f"export the run folder again with --window {a.window}")
     window = parse_window(a.window or stored or "0.05,end")
+    stored_until = settings.get("until")
+    if os.path.exists(os.path.join(a.dir, "runs.csv")) and a.until and a.until != stored_until:
+        raise SystemExit(f"silo_compare: {a.dir} holds observables over "
+                         f"{'the whole discharge' if not stored_until else stored_until + ' s of discharge'}; "
+                         f"export the run folder again with --until {a.until}")
+    until = parse_until(a.until or stored_until)
     print(f"flow rate over {window[0]:g} to {'the end' if math.isinf(window[1]) else f'{window[1]:g} s'} "
-          f"of discharge")
+          f"of discharge" + ("" if math.isinf(until) else f"; every observable over the first {until:g} s"))
     result = {"settings": settings, "cases": {}}
     keys = RUN_KEYS
     flows = {}
     for slit in settings["slits"]:
         print(f"== slit {slit:g} dc (W {v['W']}, D {v['D']}, phi {v['phi']}, r {v['r']}, nres {v['nres']}, "
               f"tmax {v['tmax']} s, arch removal {v['arch']})")
-        per = runs_by_config(a.dir, slit, v, window)
+        per = runs_by_config(a.dir, slit, v, window, until)
         case = {}
         print(f"  {'configuration':16s} {'n':>3s} " + " ".join(f"{k:>30s}" for k in keys))
         for c, runs in per.items():
@@ -437,11 +479,15 @@ def main(argv=None):
     x.add_argument("to")
     x.add_argument("--window", default="0.05,end",
                    help="seconds of discharge over which the flow rate is taken (default 0.05,end)")
+    x.add_argument("--until", help="take every observable over the first T seconds of discharge; runs stopped "
+                                   "after T count as finished")
     p = sub.add_parser("report", help="statistics of the finished runs")
     p.add_argument("dir")
     p.add_argument("--json")
     p.add_argument("--window", help="seconds of discharge over which the flow rate is taken, T0,T1 (T1 may be "
                                     "'end'; default 0.05,end or that of an export)")
+    p.add_argument("--until", help="take every observable over the first T seconds of discharge (default: the "
+                                   "whole discharge, or that of an export)")
     a = ap.parse_args(argv)
     return {"run": cmd_run, "export": cmd_export, "report": cmd_report}[a.cmd](a)
 

@@ -39,13 +39,16 @@ def synthetic_log(n1_0, n2_0, events, bed=(1e-5, 4000, 200)):
     return "\n".join(out) + "\n"
 
 
+# 1000 clump spheres (100 clumps) and 50 beads; 10 clumps and 5 beads leave in the
+# first avalanche, a clog, the arch (2 clumps, 1 bead) is deleted, then 4 clumps leave
+ONE_CLOG = [("FLOW", 0.31, 1000, 50), ("FLOW", 0.32, 950, 48), ("FLOW", 0.33, 900, 45), ("FLOW", 0.34, 900, 45),
+            ("CLOG", 0.44), ("ARCH", 0.44, 880, 44), ("FLOW", 0.45, 860, 44), ("FLOW", 0.46, 840, 44),
+            ("FLOW", 0.47, 840, 44)]
+
+
 class Accounting(unittest.TestCase):
     def test_passage_and_deletion_are_told_apart(self):
-        # 1000 clump spheres (100 clumps) and 50 beads; 10 clumps and 5 beads leave in the
-        # first avalanche, a clog, the arch (2 clumps, 1 bead) is deleted, then 4 clumps leave
-        ev = [("FLOW", 0.31, 1000, 50), ("FLOW", 0.32, 950, 48), ("FLOW", 0.33, 900, 45), ("FLOW", 0.34, 900, 45),
-              ("CLOG", 0.44), ("ARCH", 0.44, 880, 44), ("FLOW", 0.45, 860, 44), ("FLOW", 0.46, 840, 44),
-              ("FLOW", 0.47, 840, 44)]
+        ev = ONE_CLOG
         with tempfile.TemporaryDirectory() as tmp:
             log = os.path.join(tmp, "log")
             with open(log, "w") as f:
@@ -69,6 +72,36 @@ class Accounting(unittest.TestCase):
         for bad in ("0.2,0.1", "0.1", "a,b"):
             with self.assertRaises(SystemExit):
                 sc.parse_window(bad)
+
+    def test_until_cuts_every_observable_and_accepts_stopped_runs(self):
+        # the same log as above, observed over the first 0.12 s of discharge (started at
+        # 0.30 s): the first avalanche only, no clog yet
+        ev = ONE_CLOG
+        with tempfile.TemporaryDirectory() as tmp:
+            log = os.path.join(tmp, "log")
+            with open(log, "w") as f:
+                f.write(synthetic_log(1000, 50, ev))
+            rec = sc.parse_log(log)
+            o = sc.observables(rec, dict(sc.DEFAULTS), sc.parse_window("0,0.03"), sc.parse_until("0.12"))
+            self.assertAlmostEqual(o["mass_passed"], 10 * MC + 5 * MB, places=15)
+            self.assertEqual(o["clogs"], 0)
+            self.assertEqual(o["avalanches"], [])
+            self.assertAlmostEqual(o["flow_rate"], (10 * MC + 5 * MB) / 0.02, places=9)
+            self.assertTrue(sc.reached(rec, 0.17))
+            self.assertFalse(sc.reached(rec, 0.18))
+            # a run stopped by a time limit (no END line) counts only with --until
+            d = sc.run_dir(tmp, "granary", 4.0, 7)
+            os.makedirs(d)
+            with open(os.path.join(d, "log"), "w") as f:
+                f.write("".join(line + "\n" for line in synthetic_log(1000, 50, ev).splitlines()
+                                if not line.startswith("END")))
+            self.assertEqual(list(sc.finished_runs(tmp, 4.0)), [])
+            self.assertEqual([r[:2] for r in sc.finished_runs(tmp, 4.0, 0.15)], [("granary", 7)])
+            self.assertEqual(list(sc.finished_runs(tmp, 4.0, 0.2)), [])
+        self.assertTrue(math.isinf(sc.parse_until(None)))
+        for bad in ("0", "-1", "x"):
+            with self.assertRaises(SystemExit):
+                sc.parse_until(bad)
 
     def test_statistics(self):
         m, sd, h = sc.ci95([1.0, 2.0, 3.0, 4.0])
@@ -134,6 +167,14 @@ class Export(unittest.TestCase):
             r = subprocess.run(tool + ["report", compact, "--window", "0,0.03"], capture_output=True, text=True)
             self.assertNotEqual(r.returncode, 0)
             self.assertIn("export the run folder again", r.stderr)
+            # and of its duration: --until needs an export made with it
+            r = subprocess.run(tool + ["report", compact, "--until", "0.05"], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("export the run folder again with --until 0.05", r.stderr)
+            short = os.path.join(tmp, "short")
+            subprocess.run(tool + ["export", runs, short, "--until", "0.05"], check=True, capture_output=True)
+            r = subprocess.run(tool + ["report", short], capture_output=True, text=True, check=True)
+            self.assertIn("every observable over the first 0.05 s", r.stdout)
             for k in sc.RUN_KEYS:
                 for a, b in zip(reports[0]["liggghts_beads"][k], reports[1]["liggghts_beads"][k]):
                     self.assertAlmostEqual(a, b, places=8, msg=k)
