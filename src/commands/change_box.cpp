@@ -87,17 +87,7 @@ void cmd_change_box(Engine& e, const Args& a) {
   bool remap = false;
   for (std::size_t k = 1; k < a.size(); ++k)
     remap |= a[k] == "remap";
-  if (remap) {
-    long long clump = 0;
-    for (int i = 0; i < p.nlocal; ++i)
-      if ((p.mask[i] & bit) && p.body[i] >= 0) ++clump;
-    clump = sum_all(e, clump);
-    if (clump > 0)
-      throw InputError(
-          "change_box remap: group " + a[0] + " holds " + std::to_string(clump) +
-          " sphere(s) of clumps, which move with their clump only (fix multisphere); remap a group "
-          "of single spheres");
-  }
+  if (remap) require_no_clump_spheres(e, bit, a[0], "change_box remap");
 
   // the keywords in order, on a copy of the box
   Vec3 lo = dom.boxlo, hi = dom.boxhi;

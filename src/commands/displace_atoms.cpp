@@ -80,16 +80,7 @@ void cmd_displace_atoms(Engine& e, const Args& a) {
   };
 
   Particles& p = *e.particles;
-  // spheres of clumps move with their clump only
-  long long clump = 0;
-  for (int i = 0; i < p.nlocal; ++i)
-    if ((p.mask[i] & bit) && p.body[i] >= 0) ++clump;
-  clump = sum_all(e, clump);
-  if (clump > 0)
-    throw InputError(
-        "displace_atoms: group " + a[0] + " holds " + std::to_string(clump) +
-        " sphere(s) of clumps, which move with their clump only (fix multisphere); use a group of "
-        "single spheres");
+  require_no_clump_spheres(e, bit, a[0], "displace_atoms");
 
   std::function<void(int)> displace;
   Vec3 d, pt, axis;

@@ -99,6 +99,19 @@ bool parse_units_lattice(Engine& e, const std::string& word, const std::string& 
   throw InputError(cmd + " units must be box or lattice, got '" + word + "'");
 }
 
+void require_no_clump_spheres(Engine& e, int bit, const std::string& group, const std::string& cmd) {
+  const Particles& p = *e.particles;
+  long long clump = 0;
+  for (int i = 0; i < p.nlocal; ++i)
+    if ((p.mask[i] & bit) && p.body[i] >= 0) ++clump;
+  clump = sum_all(e, clump);
+  if (clump > 0)
+    throw InputError(
+        cmd + ": group " + group + " holds " + std::to_string(clump) +
+        " sphere(s) of clumps, which move with their clump only (fix multisphere); use a group of "
+        "single spheres");
+}
+
 std::string fmt(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%g", v);

@@ -29,6 +29,9 @@ void require_box(Engine& e, const std::string& cmd);
 void begin(Engine& e, const Args& a, std::size_t min_args, const std::string& cmd, const char* usage);
 /// The next free particle id (collective).
 tagint next_id(Engine& e);
+/// InputError unless the group (bit) holds no spheres of clumps, which move
+/// with their clump only: `cmd` moves particles one by one (collective).
+void require_no_clump_spheres(Engine& e, int bit, const std::string& group, const std::string& cmd);
 /// Sum over the ranks.
 long long sum_all(Engine& e, long long local);
 /// After particles were created or deleted: global count, map, and styles told.
