@@ -120,10 +120,10 @@ FixMultisphere::FixMultisphere(Engine& engine, const Args& args) : Fix(engine, a
   restart_global = true;
   if (engine.modify) {
     for (const auto& f : engine.modify->fixes) {
-      if (f->style != "multisphere") continue;
+      if (!dynamic_cast<FixMultisphere*>(f.get())) continue;
       if (f->id != id) {
-        throw InputError("fix multisphere " + f->id +
-                         " already integrates the clumps; use one fix multisphere");
+        throw InputError("fix " + f->style + " " + f->id +
+                         " already integrates the clumps; use one fix multisphere (or multisphere/break)");
       }
       // the fix is being redefined: keep the clumps
       if (auto* old = dynamic_cast<FixMultisphere*>(f.get())) {
@@ -367,6 +367,33 @@ long long FixMultisphere::remove_bodies(const std::vector<tagint>& ids) {
   reindex();  // body indices moved (collective: every rank removes the same bodies)
   p.map_clear();
   return removed;
+}
+
+long long FixMultisphere::release_bodies(const std::vector<tagint>& ids) {
+  Particles& p = *engine_.particles;
+  std::vector<char> doomed(bodies_.size(), 0);
+  long long n = 0;
+  for (tagint t : ids) {
+    const int b = bodies_.find(t);
+    if (b >= 0 && !doomed[b]) {
+      doomed[b] = 1;
+      ++n;
+    }
+  }
+  if (n == 0) return 0;
+  double* index = p.extras[index_field_].data.data();
+  double* mass = p.extras[mass_field_].data.data();
+  for (int i = 0; i < p.nlocal; ++i) {
+    const int b = p.body[i] >= 0 ? bodies_.find(p.body[i]) : -1;
+    if (b < 0 || !doomed[b]) continue;
+    p.body[i] = -1;  // a free sphere from now on (fix nve/sphere integrates it)
+    index[i] = 0.0;
+    mass[i] = 0.0;
+  }
+  bodies_.remove(doomed);
+  bodies_changed();
+  reindex();  // body indices moved (collective: every rank releases the same bodies)
+  return n;
 }
 
 Vec3 FixMultisphere::wrapped_centre(int b) const {

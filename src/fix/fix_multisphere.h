@@ -69,6 +69,12 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   /// unknown ids are ignored. Returns the number of particles removed on this
   /// rank (the caller updates the global count).
   long long remove_bodies(const std::vector<tagint>& ids) override;
+  /// Break the clumps with these body ids: their sub-spheres become free
+  /// spheres with the velocity and angular velocity they had, and the body
+  /// records go. Called on every rank with the same ids, when there are no
+  /// ghosts (pre_exchange); unknown ids are ignored. Returns the number of
+  /// bodies broken.
+  long long release_bodies(const std::vector<tagint>& ids);
 
   /// The body records. The dynamic state (xcm, vcm, angmom, omega, quat, fcm,
   /// torque) of a body is current on the ranks that own one of its
