@@ -298,6 +298,41 @@ TEST_CASE("multisphere: computes ke, erotate, multisphere and orientation", "[mu
     CHECK(vx[i] == (s.e.particles->x[i][2] > 0 ? 1.0 : 0.0));
 }
 
+TEST_CASE("multisphere: compute multisphere/single, compute rigid and the principal axes", "[multisphere]") {
+  Sim s;
+  s.cmds(setup());
+  s.cmds({kDumbbell, "fix ms all multisphere",
+          // long axis (the smallest principal moment, the first axis) along z: 90 degrees about y
+          "create_clump dumb 0 0 0.01 quat 0.70710678 0 0.70710678 0 vel 1 2 0 omega 0 0 3",
+          "create_clump dumb 0 0 -0.01 vel 0 0 0",
+          "compute one all multisphere/single id 2 property xcm id_multisphere",
+          "compute none all multisphere/single id 9 property masstotal",
+          "compute ax all rigid property ex_space ey_space ez_space", "run 0"});
+  const Bodies& b = s.bodies();
+  REQUIRE(b.size() == 2);
+  const int second = b.find(2);
+  REQUIRE(second >= 0);
+  // the one clump's values, as a global vector
+  CHECK(s.e.compute_value("one", 3) == Approx(b.xcm[second].z()));
+  CHECK(s.e.compute_value("one", 3) == Approx(-0.01));
+  CHECK(s.e.compute_value("one", 4) == 2.0);
+  CHECK_THROWS_AS(s.e.compute_value("one", 5), granary::InputError);
+  CHECK(s.e.compute_value("none", 1) == 0.0);  // no clump 9
+  // principal axes in space: R_y(90 deg) takes x to -z, y to y, z to x
+  const int first = b.find(1);
+  REQUIRE(first >= 0);
+  const int base = 9 * first;
+  CHECK(s.e.compute_value("ax", base + 3) == Approx(-1.0).margin(1e-7));
+  CHECK(s.e.compute_value("ax", base + 5) == Approx(1.0).margin(1e-7));
+  CHECK(s.e.compute_value("ax", base + 7) == Approx(1.0).margin(1e-7));
+  CHECK(std::abs(s.e.compute_value("ax", base + 1)) < 1e-7);
+  CHECK_THROWS_WITH(s.cmd("compute bad all multisphere/single 3"), Catch::Matchers::Contains("usage"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all multisphere/single id 0"),
+                    Catch::Matchers::Contains("the clump id must be >= 1"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all rigid property clumptype"),
+                    Catch::Matchers::Contains("the template of a clump is not kept"));
+}
+
 TEST_CASE("multisphere: ke and erotate count clumps as bodies, erotate/sphere leaves them out",
           "[multisphere]") {
   // LIGGGHTS 3.8, measured on its tutorial multisphere_stone_restitution with

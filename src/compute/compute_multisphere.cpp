@@ -10,7 +10,14 @@
 //                  while there is no clump);
 //   per-atom:      each sub-sphere carries its clump's C values (zeros for free
 //                  spheres), c_ID[c] in dumps and atom-style variables.
-// The group is ignored (every clump is listed).
+// The group is ignored (every clump is listed). `rigid` is LIGGGHTS' other
+// name of this style. ex_space, ey_space, ez_space (3 each): the principal
+// axes in the space frame.
+//
+// compute ID group multisphere/single id BODY [property NAME ...]: the same
+// values of the one clump with id BODY, as a global vector of C values
+// (zeros while there is no such clump).
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <map>
 
@@ -28,19 +35,29 @@ namespace {
 
 const std::map<std::string, int>& property_sizes() {
   static const std::map<std::string, int> sizes = {
-      {"xcm", 3},      {"vcm", 3},      {"omega", 3},         {"quat", 4},      {"angmom", 3},
-      {"fcm", 3},      {"torque", 3},   {"inertia", 3},       {"masstotal", 1}, {"density", 1},
-      {"atomtype", 1}, {"nspheres", 1}, {"id_multisphere", 1}};
+      {"xcm", 3},      {"vcm", 3},      {"omega", 3},          {"quat", 4},      {"angmom", 3},
+      {"fcm", 3},      {"torque", 3},   {"inertia", 3},        {"masstotal", 1}, {"density", 1},
+      {"atomtype", 1}, {"nspheres", 1}, {"id_multisphere", 1}, {"ex_space", 3},  {"ey_space", 3},
+      {"ez_space", 3}};
   return sizes;
 }
 
 class ComputeMultisphere : public Compute, public BodyOutput {
  public:
-  ComputeMultisphere(Engine& engine, const Args& args) : Compute(engine, args) {
-    const std::string usage = "compute ID group-ID multisphere [property NAME ...]";
-    if (args.size() > 3) {
-      if (args[3] != "property" || args.size() == 4) throw InputError("usage: " + usage);
-      for (std::size_t k = 4; k < args.size(); ++k)
+  ComputeMultisphere(Engine& engine, const Args& args, bool single = false)
+      : Compute(engine, args), single_(single) {
+    const std::string usage = single ? "compute ID group-ID multisphere/single id BODY [property NAME ...]"
+                                     : "compute ID group-ID " + style + " [property NAME ...]";
+    std::size_t first = 3;
+    if (single) {
+      if (args.size() < 5 || args[3] != "id") throw InputError("usage: " + usage);
+      body_ = parse_int(args[4], "compute " + id + " multisphere/single id");
+      if (body_ < 1) throw InputError("compute " + id + " multisphere/single: the clump id must be >= 1");
+      first = 5;
+    }
+    if (args.size() > first) {
+      if (args[first] != "property" || args.size() == first + 1) throw InputError("usage: " + usage);
+      for (std::size_t k = first + 1; k < args.size(); ++k)
         props_.push_back(args[k] == "mass" ? "masstotal" : args[k]);
     } else {
       props_ = {"xcm", "vcm", "omega", "quat"};
@@ -53,10 +70,16 @@ class ComputeMultisphere : public Compute, public BodyOutput {
       auto it = property_sizes().find(name);
       if (it == property_sizes().end()) {
         const std::string hint = did_you_mean(name, known);
-        throw InputError("compute " + id + " multisphere: unknown property '" + name + "'" +
-                         (hint.empty() ? "" : "; " + hint));
+        throw InputError("compute " + id + " " + style + ": unknown property '" + name + "'" +
+                         (name == "clumptype"
+                              ? "; the template of a clump is not kept (use atomtype or nspheres)"
+                              : (hint.empty() ? "" : "; " + hint)));
       }
       ncols_ += it->second;
+    }
+    if (single) {
+      size_vector = ncols_;
+      return;
     }
     peratom_flag = true;
     peratom_cols = ncols_ == 1 ? 0 : ncols_;
@@ -64,7 +87,9 @@ class ComputeMultisphere : public Compute, public BodyOutput {
   }
 
   // with no clump yet, one clump's worth of zeros (so thermo columns can be set up before insertion)
-  void bodies_changed(int nbodies) override { size_vector = ncols_ * std::max(1, nbodies); }
+  void bodies_changed(int nbodies) override {
+    if (!single_) size_vector = ncols_ * std::max(1, nbodies);
+  }
 
   void init() override {
     Clumps* ms = fix();
@@ -74,6 +99,12 @@ class ComputeMultisphere : public Compute, public BodyOutput {
   void compute_vector() override {
     Clumps* ms = fix();
     ms->sync_bodies();
+    if (single_) {
+      vector.assign(ncols_, 0.0);
+      const int b = ms->bodies().find(static_cast<tagint>(body_));
+      if (b >= 0) values(*ms, b, vector.data());
+      return;
+    }
     const int n = ms->bodies().size();
     vector.assign(static_cast<std::size_t>(ncols_) * std::max(1, n), 0.0);
     for (int b = 0; b < n; ++b)
@@ -106,7 +137,7 @@ class ComputeMultisphere : public Compute, public BodyOutput {
  private:
   Clumps* fix() const {
     Clumps* ms = engine_.clumps;
-    if (!ms) throw InputError("compute " + id + " multisphere needs fix multisphere");
+    if (!ms) throw InputError("compute " + id + " " + style + " needs fix multisphere");
     return ms;
   }
 
@@ -147,15 +178,26 @@ class ComputeMultisphere : public Compute, public BodyOutput {
         out[c++] = B.nspheres[b];
       else if (name == "id_multisphere")
         out[c++] = static_cast<double>(B.tag[b]);
+      else  // ex_space, ey_space, ez_space: a column of the rotation body -> space
+        put3(B.quat[b].toRotationMatrix().col(name[1] - 'x'));
     }
   }
 
   std::vector<std::string> props_;
   int ncols_ = 0;
+  bool single_ = false;
+  long long body_ = 0;  // multisphere/single: the clump's id
+};
+
+class ComputeMultisphereSingle : public ComputeMultisphere {
+ public:
+  ComputeMultisphereSingle(Engine& engine, const Args& args) : ComputeMultisphere(engine, args, true) {}
 };
 
 }  // namespace
 
 GRANARY_COMPUTE_STYLE("multisphere", ComputeMultisphere);
+GRANARY_COMPUTE_STYLE("rigid", ComputeMultisphere);
+GRANARY_COMPUTE_STYLE("multisphere/single", ComputeMultisphereSingle);
 
 }  // namespace granary
