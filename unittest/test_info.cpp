@@ -22,12 +22,9 @@ std::string slurp(const std::string& path) {
 // A scene with one of each thing info lists.
 void scene(granary::test::ScriptEngine& s) {
   s.cmds(granary::test::liggghts_head("-0.1 0.1 -0.1 0.1 0 0.2", 2));
-  s.cmds({"fix m1 all property/global youngsModulus peratomtype 5e6 5e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 2 0.3 0.3 0.3 0.3",
-          "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
-          "neighbor 0.002 bin", "region upper block -0.1 0.1 -0.1 0.1 0.1 0.2 units box",
+  s.cmds({granary::test::materials(2, 5e6, 0.45, 0.5, 0.3), "pair_style gran model hertz tangential history",
+          "pair_coeff * *", "timestep 1e-5", "neighbor 0.002 bin",
+          "region upper block -0.1 0.1 -0.1 0.1 0.1 0.2 units box",
           "create_atoms 1 single 0 0 0.05 units box", "create_atoms 2 single 0 0 0.15 units box",
           "set group all diameter 0.01 density 2500", "group top region upper", "fix integr all nve/sphere",
           "compute rke top erotate/sphere", "dump d1 all custom 100 info_dump.txt id x y z",

@@ -28,10 +28,7 @@ namespace {
 void scene(granary::test::ScriptEngine& s, const std::string& boundary = "f f f") {
   s.cmds({"units si", "atom_style granular", "atom_modify map array", "boundary " + boundary, "newton off",
           "communicate single vel yes", "region box block -0.5 0.5 -0.5 0.5 -0.5 0.5 units box",
-          "create_box 1 box", "fix m1 all property/global youngsModulus peratomtype 5e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
+          "create_box 1 box", granary::test::materials(1, 5e6, 0.45, 0.5, 0.3),
           "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-4",
           "neighbor 0.01 bin"});
   for (double x : {-0.25, 0.25})

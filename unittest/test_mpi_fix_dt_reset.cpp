@@ -22,14 +22,11 @@ namespace {
 // (0.5, 0, 0.5) (other ranks' subdomains), both falling under gravity.
 void scene(granary::test::ScriptEngine& s) {
   s.cmds(granary::test::liggghts_head("-1 1 -1 1 -1 1", 1));
-  s.cmds({"fix m1 all property/global youngsModulus peratomtype 5e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
-          "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
-          "neighbor 0.01 bin", "create_atoms 1 single -0.5 0 0.5 units box",
-          "create_atoms 1 single 0.5 0 0.5 units box", "set group all diameter 0.01 density 2500",
-          "set atom 2 vx 2.0", "fix grav all gravity 9.81 vector 0 0 -1", "fix integr all nve/sphere"});
+  s.cmds({granary::test::materials(1, 5e6, 0.45, 0.5, 0.3), "pair_style gran model hertz tangential history",
+          "pair_coeff * *", "timestep 1e-5", "neighbor 0.01 bin",
+          "create_atoms 1 single -0.5 0 0.5 units box", "create_atoms 1 single 0.5 0 0.5 units box",
+          "set group all diameter 0.01 density 2500", "set atom 2 vx 2.0",
+          "fix grav all gravity 9.81 vector 0 0 -1", "fix integr all nve/sphere"});
 }
 
 double bound_dt(double v, double a, double x) {

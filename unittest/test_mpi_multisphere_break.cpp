@@ -24,12 +24,8 @@ namespace {
 // gravity, no walls.
 void scene(granary::test::ScriptEngine& s, const std::string& fix_line) {
   s.cmds(granary::test::liggghts_head("-0.5 0.5 -0.5 0.5 -0.5 0.5", 1));
-  s.cmds({"fix m1 all property/global youngsModulus peratomtype 5e6",
-          "fix m2 all property/global poissonsRatio peratomtype 0.45",
-          "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
-          "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
-          "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
-          "neighbor 0.005 bin",
+  s.cmds({granary::test::materials(1, 5e6, 0.45, 0.5, 0.3), "pair_style gran model hertz tangential history",
+          "pair_coeff * *", "timestep 1e-5", "neighbor 0.005 bin",
           "fix dumb all particletemplate/multisphere 15485867 atom_type 1 density constant 2500 nspheres 2 "
           "ntry 1000000 spheres -0.01 0 0 0.01 0.01 0 0 0.01 type 1",
           fix_line, "fix integr all nve/sphere", "create_clump dumb 0 0 0 vel 0.3 0.2 0 omega 0 0 10"});
