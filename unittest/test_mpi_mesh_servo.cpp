@@ -135,6 +135,36 @@ TEST_CASE("servo wall: at rest the plate holds the sphere with the Hertz overlap
   }
 }
 
+TEST_CASE("servo wall: fix_modify changes the target, the gains and vel_max, and stops the wall",
+          "[servo][mpi]") {
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  run_script(s, "variable kp index 0.1\nvariable nrun index 40000");
+  const double e_star = 5e6 / (2.0 * (1.0 - 0.45 * 0.45)), r = 1e-3;
+  auto overlap = [&](double f) { return std::pow(f / (4.0 / 3.0 * e_star * std::sqrt(r)), 2.0 / 3.0); };
+  CHECK(now(s).com_z == Approx(2.0 * r - 2.0 * overlap(0.5)).epsilon(1e-9));
+  // a new target: the new Hertz equilibrium
+  s.cmds({"fix_modify servo servo/target_val -0.2 servo/ctrlParam 0.2 0 0 servo/vel_max 0.5", "run 40000"});
+  CHECK(now(s).force == Approx(0.2).epsilon(1e-9));
+  CHECK(now(s).com_z == Approx(2.0 * r - 2.0 * overlap(0.2)).epsilon(1e-9));
+  // stopped: the wall stays where it is whatever the force
+  const double z = now(s).com_z;
+  s.cmds({"fix_modify servo servo/integrate stop servo/target_val -0.9", "run 5000"});
+  CHECK(now(s).com_z == z);
+  CHECK(now(s).force == Approx(0.2).epsilon(1e-9));
+  s.cmds({"fix_modify servo servo/integrate start", "run 40000"});
+  CHECK(now(s).force == Approx(0.9).epsilon(1e-6));
+  // errors
+  CHECK_THROWS_WITH(s.cmd("fix_modify servo servo/target_val 0"), Contains("must be a non-zero number"));
+  CHECK_THROWS_WITH(s.cmd("fix_modify servo servo/ctrlParam 1 2"), Contains("needs 3 value(s)"));
+  CHECK_THROWS_WITH(s.cmd("fix_modify servo servo/integrate maybe"), Contains("expected start or stop"));
+  CHECK_THROWS_WITH(s.cmd("fix_modify servo colour red"), Contains("has no keyword 'colour'"));
+  CHECK_THROWS_WITH(s.cmd("fix_modify servo energy yes"), Contains("contributes no potential energy"));
+  s.cmd("fix_modify servo energy no");
+  CHECK_THROWS_WITH(s.cmd("fix_modify nothing energy no"), Contains("nothing"));
+  CHECK_THROWS_WITH(s.cmd("fix_modify floor servo/target_val 1"),
+                    Contains("has no keyword 'servo/target_val'"));
+}
+
 TEST_CASE("servo wall: the integral term, its saturation and the proportional term before contact",
           "[servo][mpi]") {
   // Away from the particles the error is -1 (target -0.5, no force):

@@ -13,6 +13,7 @@
 #include "domain/domain.h"
 #include "domain/region.h"
 #include "core/modify.h"
+#include "fix/fix.h"
 #include "neighbor/neighbor.h"
 #include "core/force.h"
 #include "pair/pair.h"
@@ -158,6 +159,32 @@ void cmd_unfix(Engine& e, const Args& a) {
   require_args(a, 1, 1, "unfix ID");
   e.modify->delete_fix(a[0]);
 }
+void cmd_fix_modify(Engine& e, const Args& a) {
+  const char* usage = "fix_modify FIX-ID keyword value ...";
+  require_args(a, 2, 1000, usage);
+  Fix* f = e.modify->fix_or_error(a[0], "fix_modify");
+  for (std::size_t k = 1; k < a.size();) {
+    const std::size_t used = f->modify_param(a, k);
+    if (used > 0) {
+      k += used;
+      continue;
+    }
+    const std::string& w = a[k];
+    if (w == "energy" || w == "virial") {
+      if (k + 1 >= a.size()) throw InputError("fix_modify " + w + " needs yes or no");
+      if (parse_bool(a[k + 1], "fix_modify " + w))
+        throw InputError(
+            "fix_modify " + a[0] + " " + w + " yes: fix " + f->style +
+            " contributes no potential energy or virial (granular contacts have none in Granary)");
+      k += 2;
+    } else if (w == "temp" || w == "press") {
+      throw InputError("fix_modify " + w + ": Granary has no temperature or pressure computes to give a fix");
+    } else {
+      throw InputError("fix_modify: fix " + a[0] + " (" + f->style + ") has no keyword '" + w +
+                       "'; the keywords of fix_modify are energy, virial and those of the fix's own page");
+    }
+  }
+}
 void cmd_compute(Engine& e, const Args& a) {
   require_box(e, "compute");
   e.modify->add_compute(a);
@@ -213,6 +240,7 @@ GRANARY_COMMAND("create_box", cmd_create_box);
 GRANARY_COMMAND("region", cmd_region);
 GRANARY_COMMAND("fix", cmd_fix);
 GRANARY_COMMAND("unfix", cmd_unfix);
+GRANARY_COMMAND("fix_modify", cmd_fix_modify);
 GRANARY_COMMAND("compute", cmd_compute);
 GRANARY_COMMAND("uncompute", cmd_uncompute);
 GRANARY_COMMAND("compute_modify", cmd_compute_modify);

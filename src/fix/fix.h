@@ -49,6 +49,9 @@ class Fix {
   /// Called by unfix just before the fix is destroyed (not when a fix is
   /// replaced by one with the same ID): release per-particle storage only it uses.
   virtual void unfixed() {}
+  /// fix_modify: the keyword at args[k] with its values, if this style has
+  /// it; returns the number of words it took (0: not a keyword of this style).
+  virtual std::size_t modify_param(const Args& /*args*/, std::size_t /*k*/) { return 0; }
 
   // Global and per-atom outputs (f_ID, f_ID[i]); indices are 1-based in scripts.
   virtual double compute_scalar() { return 0.0; }

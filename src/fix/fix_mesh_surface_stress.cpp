@@ -240,6 +240,7 @@ class FixMeshSurfaceServo : public FixMeshSurfaceStress {
 
   // After the step's forces: the controller sets the rate of the next steps.
   void end_of_step() override {
+    if (!integrate_) return;  // fix_modify servo/integrate stop: the wall stands
     const double dt = engine_.update->dt;
     const double pv = process_value();
     const double e = (target_ - pv) / std::abs(target_);
@@ -259,6 +260,52 @@ class FixMeshSurfaceServo : public FixMeshSurfaceStress {
   double compute_vector(int i) override {
     if (i >= 6 && i < 9) return reference_point_[i - 6];
     return FixMeshSurfaceStress::compute_vector(i);
+  }
+
+  // fix_modify ID servo/integrate start|stop | servo/target_val V |
+  // servo/vel_max V | servo/ctrlParam KP KI KD
+  std::size_t modify_param(const Args& a, std::size_t k) override {
+    const std::string& w = a[k];
+    const std::string where = "fix_modify " + id + " " + w;
+    auto need = [&](std::size_t n) {
+      if (k + n >= a.size()) throw InputError(where + " needs " + std::to_string(n) + " value(s)");
+    };
+    if (w == "servo/integrate") {
+      need(1);
+      if (a[k + 1] != "start" && a[k + 1] != "stop") throw InputError(where + ": expected start or stop");
+      integrate_ = a[k + 1] == "start";
+      if (!integrate_) rate_ = 0.0;
+      set_motion();
+      return 2;
+    }
+    if (w == "servo/target_val") {
+      need(1);
+      const double v = parse_double(a[k + 1], where);
+      if (!(v != 0.0) || !std::isfinite(v)) throw InputError(where + " must be a non-zero number");
+      target_ = v;
+      return 2;
+    }
+    if (w == "servo/vel_max") {
+      need(1);
+      const double v = parse_double(a[k + 1], where);
+      if (!(v > 0.0) || !std::isfinite(v)) throw InputError(where + " must be a positive number");
+      vel_max_ = v;  // checked against the skin at the next run's start
+      return 2;
+    }
+    if (w == "servo/ctrlParam") {
+      need(3);
+      double g[3];
+      for (int j = 0; j < 3; ++j) {
+        g[j] = parse_double(a[k + 1 + j], where);
+        if (!(g[j] >= 0.0) || !std::isfinite(g[j]))
+          throw InputError(where + ": the gains must be numbers >= 0");
+      }
+      kp_ = g[0];
+      ki_ = g[1];
+      kd_ = g[2];
+      return 4;
+    }
+    return 0;
   }
 
   void pack_restart(std::string& out) const override {
@@ -327,6 +374,7 @@ class FixMeshSurfaceServo : public FixMeshSurfaceStress {
   double travel_ = 0.0;  // distance [m] or angle [rad] since the reference
   double e_sum_ = 0.0, e_prev_ = 0.0;
   bool started_ = false;
+  bool integrate_ = true;        // fix_modify servo/integrate
   std::vector<Vec3> reference_;  // node positions at travel 0
 };
 
