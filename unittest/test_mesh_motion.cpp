@@ -115,6 +115,39 @@ TEST_CASE("move/mesh rotate turns the mesh by 2 pi t / T about the axis and drag
                       Contains("axis"));
 }
 
+TEST_CASE("mesh/surface/planar: the same wall as mesh/surface for a planar mesh, an error for another",
+          "[mesh]") {
+  // a sphere dropped at a slant on the floor: the same trajectory bit for bit
+  Vec3 x[2];
+  const char* styles[2] = {"mesh/surface", "mesh/surface/planar"};
+  for (int k = 0; k < 2; ++k) {
+    ScriptEngine s;
+    s.cmds(scene());
+    s.cmds({"create_atoms 1 single 0.01 0.0 0.02 units box",
+            "set group all diameter 0.01 density 2500 vx 0.2",
+            "fix gravi all gravity 9.81 vector 0.0 0.0 -1.0",
+            "fix cad all " + std::string(styles[k]) + " file " + floor_file() + " type 2",
+            "fix floor all wall/gran model hertz tangential history mesh n_meshes 1 meshes cad",
+            "fix integr all nve/sphere", "run 8000"});
+    x[k] = s.p().x[0];
+  }
+  CHECK(x[0] == x[1]);
+  CHECK(x[0].z() > 0.004);  // the floor stopped it (free fall would be at -0.011 m)
+  // a floor with a raised cell, and a floor with a triangle facing down (parallel: planar)
+  std::vector<Triangle> bent, flipped;
+  mesh_files::add_rectangle(bent, Vec3(-0.06, -0.06, 0), Vec3(0.12, 0, 0), Vec3(0, 0.12, 0), 2, 2);
+  flipped = bent;
+  bent.back()[2] += Vec3(0, 0, 1e-3);
+  std::swap(flipped.back()[1], flipped.back()[2]);
+  mesh_files::write_ascii(kDir + "/bent.stl", bent);
+  mesh_files::write_ascii(kDir + "/flipped.stl", flipped);
+  ScriptEngine s;
+  s.cmds(scene());
+  CHECK_THROWS_WITH(s.cmd("fix bent all mesh/surface/planar file " + kDir + "/bent.stl type 2"),
+                    Contains("is not planar: node") && Contains("use fix mesh/surface for this mesh"));
+  s.cmd("fix flat all mesh/surface/planar file " + kDir + "/flipped.stl type 2");
+}
+
 TEST_CASE("mesh/surface surface_vel: a conveyor belt drags a sphere to 2/7 of its speed", "[mesh]") {
   ScriptEngine s;
   s.cmds(scene());

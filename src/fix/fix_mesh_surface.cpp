@@ -519,6 +519,37 @@ std::vector<FixMeshSurface*> FixMeshSurface::select(const Modify& modify, const 
   return list;
 }
 
+namespace {
+
+// fix ID group mesh/surface/planar file F.stl type T ...: a mesh/surface
+// whose triangles all lie in one plane (LIGGGHTS' planar mesh; insertion
+// faces, planar walls), checked when it is read.
+class FixMeshSurfacePlanar : public FixMeshSurface {
+ public:
+  FixMeshSurfacePlanar(Engine& engine, const Args& args) : FixMeshSurface(engine, args) {
+    // the plane of the first triangle; every node within 1e-9 of the mesh's
+    // size from it, every normal parallel to it (either side)
+    const Vec3 n = mesh.normal(0), p0 = mesh.corner(0, 0);
+    double size = 0.0;
+    for (int k = 0; k < mesh.nnodes(); ++k)
+      size = std::max(size, (mesh.node(k) - p0).norm());
+    for (int k = 0; k < mesh.nnodes(); ++k) {
+      const double d = std::abs((mesh.node(k) - p0).dot(n));
+      if (d > 1e-9 * size)
+        throw InputError("fix " + id + " mesh/surface/planar: '" + file + "' is not planar: node " +
+                         std::to_string(k + 1) + " lies " + std::to_string(d) +
+                         " m off the plane of the first triangle; use fix mesh/surface for this mesh");
+    }
+    for (int t = 0; t < mesh.ntri(); ++t)
+      if (std::abs(std::abs(mesh.normal(t).dot(n)) - 1.0) > 1e-9)
+        throw InputError("fix " + id + " mesh/surface/planar: triangle " + std::to_string(t + 1) + " of '" +
+                         file + "' is not parallel to the first; use fix mesh/surface for this mesh");
+  }
+};
+
+}  // namespace
+
 GRANARY_FIX_STYLE("mesh/surface", FixMeshSurface);
+GRANARY_FIX_STYLE("mesh/surface/planar", FixMeshSurfacePlanar);
 
 }  // namespace granary
