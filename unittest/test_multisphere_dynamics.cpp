@@ -331,6 +331,22 @@ TEST_CASE("multisphere: compute multisphere/single, compute rigid and the princi
                     Catch::Matchers::Contains("the clump id must be >= 1"));
   CHECK_THROWS_WITH(s.cmd("compute bad all rigid property clumptype"),
                     Catch::Matchers::Contains("the template of a clump is not kept"));
+  // compute slice: the z of each clump out of the 13 values per clump of c_b
+  s.cmds({"compute b all multisphere", "compute zs all slice 3 26 13 c_b",
+          "compute one3 all slice 2 3 5 c_one"});
+  CHECK(s.e.compute_value("zs", 1) == Approx(b.xcm[b.find(1)].z()));
+  CHECK(s.e.compute_value("zs", 2) == Approx(b.xcm[b.find(2)].z()));
+  CHECK_THROWS_AS(s.e.compute_value("zs", 3), granary::InputError);  // 2 values
+  CHECK(s.e.compute_value("one3", 1) == b.xcm[b.find(2)].y());  // the y of clump 2 only
+  s.cmd("compute far all slice 1 40 1 c_b");
+  CHECK_THROWS_WITH(s.e.compute_value("far", 1),
+                    Catch::Matchers::Contains("NSTOP 40 is beyond the 26 values"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all slice 3 2 1 c_b"), Catch::Matchers::Contains("NSTART <= NSTOP"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all slice 1 2 1 c_b c_one"),
+                    Catch::Matchers::Contains("one input per compute slice"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all slice 1 2 1 c_b[2]"), Catch::Matchers::Contains("global array"));
+  CHECK_THROWS_WITH(s.cmd("compute bad all slice 1 2 1 v_x"),
+                    Catch::Matchers::Contains("must be c_ID or f_ID"));
 }
 
 TEST_CASE("multisphere: ke and erotate count clumps as bodies, erotate/sphere leaves them out",
