@@ -62,7 +62,8 @@ void cmd_replicate(Engine& e, const Args& a) {
         "spheres, or insert the larger system");
   const tagint maxtag = next_id(e) - 1;
   const long long copies = static_cast<long long>(n[0]) * n[1] * n[2];
-  if (copies * static_cast<long long>(p.natoms) > 2000000000LL || copies * maxtag > (1LL << 53))
+  if (copies > 1000000000LL || copies * static_cast<long long>(p.natoms) > 2000000000LL ||
+      copies * maxtag > (1LL << 53))
     throw InputError("replicate: " + std::to_string(copies) + " copies of " + std::to_string(p.natoms) +
                      " particles are too many");
 
@@ -77,7 +78,7 @@ void cmd_replicate(Engine& e, const Args& a) {
   p.nlocal = static_cast<int>(n0 * copies);
   for (int i = 0; i < n0; ++i)
     p.image[i] = Particles::image_pack(0, 0, 0);
-  for (int ix = 0; ix < n[0]; ++ix)
+  for (int ix = 0; ix < (n0 > 0 ? n[0] : 0); ++ix)
     for (int iy = 0; iy < n[1]; ++iy)
       for (int iz = 0; iz < n[2]; ++iz) {
         const long long k = (static_cast<long long>(ix) * n[1] + iy) * n[2] + iz;

@@ -40,6 +40,8 @@ class ComputeSlice : public Compute {
       throw InputError(where + ": '" + in +
                        "' is a column of a global array; Granary's computes and fixes give "
                        "global vectors: use c_ID or f_ID");
+    if ((stop_ - start_) / skip_ >= 100000000LL)
+      throw InputError(where + ": more than 1e8 values; take a smaller range or a larger NSKIP");
     compute_ = in[0] == 'c';
     input_ = in.substr(2);
     size_vector = static_cast<int>((stop_ - start_) / skip_ + 1);
