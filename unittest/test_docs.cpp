@@ -41,7 +41,10 @@ const std::map<std::string, std::string> kAliases = {
     {"coord/gran", "contact/atom"},
     {"heat/gran/conduction", "heat/gran"},
     {"hard_particles", "soft_particles"},
-    {"lineforce", "planeforce"}};
+    {"lineforce", "planeforce"},
+    {"mesh/surface/planar", "mesh/surface"},
+    {"rigid", "multisphere"},
+    {"multisphere/single", "multisphere"}};
 
 // The Syntax section of a page (up to the next "## " heading).
 std::string syntax_section(const std::string& text) {

@@ -337,7 +337,7 @@ TEST_CASE("multisphere: compute multisphere/single, compute rigid and the princi
   CHECK(s.e.compute_value("zs", 1) == Approx(b.xcm[b.find(1)].z()));
   CHECK(s.e.compute_value("zs", 2) == Approx(b.xcm[b.find(2)].z()));
   CHECK_THROWS_AS(s.e.compute_value("zs", 3), granary::InputError);  // 2 values
-  CHECK(s.e.compute_value("one3", 1) == b.xcm[b.find(2)].y());  // the y of clump 2 only
+  CHECK(s.e.compute_value("one3", 1) == b.xcm[b.find(2)].y());       // the y of clump 2 only
   s.cmd("compute far all slice 1 40 1 c_b");
   CHECK_THROWS_WITH(s.e.compute_value("far", 1),
                     Catch::Matchers::Contains("NSTOP 40 is beyond the 26 values"));

@@ -10,7 +10,6 @@
 #include <cmath>
 #include <limits>
 
-#include "commands/particle_commands.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -49,7 +48,13 @@ class FixDtReset : public Fix {
     if (args.size() == 9) {
       if (args[7] != "units")
         throw InputError(where + ": unknown keyword '" + args[7] + "'; usage: " + kUsage);
-      lattice = particle_commands::parse_units_lattice(engine, args[8], where);
+      if (args[8] != "box" && args[8] != "lattice")
+        throw InputError(where + " units must be box or lattice, got '" + args[8] + "'");
+      lattice = args[8] == "lattice";
+      if (lattice && engine.domain->lattice_style == "none")
+        throw InputError(where +
+                         " units lattice needs a lattice; define one with the lattice command or use units "
+                         "box");
       units_given = true;
     }
     const Domain& dom = *engine.domain;
