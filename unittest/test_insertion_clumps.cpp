@@ -321,3 +321,56 @@ TEST_CASE("insert/pack of cylinder clumps and glass spheres by volume fractions"
     }
   }
 }
+
+// `orientation template` places a clump as its file gives it (LIGGGHTS 3.8:
+// its spheres keep their file coordinates relative to each other), not in its
+// principal axes; `orientation constant Q` rotates that placement by Q (90
+// degrees about z here: LIGGGHTS 3.8 puts the file's (x, y) at (-y, x)).
+TEST_CASE("insert/pack orientation template and constant keep the clump file's frame", "[insert][multisphere]") {
+  const std::string file = std::string(GRANARY_SOURCE_DIR) + "/potentials/cylinder_ellipse_10.clump";
+  std::vector<Vec3> given;
+  {
+    std::FILE* f = std::fopen(file.c_str(), "r");
+    REQUIRE(f != nullptr);
+    char line[512];
+    while (std::fgets(line, sizeof line, f)) {
+      double x, y, z, r;
+      if (line[0] != '#' && std::sscanf(line, "%lf %lf %lf %lf", &x, &y, &z, &r) == 4) given.emplace_back(x, y, z);
+    }
+    std::fclose(f);
+  }
+  REQUIRE(given.size() == 10);
+  for (const std::string orientation : {"template", "constant 0.70710678118654752 0 0 0.70710678118654752"}) {
+    SECTION(orientation) {
+      Engine e(MPI_COMM_WORLD);
+      e.logger->set_screen(false);
+      granary::test::run(e, scene());
+      e.input->one("fix cyl10 all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
+                   "nspheres 10 ntry 1000000 spheres file " +
+                   file + " scale 1.0 type 1");
+      e.input->one("fix pdd all particledistribution/discrete 32452843 1 cyl10 1.0");
+      e.input->one("fix ins all insert/pack seed 32452867 distributiontemplate pdd insert_every once "
+                   "overlapcheck yes all_in no orientation " +
+                   orientation + " vel constant 0. 0. 0. region ins particles_in_region 3");
+      e.input->one("run 1");
+      const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
+      REQUIRE(b.size() == 3);
+      const bool turned = orientation != "template";
+      double worst = 0.0;
+      for (int k = 0; k < b.size(); ++k) {
+        const Eigen::Matrix3d rot = b.rotation(k);
+        const int s0 = b.sphere_start[k];
+        REQUIRE(b.sphere_start[k + 1] - s0 == 10);
+        for (int s = 1; s < 10; ++s) {
+          // sphere s relative to sphere 0, in space and in the file
+          const Vec3 placed = rot * (b.offsets[s0 + s] - b.offsets[s0]);
+          Vec3 want = given[s] - given[0];
+          if (turned) want = Vec3(-want[1], want[0], want[2]);
+          worst = std::max(worst, (placed - want).norm());
+        }
+      }
+      INFO(orientation << ": largest difference from the file's sphere layout " << worst << " m");
+      CHECK(worst < 1e-15);
+    }
+  }
+}

@@ -554,10 +554,13 @@ FixInsert::Result FixInsert::insert(long long n) {
       if (region_empty) break;
       const Vec3 shift = candidate_shift(tp.bounding_radius);
       x += shift;
-      Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+      // template: the particle as its template was given (a clump file's
+      // coordinates), not its principal axes; constant: that frame rotated
+      // by the quaternion (both as LIGGGHTS)
+      Eigen::Quaterniond q = tp.frame;
       if (several) {
         if (orientation_ == Orientation::Constant) {
-          q = quat_;
+          q = quat_ * tp.frame;
         } else if (orientation_ == Orientation::Random) {
           // uniform random rotation (Shoemake)
           const double u1 = uniform(), u2 = uniform(), u3 = uniform();

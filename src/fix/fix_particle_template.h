@@ -29,6 +29,9 @@ struct TemplateParticle {
   double volume = 0.0;           // solid volume (overlaps counted once) [m^3]
   double bounding_radius = 0.0;  // radius of a sphere about the centre of mass that holds it [m]
   bool multisphere = false;
+  // rotation from the body frame to the frame the template was given in (a
+  // clump file's coordinates): `orientation template` places it so
+  Eigen::Quaterniond frame = Eigen::Quaterniond::Identity();
 };
 
 class FixParticleTemplate : public Fix {

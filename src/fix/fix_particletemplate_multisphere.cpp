@@ -235,6 +235,7 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
   particle_.inertia = moments;
   particle_.multisphere = true;
   particle_.radii = radii;
+  particle_.frame = Eigen::Quaterniond(axes_);
   particle_.offsets.resize(n);
   particle_.bounding_radius = 0.0;
   for (int k = 0; k < n; ++k) {
