@@ -326,7 +326,8 @@ TEST_CASE("insert/pack of cylinder clumps and glass spheres by volume fractions"
 // its spheres keep their file coordinates relative to each other), not in its
 // principal axes; `orientation constant Q` rotates that placement by Q (90
 // degrees about z here: LIGGGHTS 3.8 puts the file's (x, y) at (-y, x)).
-TEST_CASE("insert/pack orientation template and constant keep the clump file's frame", "[insert][multisphere]") {
+TEST_CASE("insert/pack orientation template and constant keep the clump file's frame",
+          "[insert][multisphere]") {
   const std::string file = std::string(GRANARY_SOURCE_DIR) + "/potentials/cylinder_ellipse_10.clump";
   std::vector<Vec3> given;
   {
@@ -335,7 +336,8 @@ TEST_CASE("insert/pack orientation template and constant keep the clump file's f
     char line[512];
     while (std::fgets(line, sizeof line, f)) {
       double x, y, z, r;
-      if (line[0] != '#' && std::sscanf(line, "%lf %lf %lf %lf", &x, &y, &z, &r) == 4) given.emplace_back(x, y, z);
+      if (line[0] != '#' && std::sscanf(line, "%lf %lf %lf %lf", &x, &y, &z, &r) == 4)
+        given.emplace_back(x, y, z);
     }
     std::fclose(f);
   }
@@ -345,13 +347,15 @@ TEST_CASE("insert/pack orientation template and constant keep the clump file's f
       Engine e(MPI_COMM_WORLD);
       e.logger->set_screen(false);
       granary::test::run(e, scene());
-      e.input->one("fix cyl10 all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
-                   "nspheres 10 ntry 1000000 spheres file " +
-                   file + " scale 1.0 type 1");
+      e.input->one(
+          "fix cyl10 all particletemplate/multisphere 15485863 atom_type 1 density constant 1190 "
+          "nspheres 10 ntry 1000000 spheres file " +
+          file + " scale 1.0 type 1");
       e.input->one("fix pdd all particledistribution/discrete 32452843 1 cyl10 1.0");
-      e.input->one("fix ins all insert/pack seed 32452867 distributiontemplate pdd insert_every once "
-                   "overlapcheck yes all_in no orientation " +
-                   orientation + " vel constant 0. 0. 0. region ins particles_in_region 3");
+      e.input->one(
+          "fix ins all insert/pack seed 32452867 distributiontemplate pdd insert_every once "
+          "overlapcheck yes all_in no orientation " +
+          orientation + " vel constant 0. 0. 0. region ins particles_in_region 3");
       e.input->one("run 1");
       const granary::Bodies& b = dynamic_cast<granary::FixMultisphere*>(e.clumps)->bodies();
       REQUIRE(b.size() == 3);
