@@ -53,6 +53,10 @@ class Compute {
   int groupbit = 1;
 
  protected:
+  /// InputError unless the ghost shell holds every particle within `cutoff`
+  /// of an owned one (always so on one rank without periodic boundaries).
+  void require_ghost_reach(double cutoff) const;
+
   Engine& engine_;
   Args args_;
 };

@@ -51,14 +51,7 @@ class ComputeCoordAtom : public Compute {
 
   void compute_peratom() override {
     const Particles& p = *engine_.particles;
-    const double reach = engine_.comm->cutghost - engine_.neighbor->skin;
-    const auto& per = engine_.domain->periodic;
-    if ((engine_.nprocs > 1 || per[0] || per[1] || per[2]) && cutoff_ > reach) {
-      char msg[200];
-      std::snprintf(msg, sizeof msg, "cutoff %g is longer than the ghost shell allows (%g)", cutoff_, reach);
-      throw InputError("compute " + id + " coord/atom: " + msg +
-                       "; widen the shell with comm_modify cutoff (cutoff + skin)");
-    }
+    require_ghost_reach(cutoff_);
     const int ncol = static_cast<int>(ranges_.size());
     std::vector<std::vector<double>> count(ncol,
                                            std::vector<double>(static_cast<std::size_t>(p.nlocal), 0.0));
