@@ -282,7 +282,7 @@ void cmd_balance(Engine& e, const Args& a) {
     throw InputError("balance needs a simulation box: use create_box or read_restart first");
   if (a.size() < 2) throw InputError("balance: too few arguments; usage: " + usage);
   const double thresh = parse_double(a[0], "balance THRESH");
-  if (!(thresh > 0.0)) throw InputError("balance THRESH must be positive (1.0 or less always balances)");
+  if (!(thresh > 0.0)) throw InputError("balance THRESH must be positive (below 1.0 the cuts always move)");
   Comm& c = *e.comm;
   Balancer bal(e);
   // Arguments are checked before anything changes. Cuts are fractions of

@@ -33,7 +33,7 @@ class FixBalance : public Fix {
     every_ = n;
     thresh_ = parse_double(args[4], "fix balance THRESH");
     if (!(thresh_ > 0.0))
-      throw InputError("fix balance THRESH must be positive (1.0 or less always balances)");
+      throw InputError("fix balance THRESH must be positive (below 1.0 the cuts always move)");
     if (args[5] == "rcb")
       throw InputError(
           "fix balance style rcb is not available; use shift (cut planes of the processor grid)");

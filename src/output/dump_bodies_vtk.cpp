@@ -47,22 +47,11 @@ DumpBodiesVTK::DumpBodiesVTK(Engine& engine, const Args& args) : Dump(engine, ar
 
 int DumpBodiesVTK::modify_param(const Args& args, std::size_t k) {
   const std::string& key = args[k];
-  const bool has1 = k + 1 < args.size();
   const std::string where = "dump_modify " + id + " " + key;
   if (const int used = options_.parse(args, k, where)) return used;
-  if (key == "pvd" && has1) {
-    const std::string& v = args[k + 1];
-    if (v == "no" || v == "off" || v == "none") {
-      pvd_.path.clear();
-    } else {
-      if (vtkio::extension(v) != ".pvd") {
-        throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
-      }
-      dumpio::check_directory(engine_.world, v, where);
-      pvd_.path = v;
-    }
+  if (const int used = dumpio::parse_pvd(engine_.world, args, k, where, false, pvd_.path)) {
     pvd_.clear();
-    return 2;
+    return used;
   }
   return 0;
 }

@@ -224,6 +224,25 @@ std::string expand(const std::string& pattern, std::int64_t step, int pad) {
   return pattern.substr(0, star) + buf + pattern.substr(star + 1);
 }
 
+int parse_pvd(MPI_Comm comm, const Args& args, std::size_t k, const std::string& where, bool legacy,
+              std::string& path) {
+  if (args[k] != "pvd" || k + 1 >= args.size()) return 0;
+  const std::string& v = args[k + 1];
+  if (v == "no" || v == "off" || v == "none") {
+    path.clear();
+    return 2;
+  }
+  if (legacy)
+    throw InputError(where +
+                     ": legacy .vtk files cannot be listed in a .pvd (ParaView reads XML files from a "
+                     "collection); write XML frames or use 'pvd no'");
+  if (v.size() < 5 || v.compare(v.size() - 4, 4, ".pvd") != 0)
+    throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
+  check_directory(comm, v, where);
+  path = v;
+  return 2;
+}
+
 void check_directory(MPI_Comm comm, const std::string& file, const std::string& what) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);

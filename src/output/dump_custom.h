@@ -73,6 +73,13 @@ std::string expand(const std::string& pattern, std::int64_t step, int pad);
 /// or is not a directory; rank 0 checks and broadcasts.
 void check_directory(MPI_Comm comm, const std::string& file, const std::string& what);
 
+/// `dump_modify ID pvd NAME|no|off|none` of the VTK XML dumps at args[k]:
+/// sets `path` to the collection file (empty for none) and returns 2, or
+/// returns 0 when args[k] is not `pvd` with a value. `legacy`: the dump
+/// writes legacy .vtk frames, which a collection cannot list (an error).
+int parse_pvd(MPI_Comm comm, const Args& args, std::size_t k, const std::string& where, bool legacy,
+              std::string& path);
+
 /// Collective: returns the message of the lowest rank whose `local_error` is
 /// not empty, or an empty string on every rank when none failed.
 std::string first_error(MPI_Comm comm, const std::string& local_error);

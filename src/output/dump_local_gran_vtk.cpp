@@ -91,23 +91,10 @@ class DumpLocalGranVTK : public Dump {
     const std::string& key = args[k];
     const std::string where = "dump_modify " + id + " " + key;
     if (const int used = options_.parse(args, k, where)) return used;
-    if (key == "pvd" && k + 1 < args.size()) {
-      const std::string& v = args[k + 1];
-      if (v == "no" || v == "off" || v == "none") {
-        pvd_.path.clear();
-      } else {
-        if (kind_ == Kind::kLegacy)
-          throw InputError(
-              where +
-              ": legacy .vtk files cannot be listed in a .pvd (ParaView reads XML files from it); "
-              "use a .vtp file name");
-        if (vtkio::extension(v) != ".pvd")
-          throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
-        dumpio::check_directory(engine_.world, v, where);
-        pvd_.path = v;
-      }
+    if (const int used =
+            dumpio::parse_pvd(engine_.world, args, k, where, kind_ == Kind::kLegacy, pvd_.path)) {
       pvd_.clear();
-      return 2;
+      return used;
     }
     return 0;
   }

@@ -96,22 +96,9 @@ class DumpMeshVTK : public Dump {
     const std::string& key = args[k];
     const std::string where = "dump_modify " + id + " " + key;
     if (const int used = options_.parse(args, k, where)) return used;
-    if (key == "pvd" && k + 1 < args.size()) {
-      const std::string& v = args[k + 1];
-      if (v == "no" || v == "off" || v == "none") {
-        pvd_.path.clear();
-      } else {
-        if (legacy_)
-          throw InputError(where +
-                           ": legacy .vtk files cannot be listed in a .pvd (ParaView reads XML files from "
-                           "a collection); write .vtp frames or use 'pvd no'");
-        if (vtkio::extension(v) != ".pvd")
-          throw InputError(where + ": the collection file name must end in .pvd, got '" + v + "'");
-        dumpio::check_directory(engine_.world, v, where);
-        pvd_.path = v;
-      }
+    if (const int used = dumpio::parse_pvd(engine_.world, args, k, where, legacy_, pvd_.path)) {
       pvd_.clear();
-      return 2;
+      return used;
     }
     return 0;
   }

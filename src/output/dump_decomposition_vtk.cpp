@@ -1,0 +1,146 @@
+// `dump ID group decomposition/vtk N file.vtk|file.vtr`: the MPI processor
+// grid as a VTK rectilinear grid whose coordinates along x, y, z are the cut
+// planes of the subdomains (procgrid + 1 per dimension, moved by `balance`
+// and `fix balance`): legacy VTK for a .vtk name (as LIGGGHTS 3.8 writes it),
+// VTK XML for .vtr (listed with its time in a .pvd collection). Cell data:
+// `rank` (the rank owning each subdomain) and `particles` (how many particles
+// it owns at that step); field data TimeValue and Step. Rank 0 writes the
+// frame. The group is ignored. See doc/commands/dump.md.
+#include <mpi.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkIntArray.h>
+#include <vtkRectilinearGrid.h>
+#include <vtkRectilinearGridWriter.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLRectilinearGridWriter.h>
+
+#include <string>
+#include <vector>
+
+#include "comm/comm.h"
+#include "core/engine.h"
+#include "core/error.h"
+#include "core/registry.h"
+#include "core/update.h"
+#include "output/dump.h"
+#include "output/dump_custom.h"
+#include "output/vtk_frame.h"
+#include "output/vtk_support.h"
+#include "particles/particles.h"
+
+namespace granary {
+
+namespace {
+
+class DumpDecompositionVTK : public Dump {
+ public:
+  DumpDecompositionVTK(Engine& engine, const Args& args) : Dump(engine, args) {
+    const std::string where = "dump " + id + " decomposition/vtk";
+    const std::string ext = vtkio::extension(filename);
+    if (ext != ".vtk" && ext != ".vtr")
+      throw InputError(where + ": needs a file name ending in .vtk (legacy VTK) or .vtr (VTK XML), got '" +
+                       filename + "'; e.g. post/decomposition*.vtk");
+    if (filename.find('%') != std::string::npos)
+      throw InputError(where + ": writes one file per frame on rank 0; '%' is not allowed in '" + filename +
+                       "'");
+    if (args.size() > 5) throw InputError(where + " takes no further arguments, got '" + args[5] + "'");
+    dumpio::check_directory(engine.world, filename, "dump " + id);
+    legacy_ = ext == ".vtk";
+    if (!legacy_) pvd_.path = vtkio::pvd_name(filename, id);
+  }
+
+  void single_file() override {
+    pvd_.path.clear();
+    pvd_.clear();
+  }
+
+  int modify_param(const Args& args, std::size_t k) override {
+    const std::string where = "dump_modify " + id + " " + args[k];
+    if (const int used = options_.parse(args, k, where)) return used;
+    if (const int used = dumpio::parse_pvd(engine_.world, args, k, where, legacy_, pvd_.path)) {
+      pvd_.clear();
+      return used;
+    }
+    return 0;
+  }
+
+  void write() override {
+    const Comm& c = *engine_.comm;
+    const int nranks = engine_.nprocs;
+    int mine = engine_.particles->nlocal;
+    std::vector<int> counts(static_cast<std::size_t>(nranks), 0);
+    MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, engine_.world);
+    std::string err;
+    if (engine_.rank == 0)
+      err = write_frame(dumpio::expand(filename, engine_.update->ntimestep, options_.pad), c, counts);
+    err = dumpio::first_error(engine_.world, err);
+    if (!err.empty()) throw RunError("dump " + id + ": " + err);
+  }
+
+ private:
+  std::string write_frame(const std::string& frame, const Comm& c, const std::vector<int>& counts) {
+    auto grid = vtkSmartPointer<vtkRectilinearGrid>::New();
+    const int nx = c.procgrid[0] + 1, ny = c.procgrid[1] + 1, nz = c.procgrid[2] + 1;
+    grid->SetDimensions(nx, ny, nz);
+    vtkSmartPointer<vtkDoubleArray> coords[3];
+    for (int d = 0; d < 3; ++d) {
+      coords[d] = vtkSmartPointer<vtkDoubleArray>::New();
+      coords[d]->SetNumberOfValues(c.procgrid[d] + 1);
+      for (int k = 0; k <= c.procgrid[d]; ++k)
+        coords[d]->SetValue(k, c.cut_coord(d, k));
+    }
+    grid->SetXCoordinates(coords[0]);
+    grid->SetYCoordinates(coords[1]);
+    grid->SetZCoordinates(coords[2]);
+    const vtkIdType ncells = static_cast<vtkIdType>(c.procgrid[0]) * c.procgrid[1] * c.procgrid[2];
+    auto rank = vtkio::named_array<vtkIntArray>("rank", 1, ncells);
+    auto parts = vtkio::named_array<vtkIntArray>("particles", 1, ncells);
+    // VTK orders the cells x fastest, then y, then z: the order of Comm::rank_at
+    for (int iz = 0; iz < c.procgrid[2]; ++iz)
+      for (int iy = 0; iy < c.procgrid[1]; ++iy)
+        for (int ix = 0; ix < c.procgrid[0]; ++ix) {
+          const vtkIdType cell = ix + static_cast<vtkIdType>(c.procgrid[0]) * (iy + c.procgrid[1] * iz);
+          const int r = c.rank_at(ix, iy, iz);
+          rank->SetValue(cell, r);
+          parts->SetValue(cell, counts[static_cast<std::size_t>(r)]);
+        }
+    grid->GetCellData()->AddArray(rank);
+    grid->GetCellData()->AddArray(parts);
+    const double time = engine_.update->time();
+    const std::int64_t step = engine_.update->ntimestep;
+    vtkio::add_time_step(grid, time, step);
+    const std::string err = replace_file_by_name(frame, [&](const std::string& temp) -> std::string {
+      if (legacy_) {
+        auto w = vtkSmartPointer<vtkRectilinearGridWriter>::New();
+        w->SetFileVersion(vtkRectilinearGridWriter::VTK_LEGACY_READER_VERSION_4_2);
+        if (options_.binary)
+          w->SetFileTypeToBinary();
+        else
+          w->SetFileTypeToASCII();
+        w->SetHeader(("Granary processor grid, step " + std::to_string(step)).c_str());
+        w->SetInputData(grid);
+        w->SetFileName(temp.c_str());
+        return w->Write() ? "" : "VTK could not write '" + frame + "'";
+      }
+      auto w = vtkSmartPointer<vtkXMLRectilinearGridWriter>::New();
+      vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
+      w->SetInputData(grid);
+      w->SetFileName(temp.c_str());
+      return w->Write() ? "" : "VTK could not write '" + frame + "'";
+    });
+    if (!err.empty()) return err;
+    if (!legacy_ && !pvd_.path.empty()) return pvd_.add(frame, time);
+    return "";
+  }
+
+  bool legacy_ = false;
+  vtkio::WriteOptions options_;
+  vtkio::PvdCollection pvd_;
+};
+
+}  // namespace
+
+GRANARY_DUMP_STYLE("decomposition/vtk", DumpDecompositionVTK);
+
+}  // namespace granary
