@@ -250,10 +250,9 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
             const double eps = 1.0e-10 * dom.prd[d];
             if (x[d] < dom.boxlo[d] - eps)
               ok = false;
-            else if (dom.periodic[d] && x[d] >= dom.boxhi[d] - eps)
-              ok = false;  // the image at boxlo is made
-            else if (!dom.periodic[d] && x[d] > dom.boxhi[d] + eps)
-              ok = false;
+            else if (x[d] >= dom.boxhi[d] - eps)
+              ok = false;  // periodic: the image at boxlo is made; fixed: as LIGGGHTS 3.8, none on the upper
+                           // face
             else
               x[d] = std::clamp(x[d], dom.boxlo[d], dom.boxhi[d]);
           }
