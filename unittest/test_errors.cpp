@@ -418,7 +418,7 @@ TEST_CASE("an error in an included file shows the include chain", "[errors][cli]
   std::remove(sub.c_str());
   INFO(p.output);
   CHECK(p.status != 0);
-  CHECK_THAT(p.output, Contains("ERROR: " + sub + ":3: boundary: boundary letter 'q' is not one of p f s m"));
+  CHECK_THAT(p.output, Contains("ERROR: " + sub + ":3: boundary letter 'q' is not one of p f s m"));
   CHECK_THAT(p.output, Contains("included from " + main + ":2"));
   CHECK_THAT(p.output, !Contains("not reached"));
 }

@@ -109,7 +109,7 @@ TEST_CASE("errors: location, include chain, non-zero exit", "[input][cli]") {
   s.write("in.main", "variable a equal 1\ninclude in.inner\nprint never\n");
   Result r = s.run("-in in.main -log none");
   CHECK(r.status == 1);
-  CHECK_THAT(r.err, Catch::StartsWith("ERROR: in.inner:2: fix: "));
+  CHECK_THAT(r.err, Catch::StartsWith("ERROR: in.inner:2: fix needs the box"));
   CHECK_THAT(r.err, Catch::Contains("\n  included from in.main:2\n"));
   CHECK_THAT(r.out, !Catch::Contains("never"));
 

@@ -235,7 +235,7 @@ TEST_CASE("errors name file, line, command and the include chain", "[input][scri
                                    "variable name string x\n"
                                    "print ${nme}\n");
   const std::string m2 = error_of(q, cont);
-  CHECK_THAT(m2, Catch::StartsWith(cont + ":1: variable: variable a: syntax error"));
+  CHECK_THAT(m2, Catch::StartsWith(cont + ":1: variable a: syntax error"));
   const std::string bad_var = s.write("in.badvar", "variable name string x\n\nprint ${nme}\n");
   CHECK_THAT(error_of(q, bad_var), Catch::StartsWith(bad_var + ":3: print: unknown variable 'nme'") &&
                                        Catch::Contains("did you mean 'name'"));

@@ -460,7 +460,11 @@ namespace {
 std::string format_error(const std::vector<std::string>& frames, const std::string& cmd,
                          const std::string& msg) {
   std::string out = frames.empty() ? "" : frames.back() + ": ";
-  if (!cmd.empty()) out += cmd + ": ";
+  // the command's name once: a message that already starts with it ("replicate: ...",
+  // "fix ID style: ...") gets no second one
+  const bool named = !cmd.empty() && msg.size() > cmd.size() && msg.compare(0, cmd.size(), cmd) == 0 &&
+                     (msg[cmd.size()] == ':' || msg[cmd.size()] == ' ');
+  if (!cmd.empty() && !named) out += cmd + ": ";
   out += msg;
   for (std::size_t k = frames.size() > 0 ? frames.size() - 1 : 0; k-- > 0;)
     out += "\n  included from " + frames[k];
