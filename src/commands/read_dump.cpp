@@ -55,10 +55,8 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-bool yes_no(const std::string& v, const std::string& what) {
-  if (v == "yes") return true;
-  if (v == "no") return false;
-  throw InputError("read_dump " + what + " takes yes or no, got '" + v + "'");
+bool is_gz(const std::string& file) {
+  return file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0;
 }
 
 struct Options {
@@ -66,7 +64,7 @@ struct Options {
   long long nstep = 0;
   std::vector<int> fields;
   bool box = true, replace = true, purge = false, trim = false, add = false;
-  bool scaled = false, wrapped = true, scaled_given = false, wrapped_given = false;
+  bool scaled = false, wrapped = true;
   std::map<std::string, std::string> labels;  // field (or id, type) -> column label
   bool xyz = false;
 };
@@ -98,28 +96,17 @@ Options parse(const Args& a) {
       if (k + n >= a.size()) throw InputError("read_dump: keyword " + w + " needs a value; usage: " + kUsage);
       return a[k + n];
     };
-    if (w == "box") {
-      o.box = yes_no(value(1), "box");
-      k += 2;
-    } else if (w == "replace") {
-      o.replace = yes_no(value(1), "replace");
-      k += 2;
-    } else if (w == "purge") {
-      o.purge = yes_no(value(1), "purge");
-      k += 2;
-    } else if (w == "trim") {
-      o.trim = yes_no(value(1), "trim");
-      k += 2;
-    } else if (w == "add") {
-      o.add = yes_no(value(1), "add");
-      k += 2;
-    } else if (w == "scaled") {
-      o.scaled = yes_no(value(1), "scaled");
-      o.scaled_given = true;
-      k += 2;
-    } else if (w == "wrapped") {
-      o.wrapped = yes_no(value(1), "wrapped");
-      o.wrapped_given = true;
+    // the yes/no keywords
+    bool* flag = w == "box"       ? &o.box
+                 : w == "replace" ? &o.replace
+                 : w == "purge"   ? &o.purge
+                 : w == "trim"    ? &o.trim
+                 : w == "add"     ? &o.add
+                 : w == "scaled"  ? &o.scaled
+                 : w == "wrapped" ? &o.wrapped
+                                  : nullptr;
+    if (flag) {
+      *flag = parse_bool(value(1), "read_dump " + w);
       k += 2;
     } else if (w == "label") {
       const std::string field = value(1), column = value(2);
@@ -170,26 +157,26 @@ struct Snapshot {
   long long nrows = 0;
 };
 
-std::unique_ptr<std::istream> open_stream(const std::string& file, FILE** pipe) {
-  *pipe = nullptr;
-  if (file.size() > 3 && file.compare(file.size() - 3, 3, ".gz") == 0) {
-    if (!std::ifstream(file).good()) return nullptr;
-    const std::string cmd = "gzip -dc '" + file + "' 2>/dev/null";
-    *pipe = popen(cmd.c_str(), "r");
-    if (!*pipe) return nullptr;
-    std::string all;
-    char buf[65536];
-    std::size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, *pipe)) > 0)
-      all.append(buf, n);
-    const int status = pclose(*pipe);
-    *pipe = nullptr;
-    if (status != 0) return nullptr;
-    return std::make_unique<std::istringstream>(std::move(all));
+// The file as a stream; a .gz file is read whole through `gzip -dc`. Null when it cannot be read.
+std::unique_ptr<std::istream> open_stream(const std::string& file) {
+  if (!is_gz(file)) {
+    auto in = std::make_unique<std::ifstream>(file);
+    if (!in->good()) return nullptr;
+    return in;
   }
-  auto in = std::make_unique<std::ifstream>(file);
-  if (!in->good()) return nullptr;
-  return in;
+  if (!std::ifstream(file).good()) return nullptr;
+  std::string quoted = "'";
+  for (char c : file)
+    quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  FILE* pipe = popen(("gzip -dc " + quoted + "' 2>/dev/null").c_str(), "r");
+  if (!pipe) return nullptr;
+  std::string all;
+  char buf[65536];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0)
+    all.append(buf, n);
+  if (pclose(pipe) != 0) return nullptr;
+  return std::make_unique<std::istringstream>(std::move(all));
 }
 
 Snapshot read_native(std::istream& in, long long nstep, const std::string& file) {
@@ -348,7 +335,7 @@ void broadcast(Engine& e, Snapshot& s) {
   MPI_Bcast(&len, 1, MPI_INT, 0, e.world);
   head.resize(len);
   MPI_Bcast(head.data(), len, MPI_CHAR, 0, e.world);
-  const auto bar = head.find('|');
+  const auto bar = head.rfind('|');  // the bounds hold no '|', a column label might
   s.bounds = head.substr(bar + 1);
   s.labels.clear();
   std::istringstream hs(head.substr(0, bar));
@@ -376,13 +363,10 @@ void cmd_read_dump(Engine& e, const Args& a) {
 
   Snapshot s;
   if (e.rank == 0) {
-    FILE* pipe = nullptr;
-    auto in = open_stream(o.file, &pipe);
+    auto in = open_stream(o.file);
     if (!in)
-      s.error =
-          "read_dump: cannot open dump file '" + o.file + "'" +
-          (o.file.size() > 3 && o.file.compare(o.file.size() - 3, 3, ".gz") == 0 ? " (or gzip cannot read it)"
-                                                                                 : "");
+      s.error = "read_dump: cannot open dump file '" + o.file + "'" +
+                (is_gz(o.file) ? " (or gzip cannot read it)" : "");
     else
       s = o.xyz ? read_xyz(*in, o.nstep, o.file) : read_native(*in, o.nstep, o.file);
   }

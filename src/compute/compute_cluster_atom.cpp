@@ -63,7 +63,7 @@ class ComputeClusterAtom : public Compute {
     start[p.nlocal] = static_cast<int>(links.size());
     // sweep until no label changes anywhere: each owned particle takes the
     // smallest label among itself and its links; ghosts follow their owners
-    for (int round = 0;; ++round) {
+    while (true) {
       bool changed = false;
       for (bool again = true; again;) {
         again = false;
@@ -82,9 +82,8 @@ class ComputeClusterAtom : public Compute {
       }
       int local = changed ? 1 : 0, any = 0;
       MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, engine_.world);
-      if (!any && round > 0) break;
-      engine_.comm->forward_comm_field(label, 1);
       if (!any) break;
+      engine_.comm->forward_comm_field(label, 1);
     }
     vector_atom.assign(label.begin(), label.begin() + p.nlocal);
   }
