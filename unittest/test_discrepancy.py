@@ -10,6 +10,10 @@ baseline and the catalogue of candidates, and must
   - recover its parameter within the stated relative tolerance,
   - report a held-out gain (baseline error / extended model error) above the
     stated factor.
+The repose case hides the rolling friction of the sphere-sphere pair in the
+angles of repose of heaps of three sphere sizes (two pours each); the
+baseline's sliding friction is fitted along, and both must come out exactly
+(choice parameters).
 The null case hides nothing and must report 'no significant discrepancy'.
 
 The null case also checks the outputs of the command: report.md (which must
@@ -21,11 +25,13 @@ inertness test and the cross-validation folds on analytic models; the inputs
 case the data layouts and their error messages (no granary run in these three).
 
 usage: test_discrepancy.py CASE GRANARY SOURCE_DIR   (CASE: viscoelastic,
-cohesion, rolling, tangential, clumpres, null, extractors, fitting, inputs)
+cohesion, rolling, tangential, clumpres, repose, null, extractors, fitting, inputs)
 """
+import atexit
 import csv
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -83,6 +89,21 @@ CASES = {
         "candidates": ["clump shape resolution", "rolling friction cdt"],
         "choices": {"mur": [0.05, 0.1, 0.2, 0.3]},
         "expect": "clump shape resolution", "param_tol": 0.0, "min_gain": 5.0, "seed": 16},
+    "repose": {
+        # Angle of repose of heaps poured in a cell (examples/discrepancy/heap_cell),
+        # spheres of three diameters, two pours each: the data hide the rolling
+        # friction of the sphere-sphere pair; the baseline has sliding friction
+        # only (mu a choice of three values, fitted along by every candidate).
+        # Rolling friction and cohesion are tried at four values each (choice
+        # parameters: the angle of one pour is not a smooth function of them).
+        "example": "heap_cell", "condition": ("ds", "pour"),
+        "levels": [(ds, pour) for ds in (1.0, 2.0, 3.0) for pour in (1, 2)],
+        "hidden_set": {"rolling": "cdt"},
+        "hidden_param": ("mur", 0.1, 0.1),
+        "fixed": {"mu": 0.5},
+        "observable": "angle_of_repose", "sigma": 0.5,
+        "expect": "rolling friction cdt", "expect_also": {"mu": 0.5},
+        "param_tol": 0.0, "min_gain": 3.0, "seed": 17},
     "null": {
         "example": "restitution", "condition": "speed",
         "levels": list(np.geomspace(0.05, 5.0, 12)),
@@ -108,16 +129,33 @@ def make_data(case, tools, granary, src, path):
     with open(path, "w", newline="") as f:
         f.write(f"# synthetic: {case}, hidden {c['hidden_set']} {name} = {true:.6g}, noise sigma {observables}\n")
         w = csv.writer(f)
-        w.writerow([c["condition"], "observable", "value", "uncertainty"])
+        multi = not isinstance(c["condition"], str)
+        w.writerow(list(c["condition"] if multi else [c["condition"]]) + ["observable", "value", "uncertainty"])
         for obs, sigma in observables.items():
             key = model.key_of(obs)
             for level, r in zip(c["levels"], res):
-                w.writerow([f"{level:.6g}", obs, f"{r[key] + rng.normal(0, sigma):.6g}", sigma])
+                w.writerow([f"{lv:.6g}" for lv in (level if multi else [level])] +
+                           [obs, f"{r[key] + rng.normal(0, sigma):.6g}", sigma])
     return true, model
 
 
+def _write_spheres(pts, r):
+    """A write_dump-like file of spheres of radius r at pts, in a temporary
+    directory removed at exit; returns its path."""
+    d = tempfile.mkdtemp(prefix="heap_")
+    atexit.register(shutil.rmtree, d, True)
+    path = os.path.join(d, "heap.txt")
+    with open(path, "w") as f:
+        f.write(f"ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n{len(pts)}\n"
+                "ITEM: BOX BOUNDS mm mm mm\n-1 1\n-1 1\n0 1\nITEM: ATOMS id x y z radius\n")
+        for k, (x, y, z) in enumerate(pts):
+            f.write(f"{k + 1} {x} {y} {z} {r}\n")
+    return path
+
+
 def check_extractors(tools):
-    """heap_angle on a synthetic heap: spheres of radius 1 mm filling a cone
+    """heap_angle on synthetic heaps, conical and (layout "cell") a wedge
+    against a wall; the conical one: spheres of radius 1 mm filling a cone
     of known slope on z = 0 (a hexagonal-ish random fill), plus a rounded apex
     and a spread-out foot that the central-region fit must ignore. The fitted
     angle must be within 1.5 degrees of the cone's (sphere tops follow the
@@ -149,17 +187,29 @@ def check_extractors(tools):
         for _ in range(50):
             rho, phi = rng.uniform(R, 1.15 * R), rng.uniform(0, 2 * np.pi)
             pts.append((rho * np.cos(phi), rho * np.sin(phi), r))
-        with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
-            f.write(f"ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n{len(pts)}\n"
-                    "ITEM: BOX BOUNDS mm mm mm\n-1 1\n-1 1\n0 1\nITEM: ATOMS id x y z radius\n")
-            for k, (x, y, z) in enumerate(pts):
-                f.write(f"{k + 1} {x} {y} {z} {r}\n")
-            path = f.name
-        got, nring = extractors.heap_angle(path)
-        os.unlink(path)
+        got, nring = extractors.heap_angle(_write_spheres(pts, r))
         print(f"  heap_angle: cone {angle} deg -> {got:.2f} deg ({nring} rings)")
         if not abs(got - angle) < 1.5:
             failures.append(f"heap_angle {got:.2f} for a {angle} degree cone")
+    # layout "cell": a wedge against the wall x = 0 of a cell 4 mm deep (a
+    # side view), flattened top at the wall, a few spheres rolled beyond the foot
+    for angle in (18.0, 25.0, 32.0):
+        Lh, W, r = 0.04, 0.004, 0.001
+        t = np.tan(np.radians(angle))
+        pts = []
+        for _ in range(6000):
+            x, y = rng.uniform(r, Lh), rng.uniform(0, W)
+            top = min((Lh - x) * t, 0.85 * Lh * t)
+            pts.append((x, y, rng.uniform(r, max(top - r, r) + 1e-12)))
+        for _ in range(1500):
+            x, y = rng.uniform(r, Lh), rng.uniform(0, W)
+            pts.append((x, y, max(min((Lh - x) * t, 0.85 * Lh * t) - r, r)))
+        for _ in range(15):
+            pts.append((rng.uniform(Lh, 1.15 * Lh), rng.uniform(0, W), r))
+        got, nbin = extractors.heap_angle(_write_spheres(pts, r), (0.15, 0.85), 24, layout="cell")
+        print(f"  heap_angle (cell): wedge {angle} deg -> {got:.2f} deg ({nbin} slabs)")
+        if not abs(got - angle) < 1.5:
+            failures.append(f"heap_angle (cell) {got:.2f} for a {angle} degree wedge")
     return failures
 
 
@@ -249,6 +299,10 @@ def check_fitting(tools):
     return failures
 
 
+def src_examples(tools):
+    return os.path.join(os.path.dirname(os.path.abspath(tools)), "examples", "discrepancy")
+
+
 def check_inputs(tools):
     """Data layouts: wide CSV with a shared and with per-observable uncertainty
     columns and units in the header, the long layout, a JSON spec with an
@@ -317,6 +371,24 @@ def check_inputs(tools):
         d = inputs.read_data(os.path.join(tmp, "spec.json"))
         if [r["sigma"] for r in d.rows] != [0.02, 0.05] or d.units.get("angle") != "deg":
             failures.append(f"spec.json: sigma {[r['sigma'] for r in d.rows]}, units {d.units}")
+        # model files: the heap_angle extractor's options are checked
+        with open(os.path.join(tmp, "in.x"), "w") as f:
+            f.write("print hello\n")
+        bad_models = {"layout": ({"layout": "wedge"}, "'layout' is 'wedge'"),
+                      "bins": ({"bins": 2}, "'bins' must be an integer"),
+                      "central": ({"central": [0.8, 0.2]}, "'central' must be two fractions")}
+        for name, (opts, words) in bad_models.items():
+            path = os.path.join(tmp, f"model_{name}.json")
+            with open(path, "w") as f:
+                json.dump({"script": "in.x", "extract": {"heap_angle": dict({"file": "h.txt"}, **opts)}}, f)
+            try:
+                inputs.Model(path)
+                failures.append(f"model_{name}.json: accepted")
+            except inputs.InputFileError as e:
+                print(f"  model_{name}.json: {e}")
+                if not (str(e).startswith(path) and words in str(e)):
+                    failures.append(f"model_{name}.json: message lacks the file or '{words}': {e}")
+        inputs.Model(os.path.join(src_examples(tools), "heap_cell", "model.json"))
     return failures
 
 
@@ -395,6 +467,11 @@ def main():
                     failures.append(f"{pname} off by {rel:.3f} > {c['param_tol']}")
                 if err is not None and not abs(fitted[0]["value"] - true) < 3 * err + 1e-12 * true:
                     failures.append(f"{pname}: the true value is more than 3 standard errors ({err:.3g}) away")
+            for pname, want in c.get("expect_also", {}).items():
+                got = [p["value"] for p in best["params"] if p["name"] == pname]
+                print(f"  {pname}: fitted {got[0] if got else None}, true {want}")
+                if not got or abs(got[0] - want) > 1e-9 * abs(want):
+                    failures.append(f"{pname} fitted {got[0] if got else None}, expected {want}")
             gain = best["gain"]["ratio"]
             print(f"  gain {gain:.3g} (68% CI {best['gain']['ci68'][0]:.3g}-{best['gain']['ci68'][1]:.3g}),"
                   f" required > {c['min_gain']}")

@@ -16,16 +16,29 @@ def read_dump_columns(path):
     return {n: a[:, k] for k, n in enumerate(names)}
 
 
-def heap_angle(path, central=(0.25, 0.75), bins=16):
-    """Angle of repose [deg] of a heap on the plane z = 0 around the vertical
-    through its centre of mass: the free surface is the highest sphere top
-    z + r in each ring of radial distance; a straight line is fitted to it
-    over the central part of the heap's radius (fractions `central` of the
-    radius holding 98 % of the spheres), away from the rounded apex and the
-    spread-out foot. Returns the angle and the number of rings fitted."""
+def heap_angle(path, central=(0.25, 0.75), bins=16, layout="axisymmetric"):
+    """Angle of repose [deg] of a heap on the plane z = 0, from the free
+    surface: the highest sphere top z + r in each bin of distance from the
+    heap's axis, a straight line fitted to it over the central part of the
+    heap's extent (fractions `central` of the distance holding 98 % of the
+    spheres), away from the rounded apex and the spread-out foot.
+
+    layout "axisymmetric": a conical heap; the distance is radial, from the
+    vertical through its centre of mass, in rings.
+    layout "cell": a heap poured against the wall at the low-x end of a
+    rectangular cell (a side view, as a camera sees it); the distance is x
+    from that wall (the lowest sphere surface x - r), in slabs across the
+    cell's depth.
+
+    Returns the angle and the number of bins fitted."""
     c = read_dump_columns(path)
     x, y, z, r = c["x"], c["y"], c["z"], c["radius"]
-    rho = np.hypot(x - x.mean(), y - y.mean())
+    if layout == "axisymmetric":
+        rho = np.hypot(x - x.mean(), y - y.mean())
+    elif layout == "cell":
+        rho = x - np.min(x - r)
+    else:
+        raise ValueError(f"heap_angle: unknown layout '{layout}' (axisymmetric or cell)")
     rmax = np.percentile(rho, 98)
     edges = np.linspace(0, rmax, bins + 1)
     mids, tops = [], []

@@ -371,6 +371,25 @@ class Model:
         self.params = [Param(p, path) for p in d.get("params", [])]
         ex = d.get("extract", {})
         self.extract = ex
+        # the heap-angle extractor's settings, defaults filled in (None: not used)
+        self.heap = None
+        if "heap_angle" in ex:
+            heap = ex["heap_angle"]
+            if not isinstance(heap, dict) or "file" not in heap:
+                raise InputFileError(f"{path}: extract: 'heap_angle' needs a 'file' (the dump of the final "
+                                     "positions: id x y z radius)")
+            self.heap = {"file": heap["file"], "key": heap.get("key", "repose_deg"),
+                         "layout": heap.get("layout", "axisymmetric"), "bins": heap.get("bins", 16),
+                         "central": heap.get("central", [0.25, 0.75])}
+            if self.heap["layout"] not in ("axisymmetric", "cell"):
+                raise InputFileError(f"{path}: extract: heap_angle 'layout' is '{self.heap['layout']}'; use "
+                                     "'axisymmetric' (a conical heap) or 'cell' (a heap against the low-x wall)")
+            if not (isinstance(self.heap["bins"], int) and self.heap["bins"] >= 4):
+                raise InputFileError(f"{path}: extract: heap_angle 'bins' must be an integer of at least 4")
+            cen = self.heap["central"]
+            if not (isinstance(cen, list) and len(cen) == 2 and 0 <= cen[0] < cen[1] <= 1):
+                raise InputFileError(f"{path}: extract: heap_angle 'central' must be two fractions [lo, hi] "
+                                     "with 0 <= lo < hi <= 1")
         self.prefix = ex.get("prefix", "DISCREPANCY")
         self.result_file = ex.get("file")  # None: parse the screen output
         self.observables = d.get("observables", {})  # data observable -> printed key

@@ -62,21 +62,28 @@ def plots(result, data, model, outdir):
             series.append((e, label, colors[0], "^", 1.4))
         else:
             series.append((e, "with " + e["name"], colors[k % len(colors)], ".", 0.7))
+    def other(i):  # the values of the conditions other than the plotted one
+        return tuple(c for k, c in enumerate(data.rows[i]["cond"]) if k != xi)
+
     for obs in data.observables():
         idx = [i for i, r in enumerate(data.rows) if r["observable"] == obs]
         idx.sort(key=lambda i: data.rows[i]["cond"][xi])
         x = np.array([data.rows[i]["cond"][xi] for i in idx])
         y = np.array([data.rows[i]["value"] for i in idx])
         s = np.array([data.rows[i]["sigma"] for i in idx])
+        # with more than one condition, a line joins the points that share the
+        # other conditions' values (e.g. one line per pour)
+        groups = [[k for k, i in enumerate(idx) if other(i) == g] for g in sorted({other(i) for i in idx})]
         fig, (ax, axr) = plt.subplots(2, 1, figsize=(7.0, 6.4), sharex=True,
                                       gridspec_kw={"height_ratios": [3, 1.8]})
         ax.errorbar(x, y, s, fmt="o", color="k", ms=4, capsize=2, label="data", zorder=5)
         for e, label, color, marker, lw in series:
             p = np.array([e["predictions"][i] for i in idx])
             z = np.array([e["residuals"][i] for i in idx])
-            ax.plot(x, p, "-", color=color, marker=marker, ms=4, lw=lw, label=label)
-            axr.plot(x, z, marker, color=color, ms=5 if lw > 1 else 4, ls="-" if lw > 1 else ":", lw=0.6,
-                     label=label)
+            for n, g in enumerate(groups):
+                ax.plot(x[g], p[g], "-", color=color, marker=marker, ms=4, lw=lw, label=label if n == 0 else None)
+                axr.plot(x[g], z[g], marker, color=color, ms=5 if lw > 1 else 4, ls="-" if lw > 1 else ":",
+                         lw=0.6, label=label if n == 0 else None)
         axr.axhline(0, color="k", lw=0.8)
         for lvl in (-2, 2):
             axr.axhline(lvl, color="0.6", lw=0.6, ls="--")
@@ -93,7 +100,10 @@ def plots(result, data, model, outdir):
             title += f": {cause}"
         ax.set_title(textwrap.fill(title, 80), fontsize=8)
         axr.set_ylabel("(model - data) / unc.", fontsize=8)
-        axr.set_xlabel(_label(xname, data.units))
+        xlabel = _label(xname, data.units)
+        if len(groups) > 1:
+            xlabel += "; a line per value of " + ", ".join(c for c in data.conditions if c != xname)
+        axr.set_xlabel(xlabel)
         fig.tight_layout()
         name = f"{obs}.png"
         fig.savefig(os.path.join(outdir, name), dpi=90)

@@ -81,13 +81,13 @@ class Runner:
                     with open(path) as f:
                         text = f.read()
             derived = {}
-            heap = self.model.extract.get("heap_angle")
+            heap = self.model.heap
             if heap and proc.returncode == 0:
                 path = os.path.join(tmp, heap["file"])
                 if not os.path.exists(path):
                     raise RunError(f"the run did not write '{heap['file']}' for heap_angle: {' '.join(args)}")
-                angle, _ = extractors.heap_angle(path, tuple(heap.get("central", (0.25, 0.75))))
-                derived[heap.get("key", "repose_deg")] = angle
+                angle, _ = extractors.heap_angle(path, tuple(heap["central"]), heap["bins"], heap["layout"])
+                derived[heap["key"]] = angle
         if proc.returncode != 0:
             tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
             raise RunError("granary failed (exit %d): %s\n  %s" % (proc.returncode, " ".join(args),

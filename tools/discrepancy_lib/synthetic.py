@@ -5,15 +5,17 @@ switched on, for tests and power studies of the workflow."""
 def hidden_settings(model, condition, levels, hidden_set, name, value, fixed=None):
     """One settings dict per level of the condition: the model's own settings,
     then `fixed`, the mechanism's settings `hidden_set` and its parameter
-    `name` = value."""
-    cvar = model.conditions[condition]
+    `name` = value. `condition` is one condition name (levels are numbers) or
+    a tuple of names (levels are tuples of numbers, one per name)."""
+    names = (condition,) if isinstance(condition, str) else tuple(condition)
     out = []
     for level in levels:
         s = dict(model.set)
         s.update(fixed or {})
         s.update(hidden_set)
         s[name] = value
-        s[cvar] = float(level)
+        for cname, lv in zip(names, (level,) if isinstance(condition, str) else level):
+            s[model.conditions[cname]] = float(lv)
         out.append(s)
     return out
 
