@@ -575,21 +575,47 @@ def cmd_picture(a):
     return 0
 
 
-def cmd_status(a):
-    total_core_s = 0.0
-    print(f"{'case':18s} {'cycles':>6s} {'aval.':>6s} {'non-empty':>9s} {'core-h':>7s} {'particle-steps':>15s}"
-          "   (non-empty: after an arch removal)")
-    for case in sorted(os.listdir(a.data)) if os.path.isdir(a.data) else []:
-        d = os.path.join(a.data, case)
+def case_costs(data):
+    """Per case (sorted by name): (case, cycles, avalanches, non-empty
+    avalanches, core-seconds, particle-steps) from its cycles.csv and
+    avalanches.csv."""
+    out = []
+    for case in sorted(os.listdir(data)) if os.path.isdir(data) else []:
+        d = os.path.join(data, case)
         if not os.path.isdir(d):
             continue
         _, h, rows = read_rows(os.path.join(d, "cycles.csv"))
         core_s = sum(float(r[h.index("wall_s")]) * int(r[h.index("ranks")]) for r in rows) if h else 0.0
         ps = sum(int(r[h.index("particle_steps")]) for r in rows) if h else 0
-        _, ah, arows = read_rows(os.path.join(d, "avalanches.csv"))
-        total_core_s += core_s
-        print(f"{case:18s} {len(rows):6d} {len(arows):6d} {nonempty_avalanches(d):9d} {core_s / 3600:7.2f} {ps:15.3e}")
-    print(f"total core-hours {total_core_s / 3600:.2f}")
+        _, _, arows = read_rows(os.path.join(d, "avalanches.csv"))
+        out.append((case, len(rows), len(arows), nonempty_avalanches(d), core_s, ps))
+    return out
+
+
+def cost_markdown(data, complete=100):
+    """The cost table of examples/silo_study/README.md (a case short of
+    `complete` non-empty avalanches is marked "(in progress)") and the total
+    core-hours."""
+    costs = case_costs(data)
+    lines = ["| case | cycles | non-empty avalanches | core-hours (wall x ranks) | particle-steps |",
+             "|---|---:|---:|---:|---:|"]
+    for case, ncyc, _, nonempty, core_s, ps in costs:
+        name = case + (" (in progress)" if nonempty < complete else "")
+        lines.append(f"| {name} | {ncyc} | {nonempty} | {core_s / 3600:.2f} | {ps:.2e} |")
+    return "\n".join(lines), sum(c[4] for c in costs) / 3600
+
+
+def cmd_status(a):
+    if a.markdown:
+        table, total = cost_markdown(a.data)
+        print(f"{table}\n\nIn all {total:.2f} core-hours so far.")
+        return 0
+    print(f"{'case':18s} {'cycles':>6s} {'aval.':>6s} {'non-empty':>9s} {'core-h':>7s} {'particle-steps':>15s}"
+          "   (non-empty: after an arch removal)")
+    costs = case_costs(a.data)
+    for case, ncyc, naval, nonempty, core_s, ps in costs:
+        print(f"{case:18s} {ncyc:6d} {naval:6d} {nonempty:9d} {core_s / 3600:7.2f} {ps:15.3e}")
+    print(f"total core-hours {sum(c[4] for c in costs) / 3600:.2f}")
     return 0
 
 
@@ -618,6 +644,8 @@ def main(argv=None):
     r.add_argument("-var", nargs=2, action="append", metavar=("NAME", "VALUE"))
     s = sub.add_parser("status", help="cycles, avalanches and cost per case")
     s.add_argument("--data", default=DATA)
+    s.add_argument("--markdown", action="store_true",
+                   help="print the cost table of examples/silo_study/README.md instead")
     pc = sub.add_parser("picture", help="a ParaView picture of a clog of a case")
     pc.add_argument("--case", required=True)
     pc.add_argument("--out", required=True, help="PNG to write")

@@ -10,7 +10,11 @@ for every case r<r>_phi<phi>[_n<nres>] and writes to OUT:
   box.png                   <phi_t>, <k_te>/<k_te0>, <k_re>/<k_re0>, <theta> against phi (Fig. 8a, b)
 
     /usr/bin/python3 tools/silo_study_analysis.py [--data DIR] [--out DIR] [--keep-first]
-                     [--bootstrap 4000] [--seed 1] [--complete 100]
+                     [--bootstrap 4000] [--seed 1] [--complete 100] [--update-docs]
+
+--update-docs also writes the tables into doc/silo_study.md (the block from
+"| case | cycles | avalanches |" to "Columns: `bodies`") and the cost table
+into examples/silo_study/README.md (through "In all ... core-hours so far.").
 
 A case with fewer than --complete non-empty avalanches is analysed as it
 stands and marked "(in progress)" in the tables ("complete": false in
@@ -367,6 +371,52 @@ def write_outputs(a, cases, summary):
     print("\n".join(lines))
 
 
+def replace_block(path, start, end, text):
+    """Replace in the file `path` the lines from the first line that begins
+    with `start` up to (not including) the next line for which `end(line)`
+    holds by `text`; the file is written only when whole (a
+    temporary file renamed over it). Exits naming the file when the block is
+    not found."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    i = next((k for k, ln in enumerate(lines) if ln.startswith(start)), None)
+    j = next((k for k in range(i + 1, len(lines)) if end(lines[k])), None) if i is not None else None
+    if i is None or j is None:
+        raise SystemExit(f"{path}: the block beginning '{start}' was not found whole; restore the file "
+                         "(git checkout) and run again")
+    lines[i:j] = (text[:-1] if text.endswith("\n") else text).split("\n")
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(lines))
+    os.replace(tmp, path)
+
+
+def update_docs(a):
+    """The tables of doc/silo_study.md (summary.md) and the cost table of
+    examples/silo_study/README.md (tools/silo_study.py status --markdown),
+    from the committed results. The prose around them (status, claims, cost
+    figures in sentences) is left to the author."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import silo_study
+    with open(os.path.join(a.out, "summary.md")) as f:
+        summary_md = f.read()
+    doc = os.path.join(ROOT, "doc", "silo_study.md")
+    replace_block(doc, "| case | cycles | avalanches |", lambda ln: ln.startswith("Columns: `bodies`"),
+                  summary_md.rstrip("\n") + "\n\n")
+    readme = os.path.join(ROOT, "examples", "silo_study", "README.md")
+    table, total = silo_study.cost_markdown(a.data, a.complete)
+    replace_block(readme, "| case | cycles | non-empty avalanches |", lambda ln: not ln.strip(), table)
+    with open(readme) as f:
+        text = f.read()
+    text, n = re.subn(r"In all [0-9.]+ core-hours so far\.", f"In all {total:.2f} core-hours so far.", text)
+    if n != 1:
+        raise SystemExit(f"{readme}: expected one sentence 'In all ... core-hours so far.', found {n}")
+    with open(readme + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(readme + ".tmp", readme)
+    print(f"updated the tables of {doc} and {readme}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", default=os.path.join(ROOT, "examples", "silo_study", "results"))
@@ -377,9 +427,14 @@ def main(argv=None):
     ap.add_argument("--complete", type=int, default=100,
                     help="non-empty avalanches that complete a case; fewer: marked '(in progress)' (default 100)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--update-docs", action="store_true",
+                    help="also write the tables into doc/silo_study.md and the cost table into "
+                         "examples/silo_study/README.md")
     a = ap.parse_args(argv)
     cases, summary = analyse(a)
     write_outputs(a, cases, summary)
+    if a.update_docs:
+        update_docs(a)
     return 0
 
 

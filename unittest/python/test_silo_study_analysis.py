@@ -187,5 +187,57 @@ class HiddenMinimum(unittest.TestCase):
             self.assertLess(c["first_S_mean"], 0.5 * c["S_mean"])
 
 
+class UpdateDocs(unittest.TestCase):
+    """--update-docs: the tables are replaced between their markers, the
+    text around them kept; a missing block is refused and the file left as
+    it was; the cost table marks a case short of 100 avalanches."""
+
+    def setUp(self):
+        sys.path.insert(0, os.path.join(ROOT, "tools"))
+        import silo_study
+        import silo_study_analysis
+        self.tool, self.study = silo_study_analysis, silo_study
+
+    def test_block_replaced_text_around_kept(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "doc.md")
+            with open(path, "w") as f:
+                f.write("intro\n\n| case | cycles | avalanches |\n|---|\n| old | 1 | 2 |\n\nColumns: `bodies` ...\nend\n")
+            self.tool.replace_block(path, "| case | cycles | avalanches |", lambda ln: ln.startswith("Columns"),
+                                    "| case | cycles | avalanches |\n|---|\n| new | 3 | 4 |\n\n")
+            with open(path) as f:
+                self.assertEqual(f.read(), "intro\n\n| case | cycles | avalanches |\n|---|\n| new | 3 | 4 |\n\n"
+                                           "Columns: `bodies` ...\nend\n")
+
+    def test_missing_block_refused_file_unchanged(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "doc.md")
+            text = "intro\n| case | cycles | avalanches |\n| old | 1 | 2 |\n"  # no closing marker
+            with open(path, "w") as f:
+                f.write(text)
+            with self.assertRaises(SystemExit) as e:
+                self.tool.replace_block(path, "| case | cycles | avalanches |", lambda ln: ln.startswith("Columns"),
+                                        "x\n")
+            self.assertIn(path, str(e.exception))
+            with open(path) as f:
+                self.assertEqual(f.read(), text)
+
+    def test_cost_table_marks_cases_in_progress(self):
+        rng = np.random.default_rng(3)
+        with tempfile.TemporaryDirectory() as tmp:
+            write_case(tmp, "r0_phi0", rng.exponential(40 * M_BODY, 120) + M_BODY, cycles=4)
+            write_case(tmp, "r1.6_phi0.01", rng.exponential(40 * M_BODY, 50) + M_BODY, cycles=2)
+            for name, ncyc in (("r0_phi0", 4), ("r1.6_phi0.01", 2)):
+                with open(os.path.join(tmp, name, "cycles.csv"), "w") as f:
+                    f.write("# generated\ncycle,new_fill,wall_s,ranks,particle_steps\n")
+                    for c in range(ncyc):
+                        f.write(f"{c},1,1800,2,1000000000\n")
+            table, total = self.study.cost_markdown(tmp)
+            rows = table.split("\n")[2:]
+            self.assertEqual(rows[0], "| r0_phi0 | 4 | 116 | 4.00 | 4.00e+09 |")  # 120 less the 4 first of a cycle
+            self.assertEqual(rows[1], "| r1.6_phi0.01 (in progress) | 2 | 48 | 2.00 | 2.00e+09 |")
+            self.assertAlmostEqual(total, 6.0)
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)
