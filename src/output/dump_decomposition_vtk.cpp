@@ -24,6 +24,7 @@
 #include "core/registry.h"
 #include "core/update.h"
 #include "output/dump.h"
+#include "output/dump_frame_vtk.h"
 #include "output/dump_custom.h"
 #include "output/vtk_frame.h"
 #include "output/vtk_support.h"
@@ -33,36 +34,12 @@ namespace granary {
 
 namespace {
 
-class DumpDecompositionVTK : public Dump {
+class DumpDecompositionVTK : public FrameDumpVTK {
  public:
-  DumpDecompositionVTK(Engine& engine, const Args& args) : Dump(engine, args) {
-    const std::string where = "dump " + id + " decomposition/vtk";
-    const std::string ext = vtkio::extension(filename);
-    if (ext != ".vtk" && ext != ".vtr")
-      throw InputError(where + ": needs a file name ending in .vtk (legacy VTK) or .vtr (VTK XML), got '" +
-                       filename + "'; e.g. post/decomposition*.vtk");
-    if (filename.find('%') != std::string::npos)
-      throw InputError(where + ": writes one file per frame on rank 0; '%' is not allowed in '" + filename +
-                       "'");
-    if (args.size() > 5) throw InputError(where + " takes no further arguments, got '" + args[5] + "'");
-    dumpio::check_directory(engine.world, filename, "dump " + id);
-    legacy_ = ext == ".vtk";
-    if (!legacy_) pvd_.path = vtkio::pvd_name(filename, id);
-  }
-
-  void single_file() override {
-    pvd_.path.clear();
-    pvd_.clear();
-  }
-
-  int modify_param(const Args& args, std::size_t k) override {
-    const std::string where = "dump_modify " + id + " " + args[k];
-    if (const int used = options_.parse(args, k, where)) return used;
-    if (const int used = dumpio::parse_pvd(engine_.world, args, k, where, legacy_, pvd_.path)) {
-      pvd_.clear();
-      return used;
-    }
-    return 0;
+  DumpDecompositionVTK(Engine& engine, const Args& args)
+      : FrameDumpVTK(engine, args, "decomposition/vtk", ".vtr", "post/decomposition*.vtk") {
+    if (args.size() > 5)
+      throw InputError("dump " + id + " decomposition/vtk takes no further arguments, got '" + args[5] + "'");
   }
 
   void write() override {
@@ -133,10 +110,6 @@ class DumpDecompositionVTK : public Dump {
     if (!legacy_ && !pvd_.path.empty()) return pvd_.add(frame, time);
     return "";
   }
-
-  bool legacy_ = false;
-  vtkio::WriteOptions options_;
-  vtkio::PvdCollection pvd_;
 };
 
 }  // namespace

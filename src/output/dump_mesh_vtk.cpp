@@ -33,6 +33,7 @@
 #include "fix/fix_mesh_surface.h"
 #include "core/modify.h"
 #include "output/dump.h"
+#include "output/dump_frame_vtk.h"
 #include "output/dump_custom.h"
 #include "output/vtk_support.h"
 #include "output/vtk_frame.h"
@@ -41,20 +42,12 @@ namespace granary {
 
 namespace {
 
-class DumpMeshVTK : public Dump {
+class DumpMeshVTK : public FrameDumpVTK {
  public:
-  DumpMeshVTK(Engine& engine, const Args& args) : Dump(engine, args) {
+  DumpMeshVTK(Engine& engine, const Args& args)
+      : FrameDumpVTK(engine, args, "mesh/vtk", ".vtp", "post/mesh_*.vtp") {
     bool want_wear = false;
     const std::string where = "dump " + id + " mesh/vtk";
-    const std::string ext = vtkio::extension(filename);
-    if (ext != ".vtp" && ext != ".vtk") {
-      throw InputError(where +
-                       ": needs a file name ending in .vtp (VTK XML PolyData) or .vtk (legacy VTK), got '" +
-                       filename + "'; e.g. post/mesh_*.vtp");
-    }
-    if (filename.find('%') != std::string::npos)
-      throw InputError(where + ": writes one file per frame on rank 0; '%' is not allowed in '" + filename +
-                       "'");
     for (std::size_t k = 5; k < args.size(); ++k) {
       const std::string& w = args[k];
       if (w == "output") {
@@ -82,25 +75,6 @@ class DumpMeshVTK : public Dump {
                        ": 'wear' needs a fix mesh/surface/stress with 'wear finnie' among the meshes "
                        "written; add 'wear finnie' to the mesh fix or remove 'wear'");
     }
-    dumpio::check_directory(engine.world, filename, "dump " + id);
-    legacy_ = ext == ".vtk";
-    if (!legacy_) pvd_.path = vtkio::pvd_name(filename, id);
-  }
-
-  void single_file() override {
-    pvd_.path.clear();
-    pvd_.clear();
-  }
-
-  int modify_param(const Args& args, std::size_t k) override {
-    const std::string& key = args[k];
-    const std::string where = "dump_modify " + id + " " + key;
-    if (const int used = options_.parse(args, k, where)) return used;
-    if (const int used = dumpio::parse_pvd(engine_.world, args, k, where, legacy_, pvd_.path)) {
-      pvd_.clear();
-      return used;
-    }
-    return 0;
   }
 
   void init() override {
@@ -210,9 +184,6 @@ class DumpMeshVTK : public Dump {
 
   std::vector<std::string> mesh_ids_;
   bool wear_ = false;  ///< a mesh of the dump has wear finnie: the "wear" array is written
-  bool legacy_ = false;
-  vtkio::WriteOptions options_;
-  vtkio::PvdCollection pvd_;
 };
 
 }  // namespace
