@@ -10,6 +10,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -471,6 +473,66 @@ TEST_CASE("dump mesh/vtk with a .vtk name writes legacy VTK with the stress comp
   CHECK(total.z() == Approx(-weight).epsilon(0.05));  // at rest after the first bounces (restitution 0.5)
   CHECK_THROWS_WITH(s.cmd("dump_modify d pvd " + path("legacy.pvd")),
                     Catch::Contains("legacy .vtk files cannot be listed in a .pvd"));
+}
+
+// Two meshes, the floor with a 1 cm sphere resting on it and a lid above:
+// dump mesh/vtm writes FRAME.vtm listing FRAME/FRAME_0.vtp and
+// FRAME/FRAME_1.vtp (LIGGGHTS' layout), blocks named by the mesh IDs, each
+// with its own triangles; the floor's forces carry the sphere's weight and
+// equal those of dump mesh/vtk at the same step; the lid's are zero.
+TEST_CASE("dump mesh/vtm writes one block per mesh, as LIGGGHTS lays it out", "[mesh]") {
+  ScriptEngine s;
+  s.cmds(scene());
+  s.cmds({"fix cad all mesh/surface file " + floor_file() + " type 2",
+          "fix lid all mesh/surface file " + floor_file() + " type 2 move 0 0 0.04",
+          "fix floor all " + kWallModel + "mesh n_meshes 2 meshes cad lid",
+          "fix gravi all gravity 9.81 vector 0 0 -1", "create_atoms 1 single 0.001 0.002 0.00499 units box",
+          "set group all diameter 0.01 density 2500", "fix integr all nve/sphere",
+          "dump d all mesh/vtm 2000 " + path("blocks*.vtm") + " meshes all mesh_properties id stress",
+          "dump v all mesh/vtk 2000 " + path("flat_*.vtp") + " cad lid", "run 2000"});
+  REQUIRE(std::filesystem::exists(path("blocks2000.vtm")));
+  std::ifstream in(path("blocks2000.vtm"));
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK_THAT(xml,
+             Catch::Contains("<DataSet index=\"0\" name=\"cad\" file=\"blocks2000/blocks2000_0.vtp\"/>"));
+  CHECK_THAT(xml,
+             Catch::Contains("<DataSet index=\"1\" name=\"lid\" file=\"blocks2000/blocks2000_1.vtp\"/>"));
+  CHECK(std::filesystem::exists(path("blocks.pvd")));
+  auto flat = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  flat->SetFileName(path("flat_2000.vtp").c_str());
+  flat->Update();
+  vtkDataArray* fall = flat->GetOutput()->GetCellData()->GetArray("force");
+  REQUIRE(fall);
+  const auto& mesh = mesh_fix(s, "cad").mesh;
+  Vec3 total[2] = {Vec3(0, 0, 0), Vec3(0, 0, 0)};
+  for (int b = 0; b < 2; ++b) {
+    auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    reader->SetFileName(path("blocks2000/blocks2000_" + std::to_string(b) + ".vtp").c_str());
+    reader->Update();
+    vtkPolyData* pd = reader->GetOutput();
+    REQUIRE(pd->GetNumberOfPolys() == mesh.ntri());
+    REQUIRE(pd->GetNumberOfPoints() == mesh.nnodes());
+    vtkDataArray* force = pd->GetCellData()->GetArray("force");
+    REQUIRE(force);
+    for (int t = 0; t < mesh.ntri(); ++t) {
+      const double* f = force->GetTuple3(t);
+      total[b] += Vec3(f[0], f[1], f[2]);
+      const double* g = fall->GetTuple3(b * mesh.ntri() + t);
+      CHECK(Vec3(f[0], f[1], f[2]) == Vec3(g[0], g[1], g[2]));
+    }
+    double p[3];
+    pd->GetPoint(0, p);
+    CHECK(p[2] == Approx(b == 0 ? 0.0 : 0.04).margin(1e-15));
+  }
+  const double weight = 2500 * 4.0 / 3.0 * 3.14159265358979323846 * 0.005 * 0.005 * 0.005 * 9.81;
+  CHECK(total[0].z() == Approx(-weight).epsilon(0.05));
+  CHECK(total[1].norm() == 0.0);
+  CHECK_THAT(error_of(s, "dump e all mesh/vtm 10 " + path("x*.vtk") + " meshes all"),
+             Catch::Contains("must end in .vtm"));
+  CHECK_THAT(error_of(s, "dump e all mesh/vtm 10 " + path("x*.vtm") + " cad"),
+             Catch::Contains("expected 'meshes all' or 'meshes ID ...'"));
+  CHECK_THAT(error_of(s, "dump e all mesh/vtm 10 " + path("x*.vtm") + " meshes nosuch"),
+             Catch::Contains("'nosuch' is neither the ID of a fix mesh/surface after 'meshes'"));
 }
 
 TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_restart", "[mesh][restart]") {

@@ -117,13 +117,13 @@ struct PairImpact {
 /// Two beads approach along x at +-0.5 m/s (plus an optional sideways offset
 /// and spin of bead 2) and collide once; returns the final state.
 PairImpact pair_impact(const std::string& pair_style, double e, double offset_y, double spin, double mu,
-                       double mu_r) {
+                       double mu_r, const std::string& coeff = "* *") {
   Sim s;
   auto script = header("m m m", "-0.01 0.01 -0.01 0.01 -0.01 0.01", 1);
   append(script, materials(1, e, mu, mu_r));
   append(script, {
                      "pair_style " + pair_style,
-                     "pair_coeff * *",
+                     "pair_coeff " + coeff,
                      "timestep 1e-6",
                      "create_atoms 1 single -0.0011 0 0 units box",
                      "create_atoms 1 single 0.0011 " + num(offset_y) + " 0 units box",
@@ -200,6 +200,46 @@ TEST_CASE("pair_style hertz/rolling and gran model hertz give identical trajecto
     same(c, d);
     CHECK((a.w2 - c.w2).norm() > 1e-6);  // and rolling friction made a difference
   }
+}
+
+// `pair_style hybrid` (and hybrid/overlay) with one granular sub-style, as
+// LIGGGHTS 3.8 runs it (`pair_coeff * * gran`), and `pair_style bubble` and
+// `gran_bubble` (LIGGGHTS' aliases of gran), on their own or as the sub-style: the same kernel as pair_style
+// gran, so the same trajectories (bitwise in practice, checked to 1e-12); a second sub-style and a pair_coeff
+// with another sub-style name are errors.
+TEST_CASE("pair_style hybrid with one granular sub-style, bubble and gran_bubble are pair_style gran",
+          "[physics][engine]") {
+  const std::string model = "model hertz tangential history rolling_friction cdt";
+  const PairImpact a = pair_impact("gran " + model, 0.6, 0.0008, 300.0, 0.3, 0.1);
+  CHECK(a.w1.norm() > 1.0);
+  for (const std::string sub : {"gran", "bubble", "gran_bubble"}) {
+    {
+      INFO("pair_style " << sub);  // LIGGGHTS' aliases of gran on their own
+      const PairImpact b = pair_impact(sub + " " + model, 0.6, 0.0008, 300.0, 0.3, 0.1);
+      CHECK((a.w2 - b.w2).norm() < 1e-12);
+      CHECK((a.v2 - b.v2).norm() < 1e-12);
+    }
+    for (const std::string hyb : {"hybrid", "hybrid/overlay"}) {
+      INFO(hyb << " " << sub);
+      const PairImpact b =
+          pair_impact(hyb + " " + sub + " " + model, 0.6, 0.0008, 300.0, 0.3, 0.1, "* * " + sub);
+      CHECK((a.v1 - b.v1).norm() < 1e-12);
+      CHECK((a.v2 - b.v2).norm() < 1e-12);
+      CHECK((a.w1 - b.w1).norm() < 1e-12);
+      CHECK((a.w2 - b.w2).norm() < 1e-12);
+    }
+  }
+  Sim s;
+  auto script = header("m m m", "-0.01 0.01 -0.01 0.01 -0.01 0.01", 1);
+  append(script, materials(1, 0.5, 0.5, 0.1));
+  s.lines(script);
+  CHECK_THROWS_WITH(s.lines({"pair_style hybrid gran model hertz tangential history bubble model hertz "
+                             "tangential no_history"}),
+                    Catch::Contains("a second sub-style 'bubble'") && Catch::Contains("one contact law"));
+  CHECK_THROWS_WITH(s.lines({"pair_style hybrid model hertz"}), Catch::Contains("one granular sub-style"));
+  s.lines({"pair_style hybrid gran model hertz tangential history"});
+  CHECK_THROWS_WITH(s.lines({"pair_coeff * * bubble"}), Catch::Contains("use pair_coeff * * gran"));
+  CHECK_THROWS_WITH(s.lines({"pair_coeff * *"}), Catch::Contains("pair_coeff * * gran"));
 }
 
 // A bead falls onto a zplane wall/gran of the same material at 0.5 m/s

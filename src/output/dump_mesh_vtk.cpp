@@ -7,7 +7,9 @@
 // (the force over the area, a vector), wear (where a mesh has wear finnie: the accumulated Finnie wear,
 // kg/m^2); velocity is that of the wall material at the triangle's centroid (rotation and surface_vel
 // included); field data TimeValue and Step. A .pvd collection lists every frame with its simulated time. The
-// group is ignored. See doc/commands/dump.md.
+// group is ignored. `dump ID group mesh/vtm N file.vtm meshes all|IDs [mesh_properties ...]`: the same
+// arrays as a VTK multiblock file with one block (a .vtp in the folder FILE/) per mesh, named by its ID, as
+// LIGGGHTS writes it. See doc/commands/dump.md.
 #include <mpi.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -23,10 +25,12 @@
 
 #include <Eigen/Geometry>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "core/engine.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "core/update.h"
@@ -44,13 +48,27 @@ namespace {
 
 class DumpMeshVTK : public FrameDumpVTK {
  public:
-  DumpMeshVTK(Engine& engine, const Args& args)
-      : FrameDumpVTK(engine, args, "mesh/vtk", ".vtp", "post/mesh_*.vtp") {
+  DumpMeshVTK(Engine& engine, const Args& args, const std::string& style = "mesh/vtk")
+      : FrameDumpVTK(engine, args, style, style == "mesh/vtm" ? ".vtm" : ".vtp",
+                     style == "mesh/vtm" ? "post/mesh*.vtm" : "post/mesh_*.vtp"),
+        style_(style) {
     bool want_wear = false;
-    const std::string where = "dump " + id + " mesh/vtk";
+    const std::string where = "dump " + id + " " + style;
+    multiblock_ = style == "mesh/vtm";
+    if (multiblock_ && legacy_)
+      throw InputError(where + ": writes VTK multiblock files; the name must end in .vtm, got '" + filename +
+                       "'");
+    if (multiblock_ && args.size() > 5 && args[5] != "meshes")
+      throw InputError(where + ": expected 'meshes all' or 'meshes ID ...' after the file name, got '" +
+                       args[5] + "'");
+    bool listing_meshes = false;
     for (std::size_t k = 5; k < args.size(); ++k) {
       const std::string& w = args[k];
-      if (w == "output") {
+      if (multiblock_ && (w == "meshes" || w == "mesh_properties")) {
+        listing_meshes = w == "meshes";  // mesh IDs follow `meshes`, identifiers `mesh_properties`
+      } else if (multiblock_ && listing_meshes && w == "all") {
+        // every fix mesh/surface: the default
+      } else if (w == "output") {
         if (k + 1 >= args.size() || args[k + 1] != "face")
           throw InputError(where + ": only 'output face' is supported (values per triangle)");
         ++k;
@@ -58,13 +76,16 @@ class DumpMeshVTK : public FrameDumpVTK {
         // LIGGGHTS' dump identifiers: the mesh index, velocity, area, force and stresses are always written
       } else if (w == "wear") {
         want_wear = true;
-      } else if (engine.modify->find_fix(w)) {
+      } else if (multiblock_ && !listing_meshes &&
+                 (w == "owner" || w == "aedges" || w == "acorners" || w == "nneighs" || w == "nneigs")) {
+        // LIGGGHTS' mesh topology identifiers: not written (see doc/commands/dump.md)
+      } else if (engine.modify->find_fix(w) && (!multiblock_ || listing_meshes)) {
         FixMeshSurface::find(*engine.modify, w, where);
         mesh_ids_.push_back(w);
       } else {
-        throw InputError(where + ": '" + w +
-                         "' is neither the ID of a fix mesh/surface nor one of output, id, vel, area, "
-                         "stress, stresscomponents, wear");
+        throw InputError(where + ": '" + w + "' is neither the ID of a fix mesh/surface" +
+                         (multiblock_ ? " after 'meshes'" : "") +
+                         " nor one of output, id, vel, area, stress, stresscomponents, wear");
       }
     }
     // the wear array: written when a mesh of the dump has wear finnie
@@ -78,7 +99,8 @@ class DumpMeshVTK : public FrameDumpVTK {
   }
 
   void init() override {
-    if (meshes().empty()) throw InputError("dump " + id + " mesh/vtk: there is no fix mesh/surface to write");
+    if (meshes().empty())
+      throw InputError("dump " + id + " " + style_ + ": there is no fix mesh/surface to write");
   }
 
   void write() override {
@@ -110,15 +132,65 @@ class DumpMeshVTK : public FrameDumpVTK {
 
  private:
   std::vector<FixMeshSurface*> meshes() const {
-    return FixMeshSurface::select(*engine_.modify, mesh_ids_, "dump " + id + " mesh/vtk");
+    return FixMeshSurface::select(*engine_.modify, mesh_ids_, "dump " + id + " " + style_);
   }
 
   std::string write_frame(const std::string& frame, const std::vector<FixMeshSurface*>& list,
                           const std::vector<double>& sums) {
-    vtkIdType npts = 0, ncells = 0;
-    for (const FixMeshSurface* m : list) {
-      npts += m->mesh.nnodes();
+    vtkIdType ncells = 0;
+    for (const FixMeshSurface* m : list)
       ncells += m->mesh.ntri();
+    if (!multiblock_) {
+      auto ds = polydata(list, 0, list.size(), sums, ncells);
+      return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep,
+                                         options_, pvd_);
+    }
+    // mesh/vtm (as LIGGGHTS writes it): FRAME.vtm lists one .vtp per mesh,
+    // FRAME/FRAME_<k>.vtp, each block named by its mesh ID; the pieces first,
+    // each whole or absent, the index last
+    const std::filesystem::path index(frame);
+    const std::string stem = index.stem().string();
+    const std::filesystem::path dir = index.parent_path() / stem;
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return "cannot create the directory '" + dir.string() + "': " + ec.message();
+    std::string xml =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" "
+        "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n  <vtkMultiBlockDataSet>\n";
+    for (std::size_t mi = 0; mi < list.size(); ++mi) {
+      auto ds = polydata(list, mi, mi + 1, sums, ncells);
+      vtkio::add_time_step(ds, engine_.update->time(), engine_.update->ntimestep);
+      const std::string piece = stem + "_" + std::to_string(mi) + ".vtp";
+      const std::string path = (dir / piece).string();
+      const std::string err = replace_file_by_name(path, [&](const std::string& temp) -> std::string {
+        auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+        vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
+        w->SetInputData(ds);
+        w->SetFileName(temp.c_str());
+        return w->Write() ? "" : "VTK could not write '" + path + "'";
+      });
+      if (!err.empty()) return err;
+      xml += "    <DataSet index=\"" + std::to_string(mi) + "\" name=\"" + list[mi]->id + "\" file=\"" +
+             stem + "/" + piece + "\"/>\n";
+    }
+    xml += "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
+    const std::string err = replace_file(frame, xml);
+    if (!err.empty()) return err;
+    if (!pvd_.path.empty()) return pvd_.add(frame, engine_.update->time());
+    return "";
+  }
+
+  /// The triangles of meshes list[first, last) as PolyData; `sums` holds the
+  /// forces of every triangle of `list` (3 each), then, with wear, the wear
+  /// of each (ncells in all).
+  vtkSmartPointer<vtkPolyData> polydata(const std::vector<FixMeshSurface*>& list, std::size_t first,
+                                        std::size_t last, const std::vector<double>& sums, vtkIdType nall) {
+    vtkIdType npts = 0, ncells = 0, cell0 = 0;
+    for (std::size_t mi = 0; mi < list.size(); ++mi) {
+      if (mi < first) cell0 += list[mi]->mesh.ntri();
+      if (mi < first || mi >= last) continue;
+      npts += list[mi]->mesh.nnodes();
+      ncells += list[mi]->mesh.ntri();
     }
     auto points = vtkSmartPointer<vtkPoints>::New();
     points->SetDataTypeToDouble();
@@ -137,7 +209,7 @@ class DumpMeshVTK : public FrameDumpVTK {
     auto traction = vtkio::named_array<vtkDoubleArray>("stress_components", 3, ncells);
     auto wear_arr = vtkio::named_array<vtkDoubleArray>("wear", 1, wear_ ? ncells : 0);
     vtkIdType p0 = 0, cell = 0;
-    for (std::size_t mi = 0; mi < list.size(); ++mi) {
+    for (std::size_t mi = first; mi < last; ++mi) {
       const TriMesh& mesh = list[mi]->mesh;
       for (int k = 0; k < mesh.nnodes(); ++k)
         points->SetPoint(p0 + k, mesh.node(k).data());
@@ -153,18 +225,19 @@ class DumpMeshVTK : public FrameDumpVTK {
           const Vec3 vc = mesh.velocity_at(t, centroid);
           vel->SetTypedTuple(cell, vc.data());
         }
-        fa->SetTypedTuple(cell, sums.data() + 3 * cell);
+        const vtkIdType g = cell0 + cell;  // the triangle's place in `sums`
+        fa->SetTypedTuple(cell, sums.data() + 3 * g);
         const double a = mesh.area(t);
         area->SetValue(cell, a);
         // mean stresses of the particles on the triangle: normal (pressure,
         // positive when the particles push against the normal) and shear
-        const Vec3 f(sums[3 * cell], sums[3 * cell + 1], sums[3 * cell + 2]);
+        const Vec3 f(sums[3 * g], sums[3 * g + 1], sums[3 * g + 2]);
         const double fn = f.dot(mesh.normal(t));
         pressure->SetValue(cell, -fn / a);
         shear->SetValue(cell, (f - fn * mesh.normal(t)).norm() / a);
         const Vec3 tr = f / a;
         traction->SetTypedTuple(cell, tr.data());
-        if (wear_) wear_arr->SetValue(cell, sums[3 * ncells + cell]);
+        if (wear_) wear_arr->SetValue(cell, sums[3 * nall + g]);
       }
       p0 += mesh.nnodes();
     }
@@ -178,10 +251,11 @@ class DumpMeshVTK : public FrameDumpVTK {
          std::initializer_list<vtkDataArray*>{index, normal, vel, fa, area, pressure, shear, traction})
       ds->GetCellData()->AddArray(a);
     if (wear_) ds->GetCellData()->AddArray(wear_arr);
-    return vtkio::write_polydata_frame(ds, frame, engine_.update->time(), engine_.update->ntimestep, options_,
-                                       pvd_);
+    return ds;
   }
 
+  std::string style_;
+  bool multiblock_ = false;  ///< mesh/vtm: one block per mesh
   std::vector<std::string> mesh_ids_;
   bool wear_ = false;  ///< a mesh of the dump has wear finnie: the "wear" array is written
 };
@@ -191,5 +265,14 @@ class DumpMeshVTK : public FrameDumpVTK {
 GRANARY_DUMP_STYLE("mesh/vtk", DumpMeshVTK);
 // LIGGGHTS' older name of the same dump
 GRANARY_DUMP_STYLE("mesh/gran/VTK", DumpMeshVTK);
+
+namespace {
+class DumpMeshVTM : public DumpMeshVTK {
+ public:
+  DumpMeshVTM(Engine& engine, const Args& args) : DumpMeshVTK(engine, args, "mesh/vtm") {}
+};
+}  // namespace
+
+GRANARY_DUMP_STYLE("mesh/vtm", DumpMeshVTM);
 
 }  // namespace granary

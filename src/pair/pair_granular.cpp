@@ -20,6 +20,10 @@
 namespace granary {
 
 namespace {
+bool is_granular_substyle(const std::string& w) {
+  return w == "gran" || w == "bubble" || w == "gran_bubble";
+}
+
 contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
   std::vector<std::string> words;
   if (style == "hertz/rolling") {
@@ -42,6 +46,21 @@ contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
     if (args.size() % 2)
       throw InputError("pair_style hertz/rolling takes keyword/value pairs; '" + args.back() +
                        "' has no value");
+  } else if (style == "hybrid" || style == "hybrid/overlay") {
+    // LIGGGHTS' pair hybrid of granular styles: Granary runs one sub-style
+    // (gran, or its aliases bubble and gran_bubble) for every type pair
+    if (args.empty() || !is_granular_substyle(args[0]))
+      throw InputError("pair_style " + style +
+                       ": Granary takes one granular sub-style (gran, bubble or "
+                       "gran_bubble) followed by its model words, e.g. pair_style " +
+                       style + " gran model hertz tangential history; got '" + (args.empty() ? "" : args[0]) +
+                       "'");
+    for (std::size_t k = 1; k < args.size(); ++k)
+      if (is_granular_substyle(args[k]))
+        throw InputError("pair_style " + style + ": a second sub-style '" + args[k] +
+                         "': Granary runs one contact law for all type pairs (different laws per phase "
+                         "are not supported); use one sub-style, or pair_style gran");
+    words.assign(args.begin() + 1, args.end());
   } else {
     words = args;
   }
@@ -67,7 +86,15 @@ PairGranular::PairGranular(Engine& engine, const Args& args, const std::string& 
 }
 
 void PairGranular::coeff(const Args& args) {
-  require_args(args, 2, 2, "pair_coeff * *");
+  if (style == "hybrid" || style == "hybrid/overlay") {
+    // pair_coeff * * SUBSTYLE: the one sub-style, for all type pairs
+    require_args(args, 3, 3, "pair_coeff * * " + args_[0]);
+    if (args[2] != args_[0])
+      throw InputError("pair_coeff for pair_style " + style + ": the sub-style is '" + args_[0] + "', got '" +
+                       args[2] + "'; use pair_coeff * * " + args_[0]);
+  } else {
+    require_args(args, 2, 2, "pair_coeff * *");
+  }
   int lo, hi;
   const int n = engine_.particles->ntypes;
   for (int k = 0; k < 2; ++k) {
@@ -158,5 +185,9 @@ void PairGranular::compute() {
 
 GRANARY_PAIR_STYLE("gran", PairGran);
 GRANARY_PAIR_STYLE("hertz/rolling", PairHertzRolling);
+GRANARY_PAIR_STYLE("bubble", PairBubble);
+GRANARY_PAIR_STYLE("gran_bubble", PairGranBubble);
+GRANARY_PAIR_STYLE("hybrid", PairHybridGran);
+GRANARY_PAIR_STYLE("hybrid/overlay", PairHybridOverlayGran);
 
 }  // namespace granary

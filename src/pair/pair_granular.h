@@ -2,7 +2,8 @@
 //
 //   pair_style gran model hertz tangential history rolling_friction cdt   (LIGGGHTS spelling)
 //   pair_style hertz/rolling [rolling_friction cdt|epsd|epsd2|epsd3|off] [tangential history|no_history] ...
-// Both build the same ContactModel; hertz/rolling defaults to Hertz normal
+//   pair_style hybrid gran model hertz ...  (one granular sub-style, LIGGGHTS' pair hybrid)
+// All build the same ContactModel; hertz/rolling defaults to Hertz normal
 // force, tangential history and cdt rolling friction.
 #pragma once
 
@@ -54,6 +55,28 @@ class PairGran : public PairGranular {
 class PairHertzRolling : public PairGranular {
  public:
   PairHertzRolling(Engine& engine, const Args& args) : PairGranular(engine, args, "hertz/rolling") {}
+};
+
+/// `pair_style bubble ...` and `gran_bubble ...`: LIGGGHTS' aliases of gran.
+class PairBubble : public PairGranular {
+ public:
+  PairBubble(Engine& engine, const Args& args) : PairGranular(engine, args, "bubble") {}
+};
+class PairGranBubble : public PairGranular {
+ public:
+  PairGranBubble(Engine& engine, const Args& args) : PairGranular(engine, args, "gran_bubble") {}
+};
+
+/// `pair_style hybrid gran ...` (also bubble, gran_bubble) and `hybrid/overlay`
+/// with one granular sub-style, which applies to every type pair
+/// (`pair_coeff * * gran`).
+class PairHybridGran : public PairGranular {
+ public:
+  PairHybridGran(Engine& engine, const Args& args) : PairGranular(engine, args, "hybrid") {}
+};
+class PairHybridOverlayGran : public PairGranular {
+ public:
+  PairHybridOverlayGran(Engine& engine, const Args& args) : PairGranular(engine, args, "hybrid/overlay") {}
 };
 
 }  // namespace granary

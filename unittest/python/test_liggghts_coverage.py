@@ -152,10 +152,10 @@ class ChecksCatchMistakes(unittest.TestCase):
         self.assertIn("compute new/thing (compute_new_thing.html) has no row", text)
 
     def test_supported_but_not_registered(self):
-        self.edit_row("fix", "ave/euler", verdict="supported", text="")
+        self.edit_row("fix", "continuum/weighted", verdict="supported", text="")
         status, text = self.check()
         self.assertEqual(status, 1)
-        self.assertIn("fix ave/euler is marked 'supported' but Granary does not register it", text)
+        self.assertIn("fix continuum/weighted is marked 'supported' but Granary does not register it", text)
 
     def test_registered_but_marked_not_supported(self):
         self.edit_row("fix", "nve/sphere", verdict="not supported", text="not implemented yet")
@@ -164,11 +164,11 @@ class ChecksCatchMistakes(unittest.TestCase):
         self.assertIn("fix nve/sphere is marked 'not supported' but Granary registers it", text)
 
     def test_missing_reason_and_difference(self):
-        self.edit_row("fix", "ave/euler", text="")
+        self.edit_row("fix", "continuum/weighted", text="")
         self.edit_row("fix", "move/mesh", text="")
         status, text = self.check()
         self.assertEqual(status, 1)
-        self.assertIn("fix ave/euler is marked 'not supported' without a reason", text)
+        self.assertIn("fix continuum/weighted is marked 'not supported' without a reason", text)
         self.assertIn("fix move/mesh is marked 'supported with differences' without saying which", text)
 
     def test_row_for_a_name_the_manual_does_not_have(self):
@@ -179,18 +179,18 @@ class ChecksCatchMistakes(unittest.TestCase):
 
     def test_supported_without_doc_page(self):
         # A registered name whose doc page does not show it: a program that
-        # registers fix ave/euler, and a data file that says so.
+        # registers fix continuum/weighted, and a data file that says so.
         fake = self.tmp / "granary"
         listing = subprocess.run([BINARY, "-list-styles"], capture_output=True, text=True, check=True).stdout
-        fake.write_text("#!/bin/sh\ncat <<'EOF'\n" + listing + "fix ave/euler\nEOF\n")
+        fake.write_text("#!/bin/sh\ncat <<'EOF'\n" + listing + "fix continuum/weighted\nEOF\n")
         fake.chmod(0o755)
-        self.edit_row("fix", "ave/euler", verdict="supported", text="")
+        self.edit_row("fix", "continuum/weighted", verdict="supported", text="")
         out = io.StringIO()
         with redirect_stdout(out):
             status = lc.main(["--check", "--granary", str(fake), "--data", str(self.data),
                               "--target", str(self.target)])
         self.assertEqual(status, 1)
-        self.assertIn("fix ave/euler is supported but no Granary doc page shows it", out.getvalue())
+        self.assertIn("fix continuum/weighted is supported but no Granary doc page shows it", out.getvalue())
 
     def test_stale_table(self):
         text = self.target.read_text()
