@@ -7,6 +7,7 @@ and LIGGGHTS 3.8:
 
     /usr/bin/python3 tools/bed_contacts.py check DIR      # does the pair find every contact?
     /usr/bin/python3 tools/bed_contacts.py beads DIR...   # contact numbers of the settled beds
+    /usr/bin/python3 tools/bed_contacts.py beads --flow DIR...   # ... averaged over the discharge
 
 check: at every dumped step, the contacts by geometry (two spheres of
 different bodies whose centres are closer than the sum of their radii by
@@ -18,7 +19,8 @@ is counted too. Contacts within --tol of touching count either way (the
 dumps' 10 digits). Exit status 1 when a contact is missed.
 
 beads: at the first dumped step of each folder (the settled bed at the start
-of the discharge), per bead (type 2): contacts with clump spheres (type 1),
+of the discharge; with --flow the mean over the dumps after it), per bead
+(type 2): contacts with clump spheres (type 1),
 distinct clumps touched, contacts with beads; the share of beads touching no
 particle; per clump, contacts with spheres of other clumps; and the beads'
 mean overlap over their radius.
@@ -99,8 +101,22 @@ def cmd_check(a):
     return 1 if worst > 0 else 0
 
 
-def bead_stats(folder, dc):
-    step = steps(folder)[0]
+def bead_stats(folder, dc, flow=False):
+    """The contact numbers at the first dump (the settled bed), or with
+    `flow` averaged over the dumps after it (the discharge)."""
+    if not flow:
+        return bead_stats_at(folder, steps(folder)[0], dc)
+    later = steps(folder)[1:]
+    if not later:
+        raise SystemExit(f"{folder}: --flow needs dumps after the first (the discharge)")
+    each = [bead_stats_at(folder, st, dc) for st in later]
+    out = {k: (float(np.mean([e[k] for e in each])) if isinstance(each[0][k], float) else each[0][k])
+           for k in each[0]}
+    out["step"] = f"{later[0]}-{later[-1]}"
+    return out
+
+
+def bead_stats_at(folder, step, dc):
     ids, typ, body, x, r = particles(folder, step)
     geo = geometric_contacts(ids, body, x, r, 0.0)
     index = {int(v): k for k, v in enumerate(ids)}
@@ -139,7 +155,7 @@ def cmd_beads(a):
             "beads_touching_nothing", "clump_clump_contacts", "bead_overlap_over_radius"]
     print("folder step " + " ".join(keys))
     for folder in a.folders:
-        s = bead_stats(folder, a.dc)
+        s = bead_stats(folder, a.dc, a.flow)
         print(f"{folder} {s['step']} " + " ".join(f"{s[k]:.4g}" for k in keys))
     return 0
 
@@ -155,6 +171,8 @@ def main(argv=None):
     b = sub.add_parser("beads", help="contact numbers of the settled beds")
     b.add_argument("folders", nargs="+")
     b.add_argument("--dc", type=float, default=3.2e-3, help="cylinder size for the 2-6 dc slab [m]")
+    b.add_argument("--flow", action="store_true",
+                   help="average over the dumps after the first (the discharge) instead of the first")
     a = ap.parse_args(argv)
     return {"check": cmd_check, "beads": cmd_beads}[a.cmd](a)
 

@@ -78,6 +78,13 @@ class BedContacts(unittest.TestCase):
             self.assertAlmostEqual(bb, 2 / 4)
             self.assertAlmostEqual(nothing, 1 / 4)
             self.assertEqual(cc, 0)  # one clump: no clump-clump contact
+            # --flow: the dumps after the first (step 200: the clump and bead 3 only)
+            r = run("beads", tmp, "--dc", "1e-3", "--flow")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            v = r.stdout.splitlines()[1].split()
+            self.assertEqual(v[1], "200-200")
+            self.assertEqual(float(v[2]), 1)  # one bead
+            self.assertAlmostEqual(float(v[4]), 1.0)  # bead 3 on sphere 1
 
     def test_truncated_dump_refused(self):
         with tempfile.TemporaryDirectory() as tmp:
