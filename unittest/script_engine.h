@@ -151,4 +151,16 @@ inline std::string shared_temp_dir(const std::string& prefix) {
   return dir;
 }
 
+/// "NAME_np<ranks>" in the working directory, emptied by rank 0 (collective):
+/// the output folder of a test that runs at several rank counts.
+inline std::string rank_count_dir(const std::string& name) {
+  const std::string dir = name + "_np" + std::to_string(world_size());
+  if (world_rank() == 0) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  return dir;
+}
+
 }  // namespace granary::test

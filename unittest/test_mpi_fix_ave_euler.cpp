@@ -68,16 +68,6 @@ granary::FixAveEuler& euler(granary::Engine& e, const std::string& id) {
   return *f;
 }
 
-std::string out_dir(const std::string& name) {
-  const std::string dir = name + "_np" + std::to_string(granary::test::world_size());
-  if (granary::test::world_rank() == 0) {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
-  return dir;
-}
-
 }  // namespace
 
 TEST_CASE("fix ave/euler: LIGGGHTS 3.8's cells of a pressed, moving lattice of two sphere sizes",
@@ -85,7 +75,7 @@ TEST_CASE("fix ave/euler: LIGGGHTS 3.8's cells of a pressed, moving lattice of t
   const auto ref = read_liggghts_vtk(kRoot / "unittest/reference/ave_euler.liggghts.vtk");
   REQUIRE(ref.at("points").size() == 3 * 54);
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
-  const std::string dir = out_dir("ave_euler");
+  const std::string dir = granary::test::rank_count_dir("ave_euler");
   s.cmd("variable out index " + dir);
   s.cmd("include " + (kRoot / "unittest/scripts/ave_euler/in.ave_euler").string());
   const granary::FixAveEuler& f = euler(s.e, "e");
@@ -135,7 +125,7 @@ TEST_CASE("fix ave/euler: the cells hold the particles' volume and momentum; par
   for (const std::string par : {"no", "yes"}) {
     INFO("parallel " << par);
     granary::test::ScriptEngine s(MPI_COMM_WORLD);
-    const std::string dir = out_dir("ave_euler_sums_" + par);
+    const std::string dir = granary::test::rank_count_dir("ave_euler_sums_" + par);
     s.cmd("variable out index " + dir);
     s.cmd("variable par index " + par);
     s.cmd("variable e index 0.5");
@@ -181,7 +171,7 @@ TEST_CASE("fix ave/euler: the cells hold the particles' volume and momentum; par
 
 TEST_CASE("fix ave/euler and dump euler/vtk: errors", "[ave_euler][mpi]") {
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
-  const std::string dir = out_dir("ave_euler_err");
+  const std::string dir = granary::test::rank_count_dir("ave_euler_err");
   s.cmds(granary::test::liggghts_head("0 0.02 0 0.02 0 0.04", 1));
   s.cmds({"fix m1 all property/global youngsModulus peratomtype 5e6",
           "fix m2 all property/global poissonsRatio peratomtype 0.3",

@@ -29,6 +29,8 @@ class Compute {
   /// Local values (rows of items this rank holds, e.g. contacts) into
   /// array_local (collective: every rank calls it together).
   virtual void compute_local() {}
+  /// A global array (size_array_rows x size_array_cols, row-major in `array`).
+  virtual void compute_array() {}
 
   bool scalar_flag = false;
   int size_vector = 0;
@@ -36,16 +38,19 @@ class Compute {
   int peratom_cols = 0;    // 0: a per-atom vector
   bool extensive = false;  // scalar grows with the number of particles (thermo_modify norm)
   bool local_flag = false;
-  int size_local_cols = 0;  // 0: a local vector
-  int size_local_rows = 0;  // rows of this rank after compute_local()
+  int size_local_cols = 0;                       // 0: a local vector
+  int size_local_rows = 0;                       // rows of this rank after compute_local()
+  int size_array_rows = 0, size_array_cols = 0;  // a global array: 0 columns = none
 
   std::vector<double> vector;
   std::vector<double> vector_atom;
   std::vector<std::vector<double>> array_atom;  // [col][i]
   std::vector<double> array_local;              // row-major: [row * max(1, size_local_cols) + col]
+  std::vector<double> array;                    // global array, row-major: [row * size_array_cols + col]
 
   // cache: step at which each output was last computed (-1: never)
-  std::int64_t invoked_scalar = -1, invoked_vector = -1, invoked_peratom = -1, invoked_local = -1;
+  std::int64_t invoked_scalar = -1, invoked_vector = -1, invoked_peratom = -1, invoked_local = -1,
+               invoked_array = -1;
   double scalar = 0.0;
 
   std::string id, style;

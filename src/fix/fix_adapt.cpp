@@ -151,10 +151,7 @@ class FixAdapt : public Fix {
     // lists (and ghosts) again at the next step, with a cutoff that covers
     // the largest particle
     Neighbor& nb = *engine_.neighbor;
-    double r = 0.0, rmax = 0.0;
-    for (int i = 0; i < p.nlocal; ++i)
-      r = std::max(r, p.radius[i]);
-    MPI_Allreduce(&r, &rmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
+    const double rmax = p.max_radius(engine_.world);
     if (rmax > nb.rmax) {
       nb.rmax = rmax;
       nb.cutneighmax = 2.0 * nb.rmax + nb.skin;

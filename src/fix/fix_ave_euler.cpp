@@ -86,11 +86,7 @@ void FixAveEuler::end_of_step() {
 
 void FixAveEuler::make_grid() {
   const Particles& p = *engine_.particles;
-  double r = 0.0;
-  for (int i = 0; i < p.nlocal; ++i)
-    r = std::max(r, p.radius[i]);
-  double rmax = 0.0;
-  MPI_Allreduce(&r, &rmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
+  const double rmax = p.max_radius(engine_.world);
   const Domain& d = *engine_.domain;
   const Vec3 lo = parallel_ ? d.sublo : d.boxlo;
   const Vec3 hi = parallel_ ? d.subhi : d.boxhi;

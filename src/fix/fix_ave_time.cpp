@@ -7,7 +7,11 @@
 // every later Nfreq window). Values: c_ID (scalar of a compute), c_ID[i]
 // (element i of its global vector), f_ID, f_ID[i] (fix outputs), v_name
 // (equal-style variable). Keywords:
-//   mode scalar                 (the only mode)
+//   mode scalar|vector          scalar: each value one global number;
+//                               vector: each value a global vector (c_ID,
+//                               f_ID) or array column (c_ID[i]) of one
+//                               length, averaged element by element (e.g.
+//                               compute rdf); written as blocks of rows
 //   ave one|running|window M    what each output holds: the last Nfreq
 //                               average, the average of all Nfreq averages
 //                               so far, or of the last M of them
@@ -15,8 +19,9 @@
 //   file F                      one line per output: "step v1 v2 ..."
 //   title1/title2/title3 STRING header lines of the file
 //   format F                    C format of each value in the file (default " %g")
-// Outputs: one value -> global scalar f_ID; several -> global vector f_ID[i].
-// Before the first output the outputs are 0.
+// Outputs (mode scalar): one value -> global scalar f_ID; several -> global
+// vector f_ID[i]. Before the first output the outputs are 0. Mode vector has
+// no global outputs (its averages go to the file).
 #include <mpi.h>
 
 #include <cmath>
@@ -31,6 +36,7 @@
 #include "core/registry.h"
 #include "core/update.h"
 #include "core/variable.h"
+#include "compute/compute.h"
 #include "fix/fix.h"
 #include "fix/sampled_values.h"
 #include "core/modify.h"
@@ -43,7 +49,8 @@ class FixAveTime : public Fix {
  public:
   FixAveTime(Engine& engine, const Args& args) : Fix(engine, args) {
     const std::string usage =
-        "fix ID group ave/time Nevery Nrepeat Nfreq value1 ... [mode scalar] [ave one|running|window M] "
+        "fix ID group ave/time Nevery Nrepeat Nfreq value1 ... [mode scalar|vector] [ave one|running|window "
+        "M] "
         "[start S] [file F] [format F] [title1|title2|title3 TEXT]";
     if (args.size() < 7)
       throw InputError("fix ave/time needs Nevery, Nrepeat, Nfreq and a value; usage: " + usage);
@@ -76,10 +83,9 @@ class FixAveTime : public Fix {
         throw InputError("fix ave/time keyword '" + key + "' needs a value; usage: " + usage);
       const std::string& val = args[k + 1];
       if (key == "mode") {
-        if (val == "vector")
-          throw InputError(
-              "fix ave/time mode vector is not supported; average vector elements c_ID[i] in mode scalar");
-        if (val != "scalar") throw InputError("fix ave/time mode must be scalar (got '" + val + "')");
+        if (val != "scalar" && val != "vector")
+          throw InputError("fix ave/time mode must be scalar or vector (got '" + val + "')");
+        vector_mode_ = val == "vector";
       } else if (key == "ave") {
         std::size_t at = k + 1;
         ave_ = static_cast<Ave>(parse_ave_keyword(args, at, "fix ave/time", window_));
@@ -118,22 +124,35 @@ class FixAveTime : public Fix {
     }
 
     const int n = static_cast<int>(values_.size());
-    if (n == 1)
+    if (vector_mode_) {
+      for (const SampledValue& v : values_)
+        if (v.kind == 'v')
+          throw InputError("fix ave/time mode vector: '" + v.text +
+                           "' is a variable; mode vector averages global vectors (c_ID, f_ID) and array "
+                           "columns (c_ID[i])");
+    } else if (n == 1) {
       scalar_flag = true;
-    else
+    } else {
       size_vector = n;
-    sum_.assign(n, 0.0);
-    out_.assign(n, 0.0);
-    total_.assign(n, 0.0);
+    }
+    sum_.assign(vector_mode_ ? 0 : n, 0.0);
+    out_.assign(vector_mode_ ? 0 : n, 0.0);
+    total_.assign(vector_mode_ ? 0 : n, 0.0);
     nevery = 1;  // sampling steps are tracked here (schedule_)
     restart_global = true;
 
     if (!file_.empty()) {
       if (title1_.empty()) title1_ = "# Time-averaged data for fix " + id;
       if (title2_.empty()) {
-        title2_ = "# TimeStep";
+        title2_ = vector_mode_ ? "# TimeStep Number-of-rows" : "# TimeStep";
+        if (!vector_mode_)
+          for (const SampledValue& v : values_)
+            title2_ += " " + v.text;
+      }
+      if (vector_mode_ && title3_.empty()) {
+        title3_ = "# Row";
         for (const SampledValue& v : values_)
-          title2_ += " " + v.text;
+          title3_ += " " + v.text;
       }
       std::string header = title1_ + "\n" + title2_ + "\n";
       if (!title3_.empty()) header += title3_ + "\n";
@@ -146,8 +165,12 @@ class FixAveTime : public Fix {
   unsigned hooks() const override { return END_OF_STEP; }
 
   void init() override {
-    for (const SampledValue& v : values_)
-      check_global_value(engine_, v, this, "fix ave/time " + id, "it needs an equal-style variable");
+    for (const SampledValue& v : values_) {
+      if (vector_mode_)
+        check_vector_value(v);
+      else
+        check_global_value(engine_, v, this, "fix ave/time " + id, "it needs an equal-style variable");
+    }
     schedule_.catch_up(engine_.update->ntimestep);
   }
 
@@ -157,14 +180,24 @@ class FixAveTime : public Fix {
   void end_of_step() override {
     const std::int64_t step = engine_.update->ntimestep;
     if (!schedule_.due(step)) return;
-    for (std::size_t i = 0; i < values_.size(); ++i) {
-      const double x = sample_global(engine_, values_[i]);
+    const std::vector<double> x = sample();
+    if (sum_.size() != x.size()) {
+      // mode vector: the length is known at the first sample and may not change
+      if (!sum_.empty())
+        throw RunError("fix ave/time " + id + ": the vectors changed length from " +
+                       std::to_string(sum_.size() / values_.size()) + " to " +
+                       std::to_string(x.size() / values_.size()) + " rows");
+      sum_.assign(x.size(), 0.0);
+      out_.assign(x.size(), 0.0);
+      total_.assign(x.size(), 0.0);
+    }
+    for (std::size_t i = 0; i < x.size(); ++i) {
       if (schedule_.window_start()) sum_[i] = 0.0;
-      sum_[i] += x;
+      sum_[i] += x[i];
     }
     if (!schedule_.sampled(step)) return;
     // an output step: the average of the Nrepeat samples
-    const int n = static_cast<int>(values_.size());
+    const int n = static_cast<int>(x.size());
     std::vector<double> avg(n);
     for (int i = 0; i < n; ++i)
       avg[i] = sum_[i] / static_cast<double>(nrepeat_);
@@ -186,7 +219,18 @@ class FixAveTime : public Fix {
         out_[i] = s / static_cast<double>(window_values_.size());
       }
     }
-    if (fp_) {
+    if (fp_ && vector_mode_) {
+      // "step rows", then one line per row: "row v1 v2 ..." (rows from 1)
+      const std::size_t nv = values_.size(), rows = out_.size() / nv;
+      std::fprintf(fp_.get(), "%lld %zu\n", static_cast<long long>(step), rows);
+      for (std::size_t r = 0; r < rows; ++r) {
+        std::fprintf(fp_.get(), "%zu", r + 1);
+        for (std::size_t v = 0; v < nv; ++v)
+          std::fprintf(fp_.get(), format_.c_str(), out_[r * nv + v]);
+        std::fprintf(fp_.get(), "\n");
+      }
+      std::fflush(fp_.get());
+    } else if (fp_) {
       std::fprintf(fp_.get(), "%lld", static_cast<long long>(step));
       for (int i = 0; i < n; ++i)
         std::fprintf(fp_.get(), format_.c_str(), out_[i]);
@@ -202,8 +246,8 @@ class FixAveTime : public Fix {
   void pack_restart(std::string& out) const override {
     std::ostringstream os;
     os.precision(17);
-    os << values_.size() << ' ' << count_;
-    for (std::size_t i = 0; i < values_.size(); ++i)
+    os << out_.size() << ' ' << count_;
+    for (std::size_t i = 0; i < out_.size(); ++i)
       os << ' ' << total_[i] << ' ' << out_[i];
     os << ' ' << window_values_.size();
     for (const auto& w : window_values_)
@@ -216,7 +260,8 @@ class FixAveTime : public Fix {
     std::istringstream is(in);
     std::size_t n = 0, nw = 0;
     long long count = 0;
-    if (!(is >> n >> count) || n != values_.size()) return;  // other values: start afresh
+    if (!(is >> n >> count) || n == 0 || (!vector_mode_ && n != values_.size()) || n % values_.size() != 0)
+      return;  // other values: start afresh
     std::vector<double> total(n), out(n);
     for (std::size_t i = 0; i < n; ++i)
       is >> total[i] >> out[i];
@@ -233,6 +278,7 @@ class FixAveTime : public Fix {
     count_ = count;
     total_ = total;
     out_ = out;
+    if (sum_.size() != n) sum_.assign(n, 0.0);
     window_values_ = window;
   }
 
@@ -257,6 +303,78 @@ class FixAveTime : public Fix {
     return v;
   }
 
+  /// One sample of every value: mode scalar, one number each; mode vector,
+  /// the vectors (all of one length L), row-major: [row * nvalues + value].
+  std::vector<double> sample() {
+    const std::size_t nv = values_.size();
+    if (!vector_mode_) {
+      std::vector<double> x(nv);
+      for (std::size_t i = 0; i < nv; ++i)
+        x[i] = sample_global(engine_, values_[i]);
+      return x;
+    }
+    std::vector<std::vector<double>> cols(nv);
+    for (std::size_t i = 0; i < nv; ++i) {
+      cols[i] = vector_of(values_[i]);
+      if (cols[i].size() != cols[0].size())
+        throw RunError("fix ave/time " + id + " mode vector: '" + values_[i].text + "' has " +
+                       std::to_string(cols[i].size()) + " rows, '" + values_[0].text + "' " +
+                       std::to_string(cols[0].size()) + "; the values must have the same length");
+    }
+    std::vector<double> x(cols[0].size() * nv);
+    for (std::size_t r = 0; r < cols[0].size(); ++r)
+      for (std::size_t i = 0; i < nv; ++i)
+        x[r * nv + i] = cols[i][r];
+    return x;
+  }
+
+  /// Mode vector: c_ID / f_ID must give a global vector, c_ID[i] a global
+  /// array with at least i columns.
+  void check_vector_value(const SampledValue& v) const {
+    const std::string what = "fix ave/time " + id + " mode vector: '" + v.text + "'";
+    if (v.kind == 'c') {
+      Compute* c = engine_.modify->compute_or_error(v.id, what);
+      if (v.col == 0 && c->size_vector == 0)
+        throw InputError(what + ": compute " + v.id + " gives no global vector");
+      if (v.col > 0 && v.col > c->size_array_cols)
+        throw InputError(what + ": compute " + v.id + " gives no global array with " + std::to_string(v.col) +
+                         " columns (" + std::to_string(c->size_array_cols) + ")");
+    } else {
+      Fix* f = engine_.modify->fix_or_error(v.id, what);
+      if (f == this) throw InputError(what + ": a fix cannot average its own output");
+      if (v.col > 0) throw InputError(what + ": fixes give no global arrays; use f_" + v.id);
+      if (f->size_vector == 0) throw InputError(what + ": fix " + v.id + " gives no global vector");
+    }
+  }
+
+  std::vector<double> vector_of(const SampledValue& v) {
+    const std::int64_t step = engine_.update->ntimestep;
+    std::vector<double> out;
+    if (v.kind == 'f') {
+      Fix* f = engine_.modify->fix_or_error(v.id, "fix ave/time " + id);
+      for (int i = 0; i < f->size_vector; ++i)
+        out.push_back(f->compute_vector(i));
+      return out;
+    }
+    Compute* c = engine_.modify->compute_or_error(v.id, "fix ave/time " + id);
+    if (v.col == 0) {
+      if (c->invoked_vector != step) {
+        c->compute_vector();
+        c->invoked_vector = step;
+      }
+      return c->vector;
+    }
+    if (c->invoked_array != step) {
+      c->compute_array();
+      c->invoked_array = step;
+    }
+    const int ncol = c->size_array_cols;
+    for (int r = 0; r < c->size_array_rows; ++r)
+      out.push_back(c->array[static_cast<std::size_t>(r) * ncol + (v.col - 1)]);
+    return out;
+  }
+
+  bool vector_mode_ = false;
   long long every_ = 1, nrepeat_ = 1, nfreq_ = 1;
   std::vector<SampledValue> values_;
   Ave ave_ = ONE;

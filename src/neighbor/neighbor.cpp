@@ -84,11 +84,7 @@ void Neighbor::modify_command(const Args& args) {
 }
 
 void Neighbor::init() {
-  const Particles& p = *engine_.particles;
-  double r = 0.0;
-  for (int i = 0; i < p.nlocal; ++i)
-    r = std::max(r, p.radius[i]);
-  MPI_Allreduce(&r, &rmax, 1, MPI_DOUBLE, MPI_MAX, engine_.world);
+  rmax = engine_.particles->max_radius(engine_.world);
   cutneighmax = 2.0 * rmax + skin;
 }
 

@@ -1,5 +1,7 @@
 #include "particles/particles.h"
 
+#include <mpi.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -309,6 +311,14 @@ int Particles::find_field(const std::string& name) const {
   for (std::size_t k = 0; k < extras.size(); ++k)
     if (extras[k].name == name) return static_cast<int>(k);
   return -1;
+}
+
+double Particles::max_radius(MPI_Comm world) const {
+  double r = 0.0, rmax = 0.0;
+  for (int i = 0; i < nlocal; ++i)
+    r = std::max(r, radius[i]);
+  MPI_Allreduce(&r, &rmax, 1, MPI_DOUBLE, MPI_MAX, world);
+  return rmax;
 }
 
 }  // namespace granary

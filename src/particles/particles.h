@@ -8,6 +8,8 @@
 // add_field() and get the same treatment.
 #pragma once
 
+#include <mpi.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -59,6 +61,9 @@ class Particles {
   std::vector<int> image;    // periodic image flags packed 10 bits per dimension
 
   int size() const { return nlocal + nghost; }
+  /// The largest radius of the owned particles of every rank (collective
+  /// over `world`); 0 with no particles.
+  double max_radius(MPI_Comm world) const;
   /// Resize every field to hold n particles (owned + ghost).
   void resize(int n);
   /// Append an owned particle (only when there are no ghosts). Returns its index.
