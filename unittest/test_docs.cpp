@@ -44,7 +44,10 @@ const std::map<std::string, std::string> kAliases = {
     {"lineforce", "planeforce"},
     {"mesh/surface/planar", "mesh/surface"},
     {"rigid", "multisphere"},
-    {"multisphere/single", "multisphere"}};
+    {"multisphere/single", "multisphere"},
+    {"bubble", "gran"},
+    {"gran_bubble", "gran"},
+    {"hybrid/overlay", "hybrid"}};
 
 // The Syntax section of a page (up to the next "## " heading).
 std::string syntax_section(const std::string& text) {

@@ -134,7 +134,8 @@ TEST_CASE("fix ave/time: errors", "[fix][ave/time]") {
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10"), Contains("usage"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 ke"), Contains("at least one value"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s bogus 1"), Contains("unknown fix ave/time keyword"));
-  CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s mode vector"), Contains("not supported"));
+  CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s mode vector"), Contains("'v_s' is a variable"));
+  CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s mode matrix"), Contains("scalar or vector"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s ave window 0"), Contains("positive"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 c_x[0]"), Contains(">= 1"));
   CHECK_THROWS_WITH(s.cmd("fix e all ave/time 1 1 10 v_s format %d"), Contains("format"));
