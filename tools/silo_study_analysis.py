@@ -371,24 +371,35 @@ def write_outputs(a, cases, summary):
     print("\n".join(lines))
 
 
-def replace_block(path, start, end, text):
-    """Replace in the file `path` the lines from the first line that begins
-    with `start` up to (not including) the next line for which `end(line)`
-    holds by `text`; the file is written only when whole (a
-    temporary file renamed over it). Exits naming the file when the block is
-    not found."""
-    with open(path) as f:
-        lines = f.read().split("\n")
+def _with_block(path, content, start, end, text):
+    """`content` (of the file `path`) with the lines from the first that
+    begins with `start` up to (not including) the next line for which
+    `end(line)` holds replaced by `text`; exits naming the file when the
+    block is not found."""
+    lines = content.split("\n")
     i = next((k for k, ln in enumerate(lines) if ln.startswith(start)), None)
     j = next((k for k in range(i + 1, len(lines)) if end(lines[k])), None) if i is not None else None
     if i is None or j is None:
         raise SystemExit(f"{path}: the block beginning '{start}' was not found whole; restore the file "
                          "(git checkout) and run again")
     lines[i:j] = (text[:-1] if text.endswith("\n") else text).split("\n")
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write("\n".join(lines))
-    os.replace(tmp, path)
+    return "\n".join(lines)
+
+
+def _write_whole(path, content):
+    """Write `path` as a whole: a temporary file renamed over it."""
+    with open(path + ".tmp", "w") as f:
+        f.write(content)
+    os.replace(path + ".tmp", path)
+
+
+def replace_block(path, start, end, text):
+    """Replace in the file `path` the block of _with_block by `text`; the
+    file is written only when whole. Exits naming the file when the block is
+    not found (the file is then untouched)."""
+    with open(path) as f:
+        content = f.read()
+    _write_whole(path, _with_block(path, content, start, end, text))
 
 
 def update_docs(a):
@@ -405,15 +416,13 @@ def update_docs(a):
                   summary_md.rstrip("\n") + "\n\n")
     readme = os.path.join(ROOT, "examples", "silo_study", "README.md")
     table, total = silo_study.cost_markdown(a.data, a.complete)
-    replace_block(readme, "| case | cycles | non-empty avalanches |", lambda ln: not ln.strip(), table)
     with open(readme) as f:
-        text = f.read()
+        text = _with_block(readme, f.read(), "| case | cycles | non-empty avalanches |", lambda ln: not ln.strip(),
+                           table)
     text, n = re.subn(r"In all [0-9.]+ core-hours so far\.", f"In all {total:.2f} core-hours so far.", text)
     if n != 1:
         raise SystemExit(f"{readme}: expected one sentence 'In all ... core-hours so far.', found {n}")
-    with open(readme + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(readme + ".tmp", readme)
+    _write_whole(readme, text)
     print(f"updated the tables of {doc} and {readme}")
 
 

@@ -159,16 +159,10 @@ class DumpMeshVTK : public FrameDumpVTK {
         "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n  <vtkMultiBlockDataSet>\n";
     for (std::size_t mi = 0; mi < list.size(); ++mi) {
       auto ds = polydata(list, mi, mi + 1, sums, ncells);
-      vtkio::add_time_step(ds, engine_.update->time(), engine_.update->ntimestep);
       const std::string piece = stem + "_" + std::to_string(mi) + ".vtp";
-      const std::string path = (dir / piece).string();
-      const std::string err = replace_file_by_name(path, [&](const std::string& temp) -> std::string {
-        auto w = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
-        vtkio::configure_writer(w.Get(), options_.binary, options_.compressor);
-        w->SetInputData(ds);
-        w->SetFileName(temp.c_str());
-        return w->Write() ? "" : "VTK could not write '" + path + "'";
-      });
+      vtkio::PvdCollection unlisted;  // the pieces are listed by the .vtm, not a .pvd
+      const std::string err = vtkio::write_polydata_frame(ds, (dir / piece).string(), engine_.update->time(),
+                                                          engine_.update->ntimestep, options_, unlisted);
       if (!err.empty()) return err;
       xml += "    <DataSet index=\"" + std::to_string(mi) + "\" name=\"" + list[mi]->id + "\" file=\"" +
              stem + "/" + piece + "\"/>\n";

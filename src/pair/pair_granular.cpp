@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 
 #include "contact/contact_kernels.h"
@@ -20,6 +21,10 @@
 namespace granary {
 
 namespace {
+bool is_hybrid(const std::string& style) {
+  return style == "hybrid" || style == "hybrid/overlay";
+}
+
 bool is_granular_substyle(const std::string& w) {
   return w == "gran" || w == "bubble" || w == "gran_bubble";
 }
@@ -46,7 +51,7 @@ contact::ModelSpec parse_spec(const std::string& style, const Args& args) {
     if (args.size() % 2)
       throw InputError("pair_style hertz/rolling takes keyword/value pairs; '" + args.back() +
                        "' has no value");
-  } else if (style == "hybrid" || style == "hybrid/overlay") {
+  } else if (is_hybrid(style)) {
     // LIGGGHTS' pair hybrid of granular styles: Granary runs one sub-style
     // (gran, or its aliases bubble and gran_bubble) for every type pair
     if (args.empty() || !is_granular_substyle(args[0]))
@@ -86,7 +91,7 @@ PairGranular::PairGranular(Engine& engine, const Args& args, const std::string& 
 }
 
 void PairGranular::coeff(const Args& args) {
-  if (style == "hybrid" || style == "hybrid/overlay") {
+  if (is_hybrid(style)) {
     // pair_coeff * * SUBSTYLE: the one sub-style, for all type pairs
     require_args(args, 3, 3, "pair_coeff * * " + args_[0]);
     if (args[2] != args_[0])
@@ -183,11 +188,15 @@ void PairGranular::compute() {
   contact::dispatch_model(spec_, [this](auto kernel) { this->loop<decltype(kernel)>(); });
 }
 
-GRANARY_PAIR_STYLE("gran", PairGran);
-GRANARY_PAIR_STYLE("hertz/rolling", PairHertzRolling);
-GRANARY_PAIR_STYLE("bubble", PairBubble);
-GRANARY_PAIR_STYLE("gran_bubble", PairGranBubble);
-GRANARY_PAIR_STYLE("hybrid", PairHybridGran);
-GRANARY_PAIR_STYLE("hybrid/overlay", PairHybridOverlayGran);
+// One class under every name: gran (LIGGGHTS), hertz/rolling (Granary's, other
+// defaults), bubble and gran_bubble (LIGGGHTS' aliases of gran), hybrid and
+// hybrid/overlay (one granular sub-style for all type pairs).
+static const bool granular_pair_styles_registered = [] {
+  for (const char* name : {"gran", "hertz/rolling", "bubble", "gran_bubble", "hybrid", "hybrid/overlay"})
+    PairRegistry::instance().add(name, [name](Engine& e, const Args& a) -> std::unique_ptr<Pair> {
+      return std::make_unique<PairGranular>(e, a, name);
+    });
+  return true;
+}();
 
 }  // namespace granary

@@ -45,38 +45,4 @@ class PairGranular : public Pair {
   std::int64_t owner_build_ = -1;  // the list build owner_ belongs to
 };
 
-/// `pair_style gran ...` (LIGGGHTS spelling).
-class PairGran : public PairGranular {
- public:
-  PairGran(Engine& engine, const Args& args) : PairGranular(engine, args, "gran") {}
-};
-
-/// `pair_style hertz/rolling ...` (Granary's name for the same model).
-class PairHertzRolling : public PairGranular {
- public:
-  PairHertzRolling(Engine& engine, const Args& args) : PairGranular(engine, args, "hertz/rolling") {}
-};
-
-/// `pair_style bubble ...` and `gran_bubble ...`: LIGGGHTS' aliases of gran.
-class PairBubble : public PairGranular {
- public:
-  PairBubble(Engine& engine, const Args& args) : PairGranular(engine, args, "bubble") {}
-};
-class PairGranBubble : public PairGranular {
- public:
-  PairGranBubble(Engine& engine, const Args& args) : PairGranular(engine, args, "gran_bubble") {}
-};
-
-/// `pair_style hybrid gran ...` (also bubble, gran_bubble) and `hybrid/overlay`
-/// with one granular sub-style, which applies to every type pair
-/// (`pair_coeff * * gran`).
-class PairHybridGran : public PairGranular {
- public:
-  PairHybridGran(Engine& engine, const Args& args) : PairGranular(engine, args, "hybrid") {}
-};
-class PairHybridOverlayGran : public PairGranular {
- public:
-  PairHybridOverlayGran(Engine& engine, const Args& args) : PairGranular(engine, args, "hybrid/overlay") {}
-};
-
 }  // namespace granary
