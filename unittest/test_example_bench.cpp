@@ -81,6 +81,20 @@ TEST_CASE("bench_silo_balanced: fill, balance and discharge run, and one rank ke
   CHECK(s.e.comm->split[2] == std::vector<double>({0.0, 1.0}));
 }
 
+TEST_CASE("bench_silo_balanced with bal rcb and every: tiled boxes, fix balance during the discharge",
+          "[example]") {
+  ScriptEngine s;
+  s.cmds({"variable nfill index 60", "variable nsteps index 20", "variable bal index rcb",
+          "variable every index 10", "variable dir index " + kBench,
+          "include " + kBench + "/in.bench_silo_balanced"});
+  CHECK(s.p().natoms > 20000);
+  CHECK(s.e.update->ntimestep == 80);
+  CHECK(s.e.comm->tiled());
+  // one rank: nothing to balance, the imbalance factor is 1 before and after
+  CHECK(s.e.fix_value("lb", 3) == 1.0);
+  CHECK(s.e.fix_value("lb", 0) == 1.0);
+}
+
 TEST_CASE("bench_silo_large: insert, settle from the restart, then discharge with balancing", "[example]") {
   const double dt = 1e-5;
   double mass = 0.0;

@@ -52,6 +52,7 @@ TEST_CASE("info all writes every category of the present state to a file", "[inf
   // communication
   CHECK_THAT(t, Contains("MPI ranks = 1"));
   CHECK_THAT(t, Contains("Processor grid = 1 x 1 x 1"));
+  CHECK_THAT(t, Contains("Communication style = brick"));
   CHECK_THAT(t, Contains("MPI library level: MPI v"));
   // styles, groups, regions, variables
   CHECK_THAT(t, Contains("Fix[4]: integr, style = nve/sphere, group = all"));

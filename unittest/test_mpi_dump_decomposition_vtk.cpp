@@ -4,7 +4,9 @@
 // given fractions), the cells carry the owning rank and its particle count
 // (summing to all particles), time and step are in the field data; legacy
 // .vtk (ASCII and binary) and XML .vtr with a .pvd. LIGGGHTS 3.8 writes the
-// same coordinates (legacy ASCII, 6 decimals) for a 2 x 1 x 2 grid.
+// same coordinates (legacy ASCII, 6 decimals) for a 2 x 1 x 2 grid. With
+// the rcb boxes of comm_style tiled: one voxel per rank in a legacy
+// unstructured grid, the voxels filling the box.
 #include <mpi.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -12,9 +14,12 @@
 #include <vtkRectilinearGrid.h>
 #include <vtkRectilinearGridReader.h>
 #include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkUnstructuredGridReader.h>
 #include <vtkXMLRectilinearGridReader.h>
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -133,4 +138,51 @@ TEST_CASE("dump decomposition/vtk input errors", "[dump][mpi][vtk]") {
   CHECK_THROWS_WITH(s.cmd("dump d all decomposition/vtk 10 grid.vtk extra"),
                     Contains("no further arguments"));
   CHECK_THROWS_WITH(s.cmd("dump d all decomposition/vtk 10 grid%.vtk"), Contains("'%' is not allowed"));
+}
+
+TEST_CASE("dump decomposition/vtk writes the rcb boxes of comm_style tiled as voxels", "[dump][mpi][vtk]") {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  const std::string dir = "decomp_rcb_np" + std::to_string(n);
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  if (granary::test::world_rank() == 0) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  s.cmds({"atom_style granular", "boundary f f f", "units si", "comm_style tiled",
+          "region b block 0 0.04 0 0.01 0 0.02 units box", "create_box 1 b",
+          "region corner block 0 0.015 0 0.01 0 0.008 units box", "create_atoms 1 random 400 4711 corner",
+          "set group all diameter 0.002 density 2500", "balance 1.0 rcb",
+          "dump a all decomposition/vtk 10 " + dir + "/boxes*.vtk", "dump_modify a binary no",
+          "dump c all decomposition/vtk 10 " + dir + "/xml*.vtr"});
+  if (n > 1) {
+    CHECK_THROWS_WITH(s.cmd("run 0"), Contains("give the dump a .vtk file name"));
+  }
+  s.cmds({"undump c", "run 0"});
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (granary::test::world_rank() != 0) return;
+  if (n == 1) return;  // one rank: no rcb boxes (balance leaves a single rank's box alone)
+  auto r = vtkSmartPointer<vtkUnstructuredGridReader>::New();
+  r->SetFileName((dir + "/boxes0.vtk").c_str());
+  r->Update();
+  vtkUnstructuredGrid* g = r->GetOutput();
+  REQUIRE(g->GetNumberOfCells() == n);
+  double volume = 0.0, total = 0.0;
+  vtkDataArray* rank = g->GetCellData()->GetArray("rank");
+  vtkDataArray* parts = g->GetCellData()->GetArray("particles");
+  REQUIRE(rank != nullptr);
+  REQUIRE(parts != nullptr);
+  for (vtkIdType c = 0; c < n; ++c) {
+    CHECK(g->GetCellType(c) == VTK_VOXEL);
+    double b[6];
+    g->GetCell(c)->GetBounds(b);
+    volume += (b[1] - b[0]) * (b[3] - b[2]) * (b[5] - b[4]);
+    CHECK(rank->GetComponent(c, 0) == c);
+    total += parts->GetComponent(c, 0);
+    // every box holds an even share of the corner's particles (the cuts fall between two of them)
+    CHECK(std::abs(parts->GetComponent(c, 0) - 400.0 / n) <= 1.0);
+  }
+  CHECK(volume == Approx(0.04 * 0.01 * 0.02).epsilon(1e-12));
+  CHECK(total == static_cast<double>(s.p().natoms));
 }

@@ -1,4 +1,5 @@
-// Same physics on 1, 2 and 4 MPI ranks.
+// Same physics on 1, 2 and 4 MPI ranks, on the processor grid and on the
+// boxes of recursive bisection (comm_style tiled, fix balance rcb).
 //
 // Run by ctest at 1, 2 and 4 ranks. Every rank first runs the whole system
 // alone (MPI_COMM_SELF) as the reference, then all ranks run it together on
@@ -35,13 +36,15 @@ struct Snapshot {
   long long migrated_particles = 0, migrated_contacts = 0;
 };
 
-std::vector<std::string> bed_script(const std::string& newton, int steps) {
+// tiled: comm_style tiled, the boxes recut by recursive bisection every 300 steps
+std::vector<std::string> bed_script(const std::string& newton, int steps, bool tiled = false) {
   return {
       "units si",
       "atom_style granular",
       "boundary f f f",
       "newton " + newton,
       "processors * * 1",
+      tiled ? "comm_style tiled" : "comm_style brick",
       "region box block 0 0.04 0 0.04 0 0.06 units box",
       "create_box 2 box",
       "neighbor 0.0006 bin",
@@ -66,16 +69,17 @@ std::vector<std::string> bed_script(const std::string& newton, int steps) {
       "fix ywall2 all wall/gran model hertz tangential history primitive type 1 yplane 0.04",
       "fix integr all nve/sphere",
       "compute rke all erotate/sphere",
+      tiled ? "fix bal all balance 300 1.0 rcb" : "thermo 100",
       "thermo_style custom step atoms ke c_rke",
       "thermo 100",
       "run " + std::to_string(steps),
   };
 }
 
-Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps) {
+Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps, bool tiled = false) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  granary::test::run(e, bed_script(newton, steps));
+  granary::test::run(e, bed_script(newton, steps, tiled));
   Snapshot s;
   const auto& p = *e.particles;
   // gather positions by id
@@ -112,7 +116,8 @@ Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps) {
   return s;
 }
 
-void compare(const Snapshot& ref, const Snapshot& par) {
+// `tolerance`: largest position difference (m) allowed.
+void compare(const Snapshot& ref, const Snapshot& par, double tolerance = 1e-9) {
   REQUIRE(par.natoms == ref.natoms);
   REQUIRE(ref.natoms == 1500);
   CHECK(par.ke == Approx(ref.ke).epsilon(1e-6));
@@ -124,7 +129,7 @@ void compare(const Snapshot& ref, const Snapshot& par) {
     worst = std::max(worst, (it->second - kv.second).norm());
   }
   INFO("largest position difference " << worst << " m");
-  CHECK(worst < 1e-9);
+  CHECK(worst < tolerance);
   CHECK(ref.contacts > 500);  // the bed is in contact, tangential history everywhere
   int nprocs = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
@@ -150,4 +155,16 @@ TEST_CASE("poured bed gives the same physics on every rank count (newton on)") {
   const Snapshot ref = run_bed(MPI_COMM_SELF, "on", steps);
   const Snapshot par = run_bed(MPI_COMM_WORLD, "on", steps);
   compare(ref, par);
+}
+
+TEST_CASE("poured bed gives the same physics on tiles of recursive bisection (comm_style tiled, newton on)") {
+  const int steps = 1500;
+  const Snapshot ref = run_bed(MPI_COMM_SELF, "on", steps);
+  const Snapshot par = run_bed(MPI_COMM_WORLD, "on", steps, true);
+  // Each recut sends many particles to other ranks, which reorders force sums
+  // far more often than on the grid; the collisions amplify the round-off to
+  // about 1e-9 m here at 4 ranks (1e-11 m on the grid). That the recut itself
+  // changes nothing beyond round-off is checked step by step in
+  // test_mpi_balance ("rcb recut ... the next steps").
+  compare(ref, par, 1e-8);
 }

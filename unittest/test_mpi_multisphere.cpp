@@ -1,4 +1,5 @@
-// Clumps give the same physics on 1, 2 and 4 MPI ranks.
+// Clumps give the same physics on 1, 2 and 4 MPI ranks, on the processor
+// grid and on the boxes of recursive bisection (comm_style tiled).
 //
 // Run by ctest at 1, 2 and 4 ranks. Every rank first runs the whole system
 // alone (MPI_COMM_SELF) as the reference, then all ranks run it together on
@@ -47,13 +48,15 @@ struct Snapshot {
   int wrapped_bodies = 0;  // clumps whose centre left the periodic box (unwrapped)
 };
 
-std::vector<std::string> scene(const std::string& newton) {
+// tiled: comm_style tiled, the boxes recut by recursive bisection every 500 steps
+std::vector<std::string> scene(const std::string& newton, bool tiled = false) {
   std::vector<std::string> s = {
       "units si",
       "atom_style granular",
       "boundary p p f",
       "newton " + newton,
       "processors * * 1",
+      tiled ? "comm_style tiled" : "comm_style brick",
       "region box block 0 0.04 0 0.04 0 0.04 units box",
       "create_box 1 box",
       "neighbor 0.001 bin",
@@ -92,13 +95,14 @@ std::vector<std::string> scene(const std::string& newton) {
       }
     }
   }
+  if (tiled) s.push_back("fix bal all balance 500 1.0 rcb");
   return s;
 }
 
-Snapshot run_scene(MPI_Comm comm, const std::string& newton) {
+Snapshot run_scene(MPI_Comm comm, const std::string& newton, bool tiled = false) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  granary::test::run(e, scene(newton));
+  granary::test::run(e, scene(newton, tiled));
   Snapshot s;
   // 6000 steps in 12 runs; sphere-sphere contacts are counted at the end of each
   auto touching = [&]() {
@@ -179,5 +183,11 @@ TEST_CASE("clumps give the same physics on every rank count (newton off)") {
 TEST_CASE("clumps give the same physics on every rank count (newton on)") {
   const Snapshot ref = run_scene(MPI_COMM_SELF, "on");
   const Snapshot par = run_scene(MPI_COMM_WORLD, "on");
+  compare(ref, par);
+}
+
+TEST_CASE("clumps give the same physics on tiles of recursive bisection (comm_style tiled, newton on)") {
+  const Snapshot ref = run_scene(MPI_COMM_SELF, "on");
+  const Snapshot par = run_scene(MPI_COMM_WORLD, "on", true);
   compare(ref, par);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "comm/comm.h"
 #include "core/engine.h"
@@ -130,6 +131,159 @@ std::vector<double> Balancer::cell_loads(const std::array<std::vector<double>, 3
   }
   MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, engine_.world);
   return all;
+}
+
+std::vector<double> Balancer::rank_loads() const {
+  const Particles& p = *engine_.particles;
+  double mine = 0.0;
+  for (int i = 0; i < p.nlocal; ++i)
+    mine += weights_.empty() ? weight_ : weights_[i];
+  std::vector<double> all(static_cast<std::size_t>(engine_.nprocs), 0.0);
+  MPI_Allgather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, engine_.world);
+  return all;
+}
+
+BalanceResult Balancer::rcb(double thresh) {
+  Engine& e = engine_;
+  Comm& c = *e.comm;
+  const Domain& dom = *e.domain;
+  const Particles& p = *e.particles;
+  const int nprocs = e.nprocs, n = p.nlocal;
+  BalanceResult r;
+  std::vector<double> loads = rank_loads();
+  r.imbalance_before = imbalance(loads, &r.max_before);
+  r.imbalance_after = r.imbalance_before;
+  r.max_after = r.max_before;
+  if (!(r.imbalance_before > thresh)) return r;
+  r.balanced = true;
+  auto weight = [&](int i) { return weights_.empty() ? weight_ : weights_[i]; };
+  const int ndims = dom.dimension == 2 ? 2 : 3;
+
+  struct Part {
+    int r0, r1;                    // ranks r0 .. r1-1
+    std::array<double, 3> lo, hi;  // fractions of the box
+  };
+  std::vector<RcbNode> tree(1);
+  std::vector<Part> parts{{0, nprocs, {{0.0, 0.0, 0.0}}, {{1.0, 1.0, 1.0}}}};
+  if (nprocs == 1) tree[0].rank = 0;
+  std::vector<int> node_of(static_cast<std::size_t>(n), 0);
+  std::vector<int> active;
+  if (nprocs > 1) active.push_back(0);
+  const double inf = std::numeric_limits<double>::infinity();
+  while (!active.empty()) {
+    const int na = static_cast<int>(active.size());
+    std::vector<int> slot(tree.size(), -1);
+    for (int k = 0; k < na; ++k)
+      slot[active[k]] = k;
+    // weight and extent (minimum, and maximum as a negated minimum) of the particles of each part
+    std::vector<double> sum(na, 0.0), sum_all(na, 0.0), ext(6 * static_cast<std::size_t>(na), inf),
+        ext_all(ext.size(), inf);
+    for (int i = 0; i < n; ++i) {
+      const int k = slot[node_of[i]];
+      if (k < 0) continue;
+      sum[k] += weight(i);
+      for (int d = 0; d < 3; ++d) {
+        ext[6 * k + d] = std::min(ext[6 * k + d], p.x[i][d]);
+        ext[6 * k + 3 + d] = std::min(ext[6 * k + 3 + d], -p.x[i][d]);
+      }
+    }
+    MPI_Allreduce(sum.data(), sum_all.data(), na, MPI_DOUBLE, MPI_SUM, e.world);
+    MPI_Allreduce(ext.data(), ext_all.data(), 6 * na, MPI_DOUBLE, MPI_MIN, e.world);
+    std::vector<int> dim(na, 0);
+    std::vector<double> target(na), lo(na), hi(na), below_lo(na, 0.0), below_hi(na), cut(na);
+    for (int k = 0; k < na; ++k) {
+      const Part& part = parts[active[k]];
+      // the dimension of the largest spread of the particles (of the part's box without particles)
+      double best = -1.0;
+      for (int d = 0; d < ndims; ++d) {
+        const double spread = ext_all[6 * k + d] < inf ? -ext_all[6 * k + 3 + d] - ext_all[6 * k + d]
+                                                       : (part.hi[d] - part.lo[d]) * dom.prd[d];
+        if (spread > best) {
+          best = spread;
+          dim[k] = d;
+        }
+      }
+      const int nlo = (part.r1 - part.r0) / 2;
+      target[k] = sum_all[k] * nlo / (part.r1 - part.r0);
+      lo[k] = part.lo[dim[k]];
+      hi[k] = part.hi[dim[k]];
+      below_hi[k] = sum_all[k];
+    }
+    // bisection of all parts together: below(lo) < target <= below(hi)
+    std::vector<double> below(na), below_all(na);
+    for (int it = 0; it < 64; ++it) {
+      bool open = false;
+      for (int k = 0; k < na; ++k) {
+        cut[k] = 0.5 * (lo[k] + hi[k]);
+        open = open || (cut[k] > lo[k] && cut[k] < hi[k] && below_hi[k] != target[k]);
+      }
+      if (!open) break;
+      std::fill(below.begin(), below.end(), 0.0);
+      std::vector<double> at(na);
+      for (int k = 0; k < na; ++k)
+        at[k] = c.frac_coord(dim[k], cut[k]);
+      for (int i = 0; i < n; ++i) {
+        const int k = slot[node_of[i]];
+        if (k >= 0 && p.x[i][dim[k]] < at[k]) below[k] += weight(i);
+      }
+      MPI_Allreduce(below.data(), below_all.data(), na, MPI_DOUBLE, MPI_SUM, e.world);
+      ++r.iterations;
+      for (int k = 0; k < na; ++k) {
+        if (!(cut[k] > lo[k] && cut[k] < hi[k]) || below_hi[k] == target[k]) continue;
+        if (below_all[k] < target[k]) {
+          lo[k] = cut[k];
+          below_lo[k] = below_all[k];
+        } else {
+          hi[k] = cut[k];
+          below_hi[k] = below_all[k];
+        }
+      }
+    }
+    // the nearer of the two brackets; rank 0's choice for everybody
+    for (int k = 0; k < na; ++k)
+      cut[k] = target[k] - below_lo[k] < below_hi[k] - target[k] ? lo[k] : hi[k];
+    MPI_Bcast(cut.data(), na, MPI_DOUBLE, 0, e.world);
+    MPI_Bcast(dim.data(), na, MPI_INT, 0, e.world);
+    std::vector<int> next;
+    for (int k = 0; k < na; ++k) {
+      const int id = active[k];
+      const Part part = parts[id];
+      const int nlo = (part.r1 - part.r0) / 2;
+      Part below_part = part, above_part = part;
+      below_part.r1 = part.r0 + nlo;
+      below_part.hi[dim[k]] = cut[k];
+      above_part.r0 = part.r0 + nlo;
+      above_part.lo[dim[k]] = cut[k];
+      const int a = static_cast<int>(tree.size());
+      tree[id].dim = dim[k];
+      tree[id].cut = cut[k];
+      tree[id].lo = a;
+      tree[id].hi = a + 1;
+      for (const Part& child : {below_part, above_part}) {
+        RcbNode node;
+        if (child.r1 - child.r0 == 1) node.rank = child.r0;
+        const int cid = static_cast<int>(tree.size());
+        tree.push_back(node);
+        parts.push_back(child);
+        if (child.r1 - child.r0 > 1) next.push_back(cid);
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      const int k = slot[node_of[i]];
+      if (k < 0) continue;
+      const RcbNode& node = tree[active[k]];
+      node_of[i] = p.x[i][node.dim] >= c.frac_coord(node.dim, node.cut) ? node.hi : node.lo;
+    }
+    active = std::move(next);
+  }
+  // loads of the new boxes
+  std::vector<double> mine(static_cast<std::size_t>(nprocs), 0.0);
+  for (int i = 0; i < n; ++i)
+    mine[tree[node_of[i]].rank] += weight(i);
+  MPI_Allreduce(mine.data(), loads.data(), nprocs, MPI_DOUBLE, MPI_SUM, e.world);
+  r.imbalance_after = imbalance(loads, &r.max_after);
+  c.set_rcb(std::move(tree));
+  return r;
 }
 
 double Balancer::imbalance(const std::vector<double>& loads, double* maxload) {
@@ -260,6 +414,11 @@ std::string Balancer::summary(const BalanceResult& r) const {
   std::snprintf(line, sizeof line, "  initial/final imbalance factor  = %.6g %.6g\n", r.imbalance_before,
                 r.imbalance_after);
   out += line;
+  if (c.tiled() && !c.rcb_tree().empty()) {
+    std::snprintf(line, sizeof line, "  rcb: %d boxes in %d cuts\n", engine_.nprocs, engine_.nprocs - 1);
+    out += line;
+    return out;
+  }
   for (int d = 0; d < 3; ++d) {
     out += std::string("  ") + "xyz"[d] + " cuts:";
     for (int k = 0; k <= c.procgrid[d]; ++k) {
@@ -273,11 +432,11 @@ std::string Balancer::summary(const BalanceResult& r) const {
 
 // balance THRESH shift DIMSTR NITER STOPTHRESH
 // balance THRESH x|y|z uniform|CUTS... [x|y|z ...]
+// balance THRESH rcb (comm_style tiled)
 void cmd_balance(Engine& e, const Args& a) {
   const std::string usage =
-      "balance THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR], or balance THRESH x|y|z "
-      "uniform|C1 ... "
-      "(e.g. balance 1.1 shift z 20 1.05)";
+      "balance THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR], balance THRESH x|y|z "
+      "uniform|C1 ..., or balance THRESH rcb [weight time|neigh FACTOR] (e.g. balance 1.1 shift z 20 1.05)";
   if (!e.domain->box_exist)
     throw InputError("balance needs a simulation box: use create_box or read_restart first");
   if (a.size() < 2) throw InputError("balance: too few arguments; usage: " + usage);
@@ -292,20 +451,34 @@ void cmd_balance(Engine& e, const Args& a) {
     return bal.min_width();
   };
   BalanceResult r;
-  if (a[1] == "shift") {
-    const ShiftSettings s = parse_shift(a, 2, "balance");
-    const WeightSettings weight = parse_weight(a, 5, "balance");
+  auto weigh = [&](const WeightSettings& weight) {
     if (weight.kind == WeightSettings::kNeigh &&
         e.neighbor->offset.size() != static_cast<std::size_t>(e.particles->nlocal) + 1) {
       throw InputError(
           "balance weight neigh needs the neighbour lists of the current particles; they are built by a "
           "run (use 'run 0' after creating or deleting particles)");
     }
-    const double minwidth = prepare();
     // cost measured over the last run: its pair and neighbour time on this rank
     if (weight.kind == WeightSettings::kTime)
       bal.set_time_weight(weight.factor, e.update->timers[Update::kPair] + e.update->timers[Update::kNeigh]);
     if (weight.kind == WeightSettings::kNeigh) bal.set_neigh_weight(weight.factor);
+  };
+  if (a[1] == "rcb") {
+    const WeightSettings weight = parse_weight(a, 2, "balance");
+    if (!c.tiled()) {
+      throw InputError(
+          "balance rcb needs comm_style tiled (its boxes are not a processor grid); put 'comm_style tiled' "
+          "before the balance command");
+    }
+    prepare();
+    weigh(weight);
+    r = bal.rcb(thresh);
+  } else if (a[1] == "shift") {
+    const ShiftSettings s = parse_shift(a, 2, "balance");
+    const WeightSettings weight = parse_weight(a, 5, "balance");
+    const double minwidth = prepare();
+    weigh(weight);
+    if (c.tiled()) c.clear_rcb();  // a grid style starts from the grid
     r = bal.shift(thresh, s, minwidth);
   } else if (a[1] == "x" || a[1] == "y" || a[1] == "z") {
     // explicit cuts per dimension, LAMMPS' x/y/z styles
@@ -342,6 +515,7 @@ void cmd_balance(Engine& e, const Args& a) {
       k += np;
     }
     const double minwidth = prepare();
+    if (c.tiled()) c.clear_rcb();
     const std::vector<double> before = bal.cell_loads(c.split);
     r.imbalance_before = Balancer::imbalance(before, &r.max_before);
     r.imbalance_after = r.imbalance_before;
@@ -352,8 +526,6 @@ void cmd_balance(Engine& e, const Args& a) {
       r.balanced = true;
       r.imbalance_after = Balancer::imbalance(bal.cell_loads(cuts), &r.max_after);
     }
-  } else if (a[1] == "rcb") {
-    throw InputError("balance style rcb is not available; use shift (cut planes of the processor grid)");
   } else {
     throw InputError("unknown balance style '" + a[1] + "'; usage: " + usage);
   }

@@ -20,6 +20,15 @@
 // With `weight neigh FACTOR` every particle has its own weight: its number of
 // neighbour-list entries relative to the mean over all particles, blended with
 // 1 by FACTOR (a particle in a dense bed costs more than one falling freely).
+//
+// The rcb style (with `comm_style tiled`) does not keep a grid: it cuts the
+// box in two where the weighted particle count splits in proportion to the
+// ranks on each side (floor(P/2) below the cut), along the dimension in which
+// the particles of that part spread furthest, and cuts each part again until
+// every rank has a box of its own (Comm::set_rcb). Each cut is found by
+// bisection over the fraction of the box, all parts of one level together,
+// one allreduce per step; rank 0's cuts are broadcast so that every rank
+// holds the same tree. The same weights apply.
 #pragma once
 
 #include <array>
@@ -85,6 +94,14 @@ class Balancer {
   /// out, if the current imbalance exceeds `thresh`. Slabs stay at least
   /// `minwidth` wide. Collective; only changes Comm::split.
   BalanceResult shift(double thresh, const ShiftSettings& settings, double minwidth);
+
+  /// Rcb style: recursive coordinate bisection of the weighted particles,
+  /// if the current imbalance exceeds `thresh` (needs comm_style tiled).
+  /// Collective; only changes the boxes of Comm (set_rcb).
+  BalanceResult rcb(double thresh);
+
+  /// Weighted particle count of every rank's current subdomain (its own particles). Collective.
+  std::vector<double> rank_loads() const;
 
   /// Smallest width a subdomain may have: the ghost cutoff of the next run
   /// (twice the largest radius plus the skin, or comm_modify cutoff). Collective.

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "comm/balance.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
@@ -76,6 +77,82 @@ void Comm::modify_command(const Args& args) {
   }
 }
 
+void Comm::style_command(const Args& args) {
+  require_args(args, 1, 1, "comm_style brick|tiled");
+  Style want;
+  if (args[0] == "brick")
+    want = Style::kBrick;
+  else if (args[0] == "tiled")
+    want = Style::kTiled;
+  else
+    throw InputError("unknown comm_style '" + args[0] +
+                     "'; expected brick (a processor grid) or tiled (any boxes, needed by balance rcb)");
+  const bool had_tree = !rcb_.empty();
+  style = want;
+  if (want == Style::kBrick && had_tree) {
+    // back to the grid's boxes: particles go to their owners there at once
+    rcb_.clear();
+    if (engine_.domain->box_exist) Balancer(engine_).migrate();
+  }
+}
+
+void Comm::set_rcb(std::vector<RcbNode> tree) {
+  const int n = engine_.nprocs;
+  std::vector<std::array<double, 3>> lo(n), hi(n);
+  std::vector<int> seen(n, 0);
+  // walk the tree with the box of each node
+  struct Item {
+    int node;
+    std::array<double, 3> lo, hi;
+  };
+  std::vector<Item> stack{{0, {{0.0, 0.0, 0.0}}, {{1.0, 1.0, 1.0}}}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const RcbNode& node = tree.at(static_cast<std::size_t>(it.node));
+    if (node.rank >= 0) {
+      if (node.rank >= n || seen[node.rank]++) throw std::logic_error("rcb tree: rank in more than one leaf");
+      lo[node.rank] = it.lo;
+      hi[node.rank] = it.hi;
+      continue;
+    }
+    Item below = it, above = it;
+    below.node = node.lo;
+    below.hi[node.dim] = node.cut;
+    above.node = node.hi;
+    above.lo[node.dim] = node.cut;
+    stack.push_back(above);
+    stack.push_back(below);
+  }
+  for (int r = 0; r < n; ++r)
+    if (!seen[r]) throw std::logic_error("rcb tree: a rank without a box");
+  rcb_ = std::move(tree);
+  rcb_lo_ = std::move(lo);
+  rcb_hi_ = std::move(hi);
+}
+
+double Comm::frac_coord(int d, double f) const {
+  const Domain& dom = *engine_.domain;
+  if (f >= 1.0) return dom.boxhi[d];
+  if (f <= 0.0) return dom.boxlo[d];
+  return dom.boxlo[d] + f * dom.prd[d];
+}
+
+void Comm::rank_box(int r, Vec3& lo, Vec3& hi) const {
+  if (tiled() && !rcb_.empty()) {
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = frac_coord(d, rcb_lo_[r][d]);
+      hi[d] = frac_coord(d, rcb_hi_[r][d]);
+    }
+    return;
+  }
+  const int loc[3] = {r % procgrid[0], (r / procgrid[0]) % procgrid[1], r / (procgrid[0] * procgrid[1])};
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = cut_coord(d, loc[d]);
+    hi[d] = cut_coord(d, loc[d] + 1);
+  }
+}
+
 // Factor nprocs into a grid that minimises the surface between subdomains.
 void Comm::choose_grid() {
   const int n = engine_.nprocs;
@@ -124,6 +201,10 @@ void Comm::choose_grid() {
 
 void Comm::set_subdomain() {
   Domain& dom = *engine_.domain;
+  if (tiled()) {
+    rank_box(engine_.rank, dom.sublo, dom.subhi);
+    return;
+  }
   for (int d = 0; d < 3; ++d) {
     dom.sublo[d] = cut_coord(d, myloc[d]);
     dom.subhi[d] = cut_coord(d, myloc[d] + 1);
@@ -170,6 +251,19 @@ void Comm::setup(double cutghost_needed) {
   if (!grid_set_) choose_grid();
   set_subdomain();
   cutghost = std::max(cutghost_needed, cutghost_user);
+  if (tiled()) {
+    // ghosts go straight to every box within the cutoff: only one periodic
+    // image on each side is made
+    const Domain& dom = *engine_.domain;
+    for (int d = 0; d < 3; ++d) {
+      if (dom.periodic[d] && cutghost > dom.prd[d]) {
+        throw InputError("the ghost cutoff " + std::to_string(cutghost) + " exceeds the periodic length " +
+                         std::to_string(dom.prd[d]) + " of the box along " + std::string(1, "xyz"[d]) +
+                         "; use a smaller skin or a larger box");
+      }
+    }
+    return;
+  }
   // Ghosts come from the adjacent rank only, so every subdomain (not only
   // this rank's: the cuts may be uneven after balancing) must be at least
   // the ghost cutoff wide.
@@ -179,6 +273,14 @@ void Comm::setup(double cutghost_needed) {
 }
 
 int Comm::owner_of(const Vec3& x) const {
+  if (tiled() && !rcb_.empty()) {
+    int node = 0;
+    while (rcb_[node].rank < 0) {
+      const RcbNode& n = rcb_[node];
+      node = x[n.dim] >= frac_coord(n.dim, n.cut) ? n.hi : n.lo;
+    }
+    return rcb_[node].rank;
+  }
   return rank_at(slab_of(0, x[0], split[0]), slab_of(1, x[1], split[1]), slab_of(2, x[2], split[2]));
 }
 
@@ -214,6 +316,10 @@ void Comm::exchange(ContactHistory* history) {
     lost_rmin = std::min(lost_rmin, p.radius[i]);
     ++nlost;
     engine_.delete_particle(i);  // slot i now holds another particle: look at it next
+  }
+  if (tiled()) {
+    exchange_tiled(history);
+    return;
   }
 
   for (int d = 0; d < 3; ++d) {
@@ -263,6 +369,10 @@ void Comm::exchange(ContactHistory* history) {
 }
 
 void Comm::borders() {
+  if (tiled()) {
+    borders_tiled();
+    return;
+  }
   Particles& p = *engine_.particles;
   const Domain& dom = *engine_.domain;
   p.clear_ghosts();
@@ -320,6 +430,29 @@ void Comm::forward_comm() {
   Vec3* const x = p.x.data();
   Vec3* const v = p.v.data();
   Vec3* const w = p.omega.data();
+  if (tiled()) {
+    const bool vel = ghost_velocity;
+    tiled_forward(
+        per,
+        [=](int i, const Vec3& shift, double* out) {
+          for (int d = 0; d < 3; ++d)
+            out[d] = x[i][d] + shift[d];
+          if (vel) {
+            for (int d = 0; d < 3; ++d) {
+              out[3 + d] = v[i][d];
+              out[6 + d] = w[i][d];
+            }
+          }
+        },
+        [=](int j, const double* in) {
+          x[j] = Vec3(in[0], in[1], in[2]);
+          if (vel) {
+            v[j] = Vec3(in[3], in[4], in[5]);
+            w[j] = Vec3(in[6], in[7], in[8]);
+          }
+        });
+    return;
+  }
   for (const Swap& s : swaps_) {
     if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
     sendbuf_.resize(s.sendlist.size() * per);
@@ -353,6 +486,25 @@ void Comm::forward_comm() {
 
 void Comm::reverse_comm() {
   Particles& p = *engine_.particles;
+  if (tiled()) {
+    Vec3* const f = p.f.data();
+    Vec3* const t = p.torque.data();
+    tiled_reverse(
+        6,
+        [=](int j, double* out) {
+          for (int d = 0; d < 3; ++d) {
+            out[d] = f[j][d];
+            out[3 + d] = t[j][d];
+          }
+        },
+        [=](int i, const double* in) {
+          for (int d = 0; d < 3; ++d) {
+            f[i][d] += in[d];
+            t[i][d] += in[3 + d];
+          }
+        });
+    return;
+  }
   for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
     const Swap& s = *it;
     if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
@@ -380,6 +532,14 @@ void Comm::reverse_comm() {
 }
 
 void Comm::forward_comm_field(std::vector<double>& data, int ncomp) {
+  if (tiled()) {
+    double* const a = data.data();
+    const std::size_t n = static_cast<std::size_t>(ncomp);
+    tiled_forward(
+        ncomp, [=](int i, const Vec3&, double* out) { std::copy(a + i * n, a + (i + 1) * n, out); },
+        [=](int j, const double* in) { std::copy(in, in + n, a + j * n); });
+    return;
+  }
   for (const Swap& s : swaps_) {
     sendbuf_.clear();
     for (int i : s.sendlist)
@@ -391,6 +551,17 @@ void Comm::forward_comm_field(std::vector<double>& data, int ncomp) {
 }
 
 void Comm::reverse_comm_field(std::vector<double>& data, int ncomp) {
+  if (tiled()) {
+    double* const a = data.data();
+    const std::size_t n = static_cast<std::size_t>(ncomp);
+    tiled_reverse(
+        ncomp, [=](int j, double* out) { std::copy(a + j * n, a + (j + 1) * n, out); },
+        [=](int i, const double* in) {
+          for (std::size_t c = 0; c < n; ++c)
+            a[i * n + c] += in[c];
+        });
+    return;
+  }
   for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
     const Swap& s = *it;
     sendbuf_.assign(data.begin() + static_cast<std::size_t>(s.firstrecv) * ncomp,
@@ -400,6 +571,228 @@ void Comm::reverse_comm_field(std::vector<double>& data, int ncomp) {
     for (int i : s.sendlist)
       for (int c = 0; c < ncomp; ++c)
         data[static_cast<std::size_t>(i) * ncomp + c] += recvbuf_[m++];
+  }
+}
+
+// ---- comm_style tiled -------------------------------------------------------
+
+void Comm::alltoall_buffers(std::vector<std::vector<double>>& send, std::vector<std::vector<double>>& recv,
+                            const std::vector<std::size_t>* known_counts, int tag) {
+  const int n = engine_.nprocs, me = engine_.rank;
+  recv.resize(static_cast<std::size_t>(n));
+  std::vector<long long> scount(n, 0), rcount(n, 0);
+  for (int r = 0; r < n; ++r)
+    scount[r] = r == me ? 0 : static_cast<long long>(send[r].size());
+  if (known_counts) {
+    for (int r = 0; r < n; ++r)
+      rcount[r] = r == me ? 0 : static_cast<long long>((*known_counts)[r]);
+  } else {
+    MPI_Alltoall(scount.data(), 1, MPI_LONG_LONG, rcount.data(), 1, MPI_LONG_LONG, engine_.world);
+  }
+  std::vector<MPI_Request> reqs;
+  reqs.reserve(2 * static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) {
+    if (r == me) continue;
+    recv[r].resize(static_cast<std::size_t>(rcount[r]));
+    if (rcount[r] == 0) continue;
+    reqs.emplace_back();
+    MPI_Irecv(recv[r].data(), static_cast<int>(rcount[r]), MPI_DOUBLE, r, tag, engine_.world, &reqs.back());
+  }
+  for (int r = 0; r < n; ++r) {
+    if (r == me || scount[r] == 0) continue;
+    reqs.emplace_back();
+    MPI_Isend(send[r].data(), static_cast<int>(scount[r]), MPI_DOUBLE, r, tag, engine_.world, &reqs.back());
+  }
+  recv[me].swap(send[me]);  // this rank's own periodic images
+  MPI_Waitall(static_cast<int>(reqs.size()), reqs.data(), MPI_STATUSES_IGNORE);
+  for (auto& b : send)
+    b.clear();  // sent: empty for the next exchange (capacity kept)
+}
+
+void Comm::exchange_tiled(ContactHistory* history) {
+  Particles& p = *engine_.particles;
+  const int n = engine_.nprocs, me = engine_.rank;
+  if (n == 1) return;
+  std::vector<std::vector<double>> send(static_cast<std::size_t>(n)), recv;
+  int i = 0;
+  while (i < p.nlocal) {
+    const int owner = owner_of(p.x[i]);
+    if (owner == me) {
+      ++i;
+      continue;
+    }
+    std::vector<double>& buf = send[owner];
+    p.pack_exchange(i, buf);
+    if (history) {
+      const std::size_t at = buf.size();
+      history->pack_particle(p.id[i], buf);
+      migrated_contacts += static_cast<long long>(buf[at]);
+    }
+    ++migrated_particles;
+    p.remove_local(i);
+  }
+  alltoall_buffers(send, recv, nullptr, 21);
+  for (int r = 0; r < n; ++r) {
+    std::size_t m = 0;
+    while (m < recv[r].size()) {
+      m += p.unpack_exchange(&recv[r][m]);
+      if (history) m += history->unpack_particle(p.id[p.nlocal - 1], &recv[r][m]);
+    }
+  }
+}
+
+// Every owned particle within the ghost cutoff of another box (or of a
+// periodic image of any box, this rank's own included) goes there as a
+// ghost, in one message per rank. Boxes at a non-periodic face of the
+// simulation box reach to infinity there (particles beyond a face belong to
+// the rank at it), as the grid's swaps do.
+void Comm::borders_tiled() {
+  Particles& p = *engine_.particles;
+  const Domain& dom = *engine_.domain;
+  const int n = engine_.nprocs, me = engine_.rank;
+  p.clear_ghosts();
+  tsend_.clear();
+  trecv_.clear();
+  const double inf = std::numeric_limits<double>::infinity();
+  auto extended = [&](int r, Vec3& lo, Vec3& hi) {
+    rank_box(r, lo, hi);
+    for (int d = 0; d < 3; ++d) {
+      if (dom.periodic[d]) continue;
+      if (lo[d] <= dom.boxlo[d]) lo[d] = -inf;
+      if (hi[d] >= dom.boxhi[d]) hi[d] = inf;
+    }
+  };
+  Vec3 mylo, myhi;
+  extended(me, mylo, myhi);
+  // (rank, periodic image) pairs whose reach overlaps this box; a particle x
+  // goes to one when lo <= x < hi (its reach in this rank's frame)
+  struct Target {
+    int proc;
+    Vec3 shift, lo, hi;
+  };
+  std::vector<Target> targets;
+  for (int r = 0; r < n; ++r) {
+    Vec3 rlo, rhi;
+    extended(r, rlo, rhi);
+    int range[3][2];
+    for (int d = 0; d < 3; ++d) {
+      range[d][0] = dom.periodic[d] ? -1 : 0;
+      range[d][1] = dom.periodic[d] ? 1 : 0;
+    }
+    for (int sx = range[0][0]; sx <= range[0][1]; ++sx)
+      for (int sy = range[1][0]; sy <= range[1][1]; ++sy)
+        for (int sz = range[2][0]; sz <= range[2][1]; ++sz) {
+          if (r == me && sx == 0 && sy == 0 && sz == 0) continue;
+          Target t;
+          t.proc = r;
+          t.shift = Vec3(sx * dom.prd[0], sy * dom.prd[1], sz * dom.prd[2]);
+          bool overlap = true;
+          for (int d = 0; d < 3; ++d) {
+            t.lo[d] = rlo[d] - cutghost - t.shift[d];
+            t.hi[d] = rhi[d] + cutghost - t.shift[d];
+            overlap = overlap && t.lo[d] < myhi[d] && t.hi[d] > mylo[d];
+          }
+          if (overlap) targets.push_back(t);
+        }
+  }
+  const int nown = p.nlocal;
+  // particles deeper inside this box than the cutoff are nobody's ghosts
+  std::vector<int> edge;
+  edge.reserve(static_cast<std::size_t>(nown) / 4);
+  for (int i = 0; i < nown; ++i) {
+    bool inner = true;
+    for (int d = 0; d < 3; ++d)
+      inner = inner && p.x[i][d] >= dom.sublo[d] + cutghost && p.x[i][d] < dom.subhi[d] - cutghost;
+    if (!inner) edge.push_back(i);
+  }
+  std::vector<std::vector<double>>& send = tbuf_send_;
+  send.resize(static_cast<std::size_t>(n));
+  for (auto& b : send)
+    b.clear();
+  for (const Target& t : targets) {
+    if (tsend_.empty() || tsend_.back().proc != t.proc) {
+      tsend_.emplace_back();
+      tsend_.back().proc = t.proc;
+    }
+    SendPeer& peer = tsend_.back();
+    Segment seg;
+    seg.shift = t.shift;
+    seg.begin = static_cast<int>(peer.list.size());
+    for (int i : edge) {
+      const Vec3& x = p.x[i];
+      if (x[0] >= t.lo[0] && x[0] < t.hi[0] && x[1] >= t.lo[1] && x[1] < t.hi[1] && x[2] >= t.lo[2] &&
+          x[2] < t.hi[2]) {
+        peer.list.push_back(i);
+        p.pack_border(i, t.shift, send[t.proc]);
+      }
+    }
+    seg.end = static_cast<int>(peer.list.size());
+    if (seg.end > seg.begin) peer.segs.push_back(seg);
+  }
+  tsend_.erase(std::remove_if(tsend_.begin(), tsend_.end(), [](const SendPeer& s) { return s.list.empty(); }),
+               tsend_.end());
+  std::vector<std::vector<double>>& recv = tbuf_recv_;
+  alltoall_buffers(send, recv, nullptr, 22);
+  for (int r = 0; r < n; ++r) {
+    if (recv[r].empty()) continue;
+    RecvPeer rp;
+    rp.proc = r;
+    rp.first = p.size();
+    std::size_t m = 0;
+    while (m < recv[r].size())
+      m += p.unpack_border(&recv[r][m]);
+    rp.count = p.size() - rp.first;
+    trecv_.push_back(rp);
+  }
+}
+
+template <class Pack, class Unpack>
+void Comm::tiled_forward(int per, Pack pack, Unpack unpack) {
+  const int n = engine_.nprocs;
+  std::vector<std::vector<double>>& send = tbuf_send_;
+  send.resize(static_cast<std::size_t>(n));
+  for (const SendPeer& peer : tsend_) {
+    std::vector<double>& b = send[peer.proc];
+    b.resize(peer.list.size() * static_cast<std::size_t>(per));
+    double* out = b.data();
+    for (const Segment& seg : peer.segs) {
+      for (int k = seg.begin; k < seg.end; ++k, out += per)
+        pack(peer.list[k], seg.shift, out);
+    }
+  }
+  std::vector<std::size_t> counts(static_cast<std::size_t>(n), 0);
+  for (const RecvPeer& rp : trecv_)
+    counts[rp.proc] = static_cast<std::size_t>(rp.count) * per;
+  alltoall_buffers(send, tbuf_recv_, &counts, 23);
+  for (const RecvPeer& rp : trecv_) {
+    const double* in = tbuf_recv_[rp.proc].data();
+    for (int k = 0; k < rp.count; ++k, in += per)
+      unpack(rp.first + k, in);
+  }
+}
+
+template <class Pack, class Unpack>
+void Comm::tiled_reverse(int per, Pack pack, Unpack unpack) {
+  const int n = engine_.nprocs;
+  std::vector<std::vector<double>>& send = tbuf_send_;
+  send.resize(static_cast<std::size_t>(n));
+  for (const RecvPeer& rp : trecv_) {
+    std::vector<double>& b = send[rp.proc];
+    b.resize(static_cast<std::size_t>(rp.count) * per);
+    double* out = b.data();
+    for (int k = 0; k < rp.count; ++k, out += per)
+      pack(rp.first + k, out);
+  }
+  std::vector<std::size_t> counts(static_cast<std::size_t>(n), 0);
+  for (const SendPeer& peer : tsend_)
+    counts[peer.proc] = peer.list.size() * static_cast<std::size_t>(per);
+  alltoall_buffers(send, tbuf_recv_, &counts, 24);
+  for (const SendPeer& peer : tsend_) {
+    const double* in = tbuf_recv_[peer.proc].data();
+    for (int i : peer.list) {
+      unpack(i, in);
+      in += per;
+    }
   }
 }
 
@@ -413,5 +806,9 @@ void cmd_comm_modify(Engine& e, const Args& a) {
 GRANARY_COMMAND("processors", cmd_processors);
 GRANARY_COMMAND("communicate", cmd_comm_modify);
 GRANARY_COMMAND("comm_modify", cmd_comm_modify);
+void cmd_comm_style(Engine& e, const Args& a) {
+  e.comm->style_command(a);
+}
+GRANARY_COMMAND("comm_style", cmd_comm_style);
 
 }  // namespace granary

@@ -12,6 +12,17 @@
 // rank holds the same cuts, and every subdomain is at least the ghost cutoff
 // wide along each split or periodic dimension, so ghosts and forward/reverse
 // communication only ever involve the adjacent rank.
+//
+// `comm_style tiled` (LAMMPS' name) lifts the grid: each rank owns a box of
+// its own, all ranks know every box, particles migrate straight to the rank
+// whose box holds them, and each ghost goes straight to every rank (and
+// periodic image) within the ghost cutoff of whose box it lies, so no box
+// needs to be wider than the cutoff and no box needs a fixed neighbour. The
+// boxes are those of the grid until `balance ... rcb` or `fix balance ...
+// rcb` replaces them by a recursive coordinate bisection (RcbNode): the box
+// is cut in two, the ranks split in proportion, and each half cut again. The
+// ownership of a point follows the tree's comparisons, so bounds, ownership
+// and balancing agree to the last bit as on the grid.
 #pragma once
 
 #include <array>
@@ -26,9 +37,33 @@ namespace granary {
 class Engine;
 class ContactHistory;
 
+/// A node of the recursive bisection: a leaf names its rank; an inner node
+/// cuts along `dim` at the fraction `cut` of the box, points below going to
+/// child `lo`, the others to child `hi` (indices into the tree).
+struct RcbNode {
+  int rank = -1;  // >= 0: a leaf
+  int dim = 0;
+  double cut = 0.5;
+  int lo = -1, hi = -1;
+};
+
 class Comm {
  public:
   explicit Comm(Engine& engine);
+
+  enum class Style { kBrick, kTiled };
+  Style style = Style::kBrick;
+  bool tiled() const { return style == Style::kTiled; }
+  /// Recursive-bisection boxes (comm_style tiled only); empty: the grid's boxes.
+  const std::vector<RcbNode>& rcb_tree() const { return rcb_; }
+  /// Replace the boxes by a bisection tree (every rank gets exactly one leaf;
+  /// identical on every rank). Takes effect at the next setup().
+  void set_rcb(std::vector<RcbNode> tree);
+  void clear_rcb() { rcb_.clear(); }
+  /// Bounds of rank r's subdomain (coordinates; the box faces exactly at its edges).
+  void rank_box(int r, Vec3& lo, Vec3& hi) const;
+  /// Coordinate of fraction f along d: boxlo + f * prd, the faces exactly at 0 and 1.
+  double frac_coord(int d, double f) const;
 
   std::array<int, 3> user_grid{{0, 0, 0}};  // `processors`, 0 = automatic
   std::array<int, 3> procgrid{{1, 1, 1}};
@@ -47,6 +82,7 @@ class Comm {
 
   void processors_command(const Args& args);
   void modify_command(const Args& args);  // comm_modify / communicate
+  void style_command(const Args& args);   // comm_style brick|tiled
 
   /// Choose the processor grid (first call) and set this rank's subdomain.
   void setup(double cutghost_needed);
@@ -94,6 +130,37 @@ class Comm {
   };
   void choose_grid();
   void set_subdomain();
+  // comm_style tiled: direct messages to every rank concerned
+  struct Segment {
+    Vec3 shift{0, 0, 0};
+    int begin = 0, end = 0;  // range of SendPeer::list sent with this periodic shift
+  };
+  struct SendPeer {
+    int proc = 0;
+    std::vector<int> list;
+    std::vector<Segment> segs;
+  };
+  struct RecvPeer {
+    int proc = 0;
+    int first = 0, count = 0;  // ghosts first .. first+count-1 came from proc
+  };
+  void exchange_tiled(ContactHistory* history);
+  void borders_tiled();
+  /// Send per-proc buffers (doubles) to their procs and receive from every
+  /// proc that sends here; counts exchanged first unless known (recv_counts
+  /// non-empty). The buffer for this rank itself is moved, not sent. All
+  /// send buffers are empty on return (their capacity kept).
+  void alltoall_buffers(std::vector<std::vector<double>>& send, std::vector<std::vector<double>>& recv,
+                        const std::vector<std::size_t>* known_counts, int tag);
+  template <class Pack, class Unpack>
+  void tiled_forward(int per, Pack pack, Unpack unpack);
+  template <class Pack, class Unpack>
+  void tiled_reverse(int per, Pack pack, Unpack unpack);
+  std::vector<RcbNode> rcb_;
+  std::vector<std::array<double, 3>> rcb_lo_, rcb_hi_;  // every rank's box as fractions of the box
+  std::vector<SendPeer> tsend_;
+  std::vector<std::vector<double>> tbuf_send_, tbuf_recv_;
+  std::vector<RecvPeer> trecv_;
   void exchange_known(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
                       std::size_t nrecv, int recvproc);
   Engine& engine_;

@@ -93,6 +93,9 @@ void communication_info(Engine& e, std::ostringstream& o) {
   o << "MPI ranks = " << e.nprocs << ", OpenMP threads = 1\n";
   const Comm& c = *e.comm;
   o << "Processor grid = " << c.procgrid[0] << " x " << c.procgrid[1] << " x " << c.procgrid[2] << "\n";
+  o << "Communication style = "
+    << (c.tiled() ? (c.rcb_tree().empty() ? "tiled (the grid's boxes)" : "tiled (rcb boxes)") : "brick")
+    << "\n";
   o << "Communication mode = single, ghost velocities = yes\n";
   o << "Ghost cutoff = " << c.cutghost << " m (user " << c.cutghost_user << " m)\n";
 }

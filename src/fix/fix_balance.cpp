@@ -1,6 +1,7 @@
 // fix balance: dynamic load balancing by moving the cut planes of the
 // processor grid (see src/comm/balance.h).
 //   fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR]
+//   fix ID group balance NEVERY THRESH rcb [weight time|neigh FACTOR]   (comm_style tiled)
 // At the setup of every run, and on every step that is a multiple of NEVERY
 // (NEVERY = 0: setup only), the fix forces a reneighbouring and, in its
 // pre_exchange hook (before particles migrate), moves the cuts when the
@@ -26,7 +27,8 @@ class FixBalance : public Fix {
  public:
   FixBalance(Engine& engine, const Args& args) : Fix(engine, args) {
     const std::string usage =
-        "fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR]";
+        "fix ID group balance NEVERY THRESH shift DIMSTR NITER STOPTHRESH [weight time|neigh FACTOR] or fix "
+        "ID group balance NEVERY THRESH rcb [weight time|neigh FACTOR]";
     if (args.size() < 6) throw InputError("fix balance: too few arguments; usage: " + usage);
     const long long n = parse_int(args[3], "fix balance NEVERY");
     if (n < 0) throw InputError("fix balance NEVERY must be >= 0 (0: balance only at the setup of each run)");
@@ -34,12 +36,16 @@ class FixBalance : public Fix {
     thresh_ = parse_double(args[4], "fix balance THRESH");
     if (!(thresh_ > 0.0))
       throw InputError("fix balance THRESH must be positive (below 1.0 the cuts always move)");
-    if (args[5] == "rcb")
-      throw InputError(
-          "fix balance style rcb is not available; use shift (cut planes of the processor grid)");
-    if (args[5] != "shift") throw InputError("unknown fix balance style '" + args[5] + "'; usage: " + usage);
-    settings_ = parse_shift(args, 6, "fix balance");
-    weight_ = parse_weight(args, 9, "fix balance");
+    if (args[5] == "rcb") {
+      rcb_ = true;
+      weight_ = parse_weight(args, 6, "fix balance");
+      require_tiled();
+    } else if (args[5] == "shift") {
+      settings_ = parse_shift(args, 6, "fix balance");
+      weight_ = parse_weight(args, 9, "fix balance");
+    } else {
+      throw InputError("unknown fix balance style '" + args[5] + "'; usage: " + usage);
+    }
     scalar_flag = true;
     size_vector = 3;
   }
@@ -48,6 +54,7 @@ class FixBalance : public Fix {
 
   // Run setup reneighbours once: balance there.
   void init() override {
+    if (rcb_) require_tiled();
     pending_ = true;
     setup_pending_ = true;
     mark_ = 0.0;
@@ -84,7 +91,12 @@ class FixBalance : public Fix {
       bal.set_time_weight(weight_.factor, spent);
       mark_ = now;
     }
-    last_ = bal.shift(thresh_, settings_, bal.min_width());
+    if (rcb_) {
+      last_ = bal.rcb(thresh_);
+    } else {
+      if (engine_.comm->tiled()) engine_.comm->clear_rcb();  // the shift style moves the grid's cuts
+      last_ = bal.shift(thresh_, settings_, bal.min_width());
+    }
     // subdomain bounds from the new cuts at once, for pre_exchange fixes
     // after this one (the reneighbouring sets them again, identically)
     if (last_.balanced) engine_.comm->setup(engine_.neighbor->cutneighmax);
@@ -98,6 +110,14 @@ class FixBalance : public Fix {
   }
 
  private:
+  void require_tiled() const {
+    if (!engine_.comm->tiled()) {
+      throw InputError("fix " + id +
+                       " balance rcb needs comm_style tiled (its boxes are not a processor grid); put "
+                       "'comm_style tiled' before the fix");
+    }
+  }
+  bool rcb_ = false;
   long long every_ = 0;
   WeightSettings weight_;  // weight time|neigh FACTOR (none: particle count)
   double mark_ = 0.0;      // pair + neighbour time of this rank at the last balancing
