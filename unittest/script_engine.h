@@ -5,6 +5,8 @@
 #include <mpi.h>
 
 #include <charconv>
+#include <cstdlib>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -161,6 +163,36 @@ inline std::string rank_count_dir(const std::string& name) {
   }
   MPI_Barrier(MPI_COMM_WORLD);
   return dir;
+}
+
+inline bool is_number(const std::string& w) {
+  char* end = nullptr;
+  std::strtod(w.c_str(), &end);
+  return !w.empty() && end && *end == '\0';
+}
+
+/// Thermo data lines of a log: lines of exactly `columns` numbers.
+inline std::vector<std::vector<double>> thermo_rows(const std::string& text, std::size_t columns) {
+  std::vector<std::vector<double>> rows;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ws(line);
+    std::vector<std::string> words;
+    std::string w;
+    while (ws >> w)
+      words.push_back(w);
+    if (words.size() != columns) continue;
+    bool all = true;
+    for (const auto& x : words)
+      all = all && is_number(x);
+    if (!all) continue;
+    std::vector<double> row;
+    for (const auto& x : words)
+      row.push_back(std::strtod(x.c_str(), nullptr));
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 }  // namespace granary::test

@@ -90,36 +90,6 @@ std::string read_text(const std::string& path) {
   return ss.str();
 }
 
-bool is_number(const std::string& w) {
-  char* end = nullptr;
-  std::strtod(w.c_str(), &end);
-  return !w.empty() && end && *end == '\0';
-}
-
-/// Thermo data lines of a log: lines of exactly `columns` numbers.
-std::vector<std::vector<double>> thermo_rows(const std::string& text, std::size_t columns) {
-  std::vector<std::vector<double>> rows;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ws(line);
-    std::vector<std::string> words;
-    std::string w;
-    while (ws >> w)
-      words.push_back(w);
-    if (words.size() != columns) continue;
-    bool all = true;
-    for (const auto& x : words)
-      all = all && is_number(x);
-    if (!all) continue;
-    std::vector<double> row;
-    for (const auto& x : words)
-      row.push_back(std::strtod(x.c_str(), nullptr));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 /// Lines of a log that start with `prefix`.
 std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
   std::vector<std::string> out;
@@ -172,7 +142,7 @@ TEST_CASE("run N start S stop E sets the range of ramp()", "[run]") {
   one_bead(s);
   s.lines({"variable r equal ramp(0.0,10.0)", "thermo_style custom step v_r", "thermo 25",
            "run 100 start 0 stop 200", "run 100 start 0 stop 200", "run 100"});
-  const auto rows = thermo_rows(log.close_and_read(s), 2);
+  const auto rows = granary::test::thermo_rows(log.close_and_read(s), 2);
   // three runs: 5 lines each (steps 0/100/200 start a run, then every 25)
   REQUIRE(rows.size() == 15);
   for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -229,7 +199,7 @@ TEST_CASE("thermo N controls the number of output lines in the log", "[run][ther
     one_bead(s, 0.5);
     s.lines({"thermo_style custom step atoms ke time", "thermo " + std::to_string(c.every),
              "run " + std::to_string(c.steps)});
-    const auto rows = thermo_rows(log.close_and_read(s), 4);
+    const auto rows = granary::test::thermo_rows(log.close_and_read(s), 4);
     REQUIRE(rows.size() == c.lines);
     CHECK(rows.front()[0] == 0);
     CHECK(rows.back()[0] == c.steps);

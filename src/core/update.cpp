@@ -202,9 +202,12 @@ void Update::setup() {
   MPI_Allreduce(&stored, &any, 1, MPI_LONG_LONG, MPI_MAX, e.world);
   if (any > 0) use_restart_forces();
   e.modify->setup();
+  // dumps before thermo, as in LIGGGHTS and LAMMPS: a compute with a side
+  // effect (nparticles/tracer/region unmarking what it counted) shows the
+  // same per-atom values in a dump of the step as there
+  e.output->setup();
   e.thermo->header();
   e.thermo->line();
-  e.output->setup();
 }
 
 // Velocity Verlet's state is (x, v, f): the forces of step n were computed
@@ -308,8 +311,8 @@ void Update::step_loop(std::int64_t n) {
     const bool thermo_due = last || (e.thermo->every > 0 && ntimestep % e.thermo->every == 0);
     // Fixes that halt a run decide collectively, so every rank leaves together
     // (with a thermo line for the step where it stopped).
+    if (ntimestep == e.output->next) e.output->write(ntimestep);  // dumps first, as at setup
     if (thermo_due || halt_requested || stop_signal != 0) e.thermo->line();
-    if (ntimestep == e.output->next) e.output->write(ntimestep);
     if (stop_signal != 0) {
       stop_restart_ = e.output->write_restart_now(ntimestep);
       break;
