@@ -340,6 +340,26 @@ TEST_CASE("balance weight neigh evens out the neighbour-list entries of a bed un
   }
 }
 
+TEST_CASE("balance rcb weight neigh evens out the neighbour-list entries of a bed under a gas") {
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds(bed_and_gas_script());
+  s.cmds({"comm_style tiled", "run 0", "balance 1.0 rcb", "run 0"});
+  const double by_count = list_imbalance(s.e), count_ranks = rank_imbalance(s.e);
+  s.cmds({"balance 1.0 rcb weight neigh 1.0", "run 0"});
+  const double by_neigh = list_imbalance(s.e), neigh_ranks = rank_imbalance(s.e);
+  INFO("list-entry imbalance on " << s.e.nprocs << " ranks: rcb by count " << by_count << " (particles "
+                                  << count_ranks << "), by neighbours " << by_neigh << " (particles "
+                                  << neigh_ranks << ")");
+  if (s.e.nprocs == 1) {
+    CHECK(by_neigh == 1.0);
+  } else {
+    CHECK(count_ranks < 1.01);
+    CHECK(by_count > 1.3);
+    CHECK(by_neigh < 1.1);
+    CHECK(neigh_ranks > 1.1);  // the boxes of the bed hold fewer particles than those of the gas
+  }
+}
+
 TEST_CASE("fix balance weight neigh moves the cuts during a run") {
   granary::test::ScriptEngine s(MPI_COMM_WORLD);
   s.cmds(bed_and_gas_script());
@@ -556,4 +576,65 @@ TEST_CASE("rcb recut in a poured bed changes nothing beyond round-off in the nex
   }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank == 0) std::remove(file.c_str());
+}
+
+namespace {
+
+// Per-particle values of a per-atom compute, by particle id, from all ranks.
+std::map<long long, double> peratom_by_id(granary::Engine& e, const std::string& compute) {
+  std::vector<double> mine;
+  const auto& p = *e.particles;
+  std::vector<double> values;
+  e.compute_peratom(compute, 0, values);
+  for (int i = 0; i < p.nlocal; ++i) {
+    mine.push_back(static_cast<double>(p.id[i]));
+    mine.push_back(values[i]);
+  }
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<double> all(displs.back() + counts.back());
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
+  std::map<long long, double> out;
+  for (std::size_t k = 0; k + 1 < all.size(); k += 2)
+    out[static_cast<long long>(all[k])] = all[k + 1];
+  return out;
+}
+
+}  // namespace
+
+// Extra per-particle fields travel forward (cluster labels) and backward
+// (contact counts summed from ghosts with newton on) on the rcb tiles as on
+// the grid.
+TEST_CASE("per-particle fields communicated on rcb tiles equal those on the grid") {
+  std::map<long long, double> contacts[2], clusters[2];
+  for (const bool rcb : {false, true}) {
+    granary::test::ScriptEngine s(MPI_COMM_WORLD);
+    auto script = bed_and_gas_script();
+    for (auto& line : script)
+      if (line == "newton off") line = "newton on";
+    s.cmds(script);
+    // beads of the bed lie 2.01 mm or more apart: grown to 2.05 mm, neighbours overlap
+    s.cmds({"set type 1 diameter 0.00205", "compute ca all contact/atom",
+            "compute cl all cluster/atom 0.00204"});
+    if (rcb) s.cmds({"comm_style tiled", "balance 1.0 rcb"});
+    s.cmd("run 0");
+    contacts[rcb] = peratom_by_id(s.e, "ca");
+    clusters[rcb] = peratom_by_id(s.e, "cl");
+  }
+  REQUIRE(contacts[0].size() > 1500);  // create_atoms placed what fits of 2500
+  REQUIRE(contacts[1].size() == contacts[0].size());
+  double total = 0.0;
+  for (const auto& kv : contacts[0])
+    total += kv.second;
+  INFO("contacts counted at both ends: " << total);
+  CHECK(total > 200);  // the bed touches
+  CHECK(contacts[1] == contacts[0]);
+  int joined = 0;  // particles labelled by another particle of their cluster
+  for (const auto& kv : clusters[0])
+    joined += static_cast<long long>(kv.second) != kv.first;
+  CHECK(joined > 100);
+  CHECK(clusters[1] == clusters[0]);
 }
