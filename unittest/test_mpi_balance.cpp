@@ -638,3 +638,25 @@ TEST_CASE("per-particle fields communicated on rcb tiles equal those on the grid
   CHECK(joined > 100);
   CHECK(clusters[1] == clusters[0]);
 }
+
+// Parts without particles are cut in proportion to their ranks: every rank
+// keeps a box of its own (of positive volume) and no rank holds two particles.
+TEST_CASE("rcb with fewer particles than ranks gives every rank a box of its own") {
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds({"units si", "atom_style granular", "boundary f f f", "comm_style tiled",
+          "region box block 0 0.06 0 0.03 0 0.2 units box", "create_box 1 box",
+          "region fill block 0.001 0.02 0.001 0.029 0.001 0.02 units box",
+          "create_atoms 1 random 3 4711 fill", "set type 1 diameter 0.002 density 2500", "balance 1.0 rcb"});
+  double most = 0.0, mine = s.e.particles->nlocal;
+  MPI_Allreduce(&mine, &most, 1, MPI_DOUBLE, MPI_MAX, s.e.world);
+  CHECK(most == (s.e.nprocs >= 3 ? 1.0 : std::ceil(3.0 / s.e.nprocs)));
+  double volume = 0.0;
+  for (int r = 0; r < s.e.nprocs; ++r) {
+    granary::Vec3 lo, hi;
+    s.e.comm->rank_box(r, lo, hi);
+    const double v = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    CHECK(v > 0.0);
+    volume += v;
+  }
+  CHECK(volume == Approx(0.06 * 0.03 * 0.2).epsilon(1e-12));
+}

@@ -239,9 +239,17 @@ BalanceResult Balancer::rcb(double thresh) {
         }
       }
     }
-    // the nearer of the two brackets; rank 0's choice for everybody
-    for (int k = 0; k < na; ++k)
-      cut[k] = target[k] - below_lo[k] < below_hi[k] - target[k] ? lo[k] : hi[k];
+    // the nearer of the two brackets (a part without particles: in proportion
+    // to its ranks); rank 0's choice for everybody
+    for (int k = 0; k < na; ++k) {
+      const Part& part = parts[active[k]];
+      if (sum_all[k] > 0.0) {
+        cut[k] = target[k] - below_lo[k] < below_hi[k] - target[k] ? lo[k] : hi[k];
+      } else {
+        const double share = static_cast<double>((part.r1 - part.r0) / 2) / (part.r1 - part.r0);
+        cut[k] = part.lo[dim[k]] + share * (part.hi[dim[k]] - part.lo[dim[k]]);
+      }
+    }
     MPI_Bcast(cut.data(), na, MPI_DOUBLE, 0, e.world);
     MPI_Bcast(dim.data(), na, MPI_INT, 0, e.world);
     std::vector<int> next;
