@@ -54,6 +54,8 @@ TEST_CASE("info all writes every category of the present state to a file", "[inf
   CHECK_THAT(t, Contains("Processor grid = 1 x 1 x 1"));
   CHECK_THAT(t, Contains("Communication style = brick"));
   CHECK_THAT(t, Contains("MPI library level: MPI v"));
+  // no NUL from the MPI library's version string (the screen copy stopped there)
+  CHECK(t.find('\0') == std::string::npos);
   // styles, groups, regions, variables
   CHECK_THAT(t, Contains("Fix[4]: integr, style = nve/sphere, group = all"));
   CHECK_THAT(t, Contains("Compute[0]: rke, style = erotate/sphere, group = top"));

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <cstring>
 #include <sstream>
 #include <string>
 
@@ -81,7 +82,9 @@ void communication_info(Engine& e, std::ostringstream& o) {
   char version[MPI_MAX_LIBRARY_VERSION_STRING];
   int len = 0;
   MPI_Get_library_version(version, &len);
-  std::string v(version, static_cast<std::size_t>(len));
+  // Open MPI counts the terminating NUL in len: a NUL in the text would cut
+  // the printed report short there
+  std::string v(version, strnlen(version, static_cast<std::size_t>(len)));
   if (const auto nl = v.find('\n'); nl != std::string::npos) v.resize(nl);
   while (!v.empty() && (v.back() == ',' || v.back() == ' '))
     v.pop_back();
