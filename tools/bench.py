@@ -25,6 +25,12 @@ What is measured, per run (each run is started from a fresh measuring subprocess
   particles    M from the last "Loop time" line (fallback: last thermo 'Atoms')
   steps        N summed over the "Loop time" lines
   particle-steps/s   particles * steps / loop s
+  contacts     mean number of particle-particle contacts, from a thermo column
+               'c_contacts' (LIGGGHTS prints 'contacts'), the sum of compute
+               contact/atom (each contact counted at both ends, so halved):
+               the mean over the thermo lines of each run command, weighted
+               by its steps; '-' when the script has no such column
+  contact updates/s  contacts * steps / loop s: contact evaluations per second
   speed G/L    Granary particle-steps/s divided by LIGGGHTS particle-steps/s at
                the same number of ranks (> 1: Granary is faster)
   speed-up     particle-steps/s at P ranks divided by the same program's value
@@ -181,6 +187,10 @@ def parse_output(text):
     loops = []
     last_atoms = None
     header = None
+    contact_col = None   # index of the contact column in the current thermo header
+    segment = []         # its values since the last "Loop time" line
+    contact_steps = 0.0  # sum over the run commands of mean contacts (both ends) * steps
+    contact_runs = 0
     split = {}
     split_max = {}
     for line in text.splitlines():
@@ -198,15 +208,23 @@ def parse_output(text):
         m = LOOP_RE.match(line.strip())
         if m:
             loops.append((float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))))
+            if segment:
+                contact_steps += sum(segment) / len(segment) * int(m.group(3))
+                contact_runs += 1
             header = None
+            contact_col = None
+            segment = []
             continue
         words = line.split()
         if words and words[0] == "Step":
             header = words
+            contact_col = next((k for k, w in enumerate(words) if w in ("c_contacts", "contacts")), None)
             continue
         if header and len(words) == len(header) and "Atoms" in header:
             try:
                 last_atoms = int(float(words[header.index("Atoms")]))
+                if contact_col is not None:
+                    segment.append(float(words[contact_col]))
             except ValueError:
                 pass
     version = ""
@@ -224,6 +242,8 @@ def parse_output(text):
         info["procs"] = loops[-1][1]
         info["steps"] = sum(l[2] for l in loops)
         info["particles"] = loops[-1][3]
+        if contact_runs and info["steps"] > 0:
+            info["contacts"] = contact_steps / 2.0 / info["steps"]  # each contact counted at both ends
     else:
         info["particles"] = last_atoms
     return info
@@ -382,6 +402,8 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
         return row
     t = row.get("loop_s") or row["wall_s"]
     row["particle_steps_per_s"] = row["particles"] * row["steps"] / t if t > 0 else None
+    if row.get("contacts") is not None and t > 0:
+        row["contact_updates_per_s"] = row["contacts"] * row["steps"] / t
     if row["particles"]:
         row["bytes_per_particle"] = row["peak_rss_mib"] * 1048576.0 / row["particles"]
     return row
@@ -409,18 +431,18 @@ def write_markdown(heads, lines, out):
 
 def print_table(rows, out=sys.stdout):
     heads = ["program", "ranks", "particles", "steps", "wall s", "loop s", "CPU s", "particle-steps/s",
-             "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle", "start-up MiB",
-             "B/particle above start-up"]
+             "contacts", "contact updates/s", "speed G/L", "speed-up", "peak RSS MiB", "bytes/particle",
+             "start-up MiB", "B/particle above start-up"]
     lines = []
     for r in rows:
         if "error" in r:
-            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 11)
+            lines.append([r["program"], str(r["ranks"]), "FAILED"] + ["-"] * 13)
             continue
         lines.append([r["program"], str(r["ranks"]), fmt(r.get("particles"), "d"),
                       fmt(r.get("steps"), "d"), fmt(r.get("wall_s"), ".2f"),
                       fmt(r.get("loop_s"), ".2f"), fmt(r.get("cpu_s"), ".2f"),
-                      fmt(r.get("particle_steps_per_s"), ".4g"),
-                      fmt(r.get("speed_ratio"), ".2f"), fmt(r.get("speedup"), ".2f"),
+                      fmt(r.get("particle_steps_per_s"), ".4g"), fmt(r.get("contacts"), ".0f"),
+                      fmt(r.get("contact_updates_per_s"), ".4g"), fmt(r.get("speed_ratio"), ".2f"), fmt(r.get("speedup"), ".2f"),
                       fmt(r.get("peak_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle"), ".0f"),
                       fmt(r.get("startup_rss_mib"), ".1f"), fmt(r.get("bytes_per_particle_above_startup"), ".0f")])
     write_markdown(heads, lines, out)

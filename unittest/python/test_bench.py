@@ -56,6 +56,18 @@ Other time (%) = 2.93881 (60.0331)
 
 
 class ParseReports(unittest.TestCase):
+    def test_contacts_are_averaged_per_run_and_weighted_by_steps(self):
+        # Granary's header names the column c_contacts, LIGGGHTS' contacts; the
+        # sum of contact/atom counts each contact at both ends
+        text = ("Step Atoms KinEng c_contacts\n 0 10 1 100\n 500 10 1 300\n"
+                "Loop time of 2 on 1 procs for 1000 steps with 10 atoms\n"
+                "    Step    Atoms         KinEng       contacts \n 1000 10 1 600\n"
+                "Loop time of 1 on 1 procs for 3000 steps with 10 atoms\n")
+        info = bench.parse_output(text)
+        # run 1: mean 200 ends = 100 contacts over 1000 steps; run 2: 300 over 3000
+        self.assertAlmostEqual(info["contacts"], (100 * 1000 + 300 * 3000) / 4000)
+        self.assertNotIn("contacts", bench.parse_output(GRANARY))
+
     def test_granary_sections_sum_over_runs(self):
         info = bench.parse_output(GRANARY)
         self.assertAlmostEqual(info["loop_s"], 4.0)
