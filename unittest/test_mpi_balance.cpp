@@ -117,6 +117,18 @@ struct State {
   std::map<long long, granary::Vec3> x;
 };
 
+/// Every rank's `mine`, concatenated in rank order, on every rank.
+std::vector<double> allgather(granary::Engine& e, const std::vector<double>& mine) {
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
+  for (int r = 1; r < e.nprocs; ++r)
+    displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<double> all(displs.back() + counts.back());
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
+  return all;
+}
+
 State snapshot(granary::Engine& e) {
   State s;
   const auto& p = *e.particles;
@@ -126,13 +138,7 @@ State snapshot(granary::Engine& e) {
     for (int d = 0; d < 3; ++d)
       mine.push_back(p.x[i][d]);
   }
-  int n = static_cast<int>(mine.size());
-  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r)
-    displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<double> all(displs.back() + counts.back());
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
+  const std::vector<double> all = allgather(e, mine);
   for (std::size_t k = 0; k + 4 <= all.size(); k += 4)
     s.x[static_cast<long long>(all[k])] = granary::Vec3(all[k + 1], all[k + 2], all[k + 3]);
   s.natoms = static_cast<long long>(s.x.size());
@@ -590,13 +596,7 @@ std::map<long long, double> peratom_by_id(granary::Engine& e, const std::string&
     mine.push_back(static_cast<double>(p.id[i]));
     mine.push_back(values[i]);
   }
-  int n = static_cast<int>(mine.size());
-  std::vector<int> counts(e.nprocs), displs(e.nprocs, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, e.world);
-  for (int r = 1; r < e.nprocs; ++r)
-    displs[r] = displs[r - 1] + counts[r - 1];
-  std::vector<double> all(displs.back() + counts.back());
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, e.world);
+  const std::vector<double> all = allgather(e, mine);
   std::map<long long, double> out;
   for (std::size_t k = 0; k + 1 < all.size(); k += 2)
     out[static_cast<long long>(all[k])] = all[k + 1];
