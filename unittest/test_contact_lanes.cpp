@@ -37,8 +37,8 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   ModelSpec spec;
   // Every field, by position: a field added to ModelSpec stops this from
   // compiling until it is drawn here as well.
-  auto& [normal, tangential, rolling, cohesion, damping, tangential_reduce, limit_force, tangential_damping,
-         kt_to_kn_user, absolute_damping] = spec;
+  auto& [normal, tangential, rolling, cohesion, damping, surface, tangential_reduce, limit_force,
+         tangential_damping, kt_to_kn_user, absolute_damping] = spec;
   normal = std::array{NormalModel::Hertz, NormalModel::Hooke, NormalModel::HertzStiffness,
                       NormalModel::HookeStiffness, NormalModel::HookeHysteresis}[pick(5)];
   tangential = std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
@@ -47,6 +47,8 @@ ModelSpec random_spec(std::mt19937_64& rng) {
                        RollingModel::Epsd3}[pick(5)];
   cohesion = std::array{CohesionModel::None, CohesionModel::Sjkr, CohesionModel::Sjkr2}[pick(3)];
   damping = pick(2) ? DampingModel::Viscoelastic : DampingModel::Restitution;
+  // read by the contact loops only (the kernels ignore it)
+  surface = pick(2) ? SurfaceModel::Multicontact : SurfaceModel::Sphere;
   tangential_reduce = pick(2);
   limit_force = pick(2);
   tangential_damping = pick(2);

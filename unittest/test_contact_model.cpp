@@ -132,8 +132,10 @@ TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][pars
   CHECK_THAT(parse_error("model hertz tangential sticky"),
              Catch::Contains("(supported: history, no_history, mindlin_deresiewicz, off)"));
   CHECK_THAT(parse_error("model hertz cohesion x"), Catch::Contains("(supported: sjkr, sjkr2, off)"));
-  CHECK_THAT(parse_error("model hertz surface multicontact"),
-             Catch::Contains("'surface multicontact' is not supported (supported: default (= sphere))"));
+  CHECK(parse_all("model hertz surface multicontact").surface == SurfaceModel::Multicontact);
+  CHECK(parse_all("model hertz surface default").surface == SurfaceModel::Sphere);
+  CHECK_THAT(parse_error("model hertz surface superquadric"),
+             Catch::Contains("'surface superquadric' is not supported (supported: sphere, multicontact)"));
 }
 
 TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
@@ -141,7 +143,7 @@ TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
     for (TangentialModel tm : {TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History}) {
       for (RollingModel rm : {RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
                               RollingModel::Epsd3}) {
-        for (int flags = 0; flags < 64; ++flags) {
+        for (int flags = 0; flags < 128; ++flags) {
           ModelSpec s;
           s.normal = nm;
           s.tangential = tm;
@@ -153,7 +155,9 @@ TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
           s.tangential_reduce = (flags & 16) && s.cohesion == CohesionModel::Sjkr;
           s.damping = (flags & 32) && nm == NormalModel::Hertz ? DampingModel::Viscoelastic
                                                                : DampingModel::Restitution;
+          s.surface = (flags & 64) ? SurfaceModel::Multicontact : SurfaceModel::Sphere;
           const ModelSpec t = parse_all(model_words(s));
+          CHECK(t.surface == s.surface);
           CHECK(t.cohesion == s.cohesion);
           CHECK(t.tangential_reduce == s.tangential_reduce);
           CHECK(t.damping == s.damping);

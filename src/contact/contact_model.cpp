@@ -74,7 +74,8 @@ const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjk
                                                                            {"sjkr2", CohesionModel::Sjkr2}};
 const std::vector<std::pair<std::string, DampingModel>> kDampingNames = {
     {"restitution", DampingModel::Restitution}, {"viscoelastic", DampingModel::Viscoelastic}};
-const std::vector<std::string> kSurfaceNames = {"sphere"};
+const std::vector<std::pair<std::string, SurfaceModel>> kSurfaceNames = {
+    {"sphere", SurfaceModel::Sphere}, {"multicontact", SurfaceModel::Multicontact}};
 
 template <class Enum>
 std::vector<std::string> names_of(const std::vector<std::pair<std::string, Enum>>& table) {
@@ -97,8 +98,7 @@ bool is_known_unsupported(const std::string& slot, const std::string& name) {
   static const std::vector<std::pair<std::string, std::string>> known = {
       {"cohesion", "easo/capillary/viscous"},
       {"cohesion", "washino/capillary/viscous"},
-      {"surface", "superquadric"},
-      {"surface", "multicontact"}};
+      {"surface", "superquadric"}};
   for (const auto& k : known)
     if (k.first == slot && k.second == name) return true;
   return false;
@@ -182,10 +182,10 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     } else if (w == "surface") {
       once(seen_surface, w);
       const std::string& v = value_of(args, pos);
-      bool known = v == "default";
-      for (const auto& name : kSurfaceNames)
-        known = known || v == name;
-      if (!known) bad_model(w, v, "default (= " + join(kSurfaceNames) + ")");
+      if (v == "default")
+        spec.surface = SurfaceModel::Sphere;
+      else
+        spec.surface = lookup<SurfaceModel>(kSurfaceNames, w, v, nullptr);
     } else if (w == "limitForce") {
       spec.limit_force = on_off(args, pos);
     } else if (w == "tangential_damping") {
@@ -219,7 +219,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> model_names() {
           {"tangential", names_of(kTangentialNames)},
           {"rolling_friction", names_of(kRollingNames)},
           {"cohesion", names_of(kCohesionNames)},
-          {"surface", kSurfaceNames},
+          {"surface", names_of(kSurfaceNames)},
           {"damping", names_of(kDampingNames)}};
 }
 
@@ -239,6 +239,7 @@ std::string model_words(const ModelSpec& spec) {
   if (spec.cohesion == CohesionModel::Sjkr) s += " cohesion sjkr";
   if (spec.cohesion == CohesionModel::Sjkr2) s += " cohesion sjkr2";
   if (spec.damping == DampingModel::Viscoelastic) s += " damping viscoelastic";
+  if (spec.surface == SurfaceModel::Multicontact) s += " surface multicontact";
   if (spec.limit_force) s += " limitForce on";
   if (spec.tangential_reduce) s += " tangential_reduce on";
   if (!spec.tangential_damping) s += " tangential_damping off";

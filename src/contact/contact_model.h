@@ -57,6 +57,11 @@ enum class CohesionModel { None, Sjkr, Sjkr2 };
 /// "damping viscoelastic" (Brilliantov et al. 1996: dashpot proportional to the
 /// contact stiffness, restitution falls with impact speed).
 enum class DampingModel { Restitution, Viscoelastic };
+/// Surface model: "surface default" (= sphere) or "surface multicontact"
+/// (Brodu et al. 2015: each contact's overlap grows or shrinks by the
+/// deformation that the particle's other contacts cause, computed by fix
+/// multicontact/halfspace; the contact law itself is unchanged).
+enum class SurfaceModel { Sphere, Multicontact };
 
 /// Which sub-model fills each slot, plus the model switches of the input syntax.
 struct ModelSpec {
@@ -66,6 +71,8 @@ struct ModelSpec {
   CohesionModel cohesion = CohesionModel::None;
   /// Read at run time inside the normal sub-model (not a template parameter).
   DampingModel damping = DampingModel::Restitution;
+  /// Read by the contact loops (pair and walls), not by the kernels.
+  SurfaceModel surface = SurfaceModel::Sphere;
   /// Cohesion: the Coulomb and epsd2 limits see the cohesive pull as well
   /// ("tangential_reduce on"); default off: they see the contact force only.
   bool tangential_reduce = false;
@@ -143,7 +150,7 @@ void history_swap_signs(const ModelSpec&, double* signs);
 /// Parse LIGGGHTS contact-model words starting at args[pos], e.g.
 ///   model hertz tangential history rolling_friction cdt limitForce on
 /// Recognised slots: model, tangential, cohesion (off, sjkr), rolling_friction,
-/// surface (default/sphere only), damping (restitution, viscoelastic; hertz
+/// surface (default/sphere, multicontact), damping (restitution, viscoelastic; hertz
 /// only); settings: limitForce, tangential_damping, tangential_reduce (sjkr),
 /// ktToKnUser (hooke), and the LIGGGHTS bookkeeping switches (accepted as "off").
 /// Slots that are not given take the LIGGGHTS defaults: model hertz,

@@ -13,6 +13,8 @@ class Engine;
 class Pair;
 class ContactHistory;
 
+class FixMulticontactHalfspace;
+
 class Force {
  public:
   explicit Force(Engine& engine);
@@ -32,6 +34,11 @@ class Force {
   /// history (contact_history()), so its rows travel with migrating particles.
   std::unique_ptr<ContactHistory> pending_history;
   std::string restart_pair_style;  // the pair_style words of the run that wrote it
+  /// fix multicontact/halfspace, when defined: the contact loops with
+  /// "surface multicontact" change their overlaps through it, and
+  /// Update::compute_forces brackets every force evaluation with its
+  /// begin() and finish().
+  FixMulticontactHalfspace* multicontact = nullptr;
 
  private:
   Engine& engine_;

@@ -22,6 +22,7 @@
 #include "output/output.h"
 #include "output/thermo.h"
 #include "core/force.h"
+#include "fix/fix_multicontact_halfspace.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 
@@ -131,6 +132,7 @@ void Update::compute_forces() {
     Timer t(timers[kModify]);
     e.modify->pre_force();
   }
+  if (e.force->multicontact) e.force->multicontact->begin();
   if (e.force->pair) {
     Timer t(timers[kPair]);
     e.force->pair->compute();
@@ -141,6 +143,7 @@ void Update::compute_forces() {
   }
   Timer t(timers[kModify]);
   e.modify->post_force();
+  if (e.force->multicontact) e.force->multicontact->finish();
 }
 
 void Update::setup() {

@@ -10,6 +10,8 @@
 #include "comm/collectives.h"
 #include "contact/contact_block.h"
 #include "contact/contact_kernels.h"
+#include "core/force.h"
+#include "fix/fix_multicontact_halfspace.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -26,6 +28,9 @@ namespace {
 struct WallContact {
   int i;                  ///< the particle
   double overlap, m_eff;  ///< m_eff: the particle's (or its clump's) mass
+  double overlap0;        ///< the geometric overlap (surface multicontact changes `overlap`)
+  double r;               ///< the radius the contact law sees (surface multicontact: changed)
+  double key;             ///< surface multicontact: the contact's key
   Vec3 n, v_rel;          ///< normal towards the centre; velocity relative to the wall at the contact
   const contact::PairMaterial* mat;  ///< particle type and wall type
   double* h;                         ///< the contact's history doubles
@@ -56,7 +61,7 @@ void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, 
       const WallContact& w = blk[c[l]];
       lane::set(g.n, l, w.n);
       lane::set(g.overlap, l, w.overlap);
-      lane::set(g.r_i, l, radius[w.i]);
+      lane::set(g.r_i, l, w.r);
       lane::set(g.m_eff, l, w.m_eff);
       lane::set(g.omega_i, l, omega[w.i]);
       set_material(mat, l, *w.mat);
@@ -271,6 +276,16 @@ void FixWallGran::unpack_restart(const std::string& in) {
 
 void FixWallGran::init() {
   materials_.build(engine_, spec_, "fix " + id + " wall/gran");
+  mc_ = nullptr;
+  if (spec_.surface == contact::SurfaceModel::Multicontact) {
+    mc_ = engine_.force->multicontact;
+    if (!mc_)
+      throw InputError(
+          "fix " + id +
+          " wall/gran with 'surface multicontact' needs fix multicontact/halfspace (e.g. fix mc all "
+          "multicontact/halfspace geometric_prefactor 1.125)");
+    mc_ordinal_ = mc_->wall_ordinal(id);
+  }
   body_mass_ = FieldRef(*engine_.particles, kBodyMassField);
   if (nhist_ > 0) field_ = engine_.particles->find_field(field_name_);
   if (mesh_ && nhist_ > 0) {
@@ -472,9 +487,12 @@ void FixWallGran::post_force() {
     // the contacts, a block at a time (contact/contact_block.h)
     WallContact blk[kWallBlock];
     int nblk = 0;
+    FixMulticontactHalfspace* const mc = mc_;
+    const double mc_key = FixMulticontactHalfspace::wall_key(mc_ordinal_, 0);
     auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
       f[w.i] += force;
       torque[w.i] += tq;
+      if (mc) mc->record(p, w.i, w.key, -(radius[w.i] - 0.5 * w.overlap0) * w.n, w.n, force.dot(w.n));
     };
     for (int m = 0; m < nvisit; ++m) {
       const int i = use_near ? near[m] : m;
@@ -509,6 +527,15 @@ void FixWallGran::post_force() {
       WallContact& w = blk[nblk++];
       w.i = i;
       w.overlap = overlap;
+      w.overlap0 = overlap;
+      w.r = r;
+      if (mc) {
+        // multicontact: the radius changed by the particle's other contacts
+        w.key = mc_key;
+        const double s = mc->shift(p, i, mc_key, x[i] - (r - 0.5 * overlap) * n, n);
+        w.r += s;
+        w.overlap += s;
+      }
       w.m_eff = body_mass && body_mass[i] > 0.0 ? body_mass[i] : rmass[i];
       w.n = n;
       w.v_rel = v[i];
@@ -687,10 +714,12 @@ void FixWallGran::post_force_mesh() {
     // slots are restored by Update, the extra ones are not written.
     const bool keep_extra = engine_.update->in_setup_forces;
     const double step_dt = engine_.update->dt;
+    FixMulticontactHalfspace* const mc = mc_;
     auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
       f[w.i] += force;
       torque[w.i] += tq;
       total -= force;
+      if (mc) mc->record(p, w.i, w.key, -(radius[w.i] - 0.5 * w.overlap0) * w.n, w.n, force.dot(w.n));
       FixMeshSurface& fm = *meshes_[w.mesh];
       fm.mesh.tri_force[w.tri] -= force;
       if (!fm.mesh.tri_moment.empty()) {  // at the contact point, on the triangle
@@ -819,6 +848,15 @@ void FixWallGran::post_force_mesh() {
         WallContact& w = blk[nblk++];
         w.i = i;
         w.overlap = ck.overlap;
+        w.overlap0 = ck.overlap;
+        w.r = r;
+        if (mc) {
+          w.key = FixMulticontactHalfspace::wall_key(mc_ordinal_,
+                                                     static_cast<long long>(key_base_[ck.mesh]) + ck.tri + 1);
+          const double s = mc->shift(p, i, w.key, xi - (r - 0.5 * ck.overlap) * ck.n, ck.n);
+          w.r += s;
+          w.overlap += s;
+        }
         w.m_eff = m_eff;
         w.n = ck.n;
         w.v_rel = v[i] - mesh.velocity_at(ck.tri, ck.point);  // the wall material at the contact point

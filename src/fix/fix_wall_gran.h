@@ -27,6 +27,8 @@
 
 namespace granary {
 
+class FixMulticontactHalfspace;
+
 class FixMeshSurface;
 
 class FixWallGran : public Fix {
@@ -144,6 +146,10 @@ class FixWallGran : public Fix {
   /// ones to kept (both kMaxCandidates long); returns the number kept.
   int mesh_contacts(const Vec3& x, double r, tagint tag, Candidate* cand, int* kept) const;
   bool initialized_ = false;  // init() has run: materials and meshes resolved
+  /// "surface multicontact": the fix that changes the overlaps, and this
+  /// wall's number in its contact keys
+  FixMulticontactHalfspace* mc_ = nullptr;
+  int mc_ordinal_ = 0;
   bool mesh_ = false;
   std::vector<std::string> mesh_ids_;
   std::vector<FixMeshSurface*> meshes_;  // resolved by init

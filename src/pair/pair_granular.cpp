@@ -116,6 +116,10 @@ void PairGranular::coeff(const Args& args) {
 void PairGranular::init() {
   if (!coeff_set_) throw InputError("pair style " + style + " needs 'pair_coeff * *' before run");
   materials_.build(engine_, spec_, "pair_style " + style);
+  if (spec_.surface == contact::SurfaceModel::Multicontact && !engine_.force->multicontact)
+    throw InputError("pair style " + style +
+                     " with 'surface multicontact' needs fix multicontact/halfspace (e.g. fix mc all "
+                     "multicontact/halfspace geometric_prefactor 1.125)");
   body_mass_ = FieldRef(*engine_.particles, kBodyMassField);
   std::vector<double> signs(history_size());
   if (!signs.empty()) history_swap_signs(signs.data());
@@ -173,6 +177,10 @@ void PairGranular::loop() {
   L.materials = &materials_;
   L.spec = &spec_;
   L.dt = {engine_.update->history_dt(), engine_.update->dt};
+  if (spec_.surface == contact::SurfaceModel::Multicontact) {
+    L.mc = engine_.force->multicontact;
+    L.particles = &p;
+  }
   // the particle of each list entry, for stage 1's single stream
   if (owner_build_ != list.nbuilds || owner_.size() != list.neigh.size()) {
     owner_.resize(list.neigh.size());

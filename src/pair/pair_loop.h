@@ -31,7 +31,9 @@
 #include "contact/contact_kernels.h"
 #include "contact/lane.h"
 #include "core/vec3.h"
+#include "fix/fix_multicontact_halfspace.h"
 #include "pair/materials.h"
+#include "particles/particles.h"
 
 namespace granary {
 
@@ -56,6 +58,10 @@ struct PairLoopData {
   const MaterialTable* materials = nullptr;
   const contact::ModelSpec* spec = nullptr;
   contact::HistoryDt dt;  ///< timesteps of the history integration
+  /// "surface multicontact": the fix that changes the overlaps and records the
+  /// contacts (null otherwise), and the particles it reads
+  FixMulticontactHalfspace* mc = nullptr;
+  const Particles* particles = nullptr;
 };
 
 constexpr int kPairBlock = 64;
@@ -83,6 +89,7 @@ void pair_loop(const PairLoopData& L) {
   const MaterialTable& materials = *L.materials;
   const contact::HistoryDt dt = L.dt;
   const bool newton = L.newton;
+  FixMulticontactHalfspace* const mc = L.mc;
   // the block: list position and particle of each contact, the first stage's
   // results; fewer than kPairBlock contacts before the last group of W entries
   constexpr int kCap = kPairBlock + W;
@@ -132,6 +139,26 @@ void pair_loop(const PairLoopData& L) {
       g.r_j = r_j;
       g.r_eff = r_eff;
       g.m_eff = m_eff;
+      if (mc) {
+        // multicontact: the radii of i and j changed by the deformation that
+        // their other contacts cause at this contact's point (the middle of
+        // the overlap; n points from j to i); the contact law sees the new
+        // radii: overlap, R* and lever arms
+        const Particles& P = *L.particles;
+        S ri_new = r_i, rj_new = r_j;
+        for (int l = 0; l < W; ++l) {
+          const Vec3 nl = lane::get(g.n, l);
+          const double ri = lane::get(r_i, l), ov = lane::get(g.overlap, l);
+          const Vec3 point = x[ii[l]] - (ri - 0.5 * ov) * nl;
+          lane::set(ri_new, l, ri + mc->shift(P, ii[l], static_cast<double>(P.id[j[l]]), point, nl));
+          lane::set(rj_new, l,
+                    lane::get(r_j, l) + mc->shift(P, j[l], static_cast<double>(P.id[ii[l]]), point, -nl));
+        }
+        g.overlap = (ri_new + rj_new) - r;
+        g.r_i = ri_new;
+        g.r_j = rj_new;
+        g.r_eff = ri_new * rj_new / (ri_new + rj_new);
+      }
       if (rolling_dashpot(K::rolling(spec))) {
         S i_roll{};
         for (int l = 0; l < W; ++l)
@@ -175,6 +202,18 @@ void pair_loop(const PairLoopData& L) {
         if (newton || j < nlocal) {
           f[j] -= force;
           torque[j] += lane::get(out.torque_j, l);
+        }
+        if (mc) {
+          // this evaluation's contact for the next one: the point in the
+          // middle of the geometric overlap, relative to each centre
+          const Particles& P = *L.particles;
+          const Vec3 d = x[i] - x[j];
+          const double r = d.norm();
+          const Vec3 n = d * (1.0 / r);
+          const Vec3 rel_i = -(radius[i] - 0.5 * (radius[i] + radius[j] - r)) * n;
+          const double fn = lane::get(out.fn, l);
+          mc->record(P, i, static_cast<double>(P.id[j]), rel_i, n, fn);
+          if (j < nlocal) mc->record(P, j, static_cast<double>(P.id[i]), d + rel_i, -n, fn);
         }
       }
     };
