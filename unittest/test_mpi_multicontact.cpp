@@ -9,7 +9,8 @@
 //  * a small compressed bed of soft spheres ends at the same positions on 1, 2
 //    and 4 ranks (the contact records reach the ghosts), and through a restart
 //    file (the records are written with the particles);
-//  * errors: the fix missing, newton on, a second fix, a bad prefactor.
+//  * errors: the fix missing, newton on, a second fix, a bad prefactor, the
+//    local contact computes (they would recompute forces without the model).
 // Run by ctest at 1, 2 and 4 ranks (processors 1 1 *: the stack's contact
 // and many of the bed's cross the ranks' boundaries).
 #include <mpi.h>
@@ -222,4 +223,11 @@ TEST_CASE("multicontact: errors", "[multicontact][mpi][errors]") {
                     Contains("geometric_prefactor must be > 0"));
   CHECK_THROWS_WITH(failing({"fix mc all multicontact/halfspace gamma 1"}),
                     Contains("unknown keyword 'gamma'"));
+  // the local contact computes would report forces without the radius changes
+  const std::string local = "multicontact_test_local.txt";
+  for (const std::string compute : {"pair/gran/local", "wall/gran/local"})
+    CHECK_THROWS_WITH(failing({"fix mc all multicontact/halfspace", "compute c all " + compute + " pos force",
+                               "dump d all local 1 " + local + " c_c[1]", "run 1"}),
+                      Contains("not supported with fix multicontact/halfspace"));
+  if (granary::test::world_rank() == 0) std::remove(local.c_str());
 }

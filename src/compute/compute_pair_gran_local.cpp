@@ -61,6 +61,11 @@ void ComputePairGranLocal::compute_local() {
                      " reports the contacts of the neighbour lists and contact history of a run: use it "
                      "during a run, or after `run 0` when particles were added or deleted or the pair style "
                      "changed since the last run");
+  if (pg.spec().surface == contact::SurfaceModel::Multicontact)
+    throw InputError(where +
+                     " recomputes the contact forces from the positions, which 'surface "
+                     "multicontact' would give without its radius changes (those come from the "
+                     "previous step's contacts): not supported with fix multicontact/halfspace");
   const Layout L = layout();
   size_local_cols = local_cols(L);
 

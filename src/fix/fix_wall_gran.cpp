@@ -874,6 +874,11 @@ void FixWallGran::post_force_mesh() {
 }
 
 void FixWallGran::local_contacts(int bits, const std::string& who, std::vector<LocalContact>& out) const {
+  if (spec_.surface == contact::SurfaceModel::Multicontact)
+    throw InputError(who + " recomputes the contact forces of fix " + id +
+                     " from the positions, which 'surface multicontact' would give without its radius "
+                     "changes (those come from the previous step's contacts): not supported with fix "
+                     "multicontact/halfspace");
   if (!initialized_)
     throw InputError(who + " reports the contacts of fix " + id +
                      " wall/gran as a run finds them: use it during a run, or after `run 0`");
