@@ -10,6 +10,7 @@ rate, clogs) and, with arch removal, the avalanche sizes.
                      [--seeds 8] [--slit 3.5] [--jobs 2] [-var NAME VALUE ...]
     /usr/bin/python3 tools/silo_compare.py export DIR TO [--window T0,T1] [--until T]
     /usr/bin/python3 tools/silo_compare.py report DIR|TO [--json FILE] [--window T0,T1] [--until T]
+    /usr/bin/python3 tools/silo_compare.py merge TO1 TO2 ... --to POOLED
 
 Configurations (the script's variable nve_all says which particles fix
 nve/sphere integrates):
@@ -27,7 +28,9 @@ Mann-Whitney test; with several slit widths a Beverloo fit of the flow rate;
 with arch removal the avalanche sizes (pooled) with a two-sample
 Kolmogorov-Smirnov test. `export` writes the finished runs of DIR as compact
 files (runs.csv, avalanches.csv, settings.json) that `report` reads in place
-of the logs. The flow rate is the mass passed over the 0.01 s chunks in which
+of the logs; `merge` pools exported folders of one ensemble into one, every
+run (configuration, slit, seed) once: a seed run again must reproduce its
+first run to every digit and is kept once, anything else stops it. The flow rate is the mass passed over the 0.01 s chunks in which
 something passed, within a window of discharge time (--window; default from
 0.05 s, the start of the flow left out, to the end). With --until T every
 observable is taken over the first T seconds of discharge only, and a run
@@ -372,6 +375,84 @@ def cmd_export(a):
     return 0
 
 
+def read_export(d):
+    """(settings, header comment, runs rows, avalanche rows) of an exported folder."""
+    import csv
+    with open(os.path.join(d, "settings.json")) as f:
+        settings = json.load(f)
+    rows = {}
+    for name in ("runs.csv", "avalanches.csv"):
+        with open(os.path.join(d, name)) as f:
+            rows[name] = list(csv.reader(line for line in f if not line.startswith("#")))
+    return settings, rows["runs.csv"], rows["avalanches.csv"]
+
+
+def cmd_merge(a):
+    """Exported folders pooled into one (that `report` reads): every run, i.e. every
+    (configuration, slit, seed), once. The folders must hold the same physics (variables
+    other than the run length tmax), flow-rate window and duration (--until); a run found
+    in several folders must be the same in each (a rerun of a seed reproduces it), and is
+    kept once; anything else is an error, never a run counted twice."""
+    merged, first = None, None
+    runs, avalanches, origin = {}, {}, {}
+    for d in a.dirs:
+        if not os.path.exists(os.path.join(d, "runs.csv")):
+            raise SystemExit(f"silo_compare: {d} is not an export (no runs.csv); export the run folder first")
+        settings, run_rows, av_rows = read_export(d)
+        def value(x):  # -var values are strings, defaults numbers: 1 and "1" are one value
+            try:
+                return float(x)
+            except (TypeError, ValueError):
+                return str(x)
+
+        physics = {k: value(v) for k, v in settings["variables"].items() if k != "tmax"}
+        same = ("flow_window", "until")
+        if merged is None:
+            merged, first = dict(settings), d
+            merged["variables"] = dict(settings["variables"])
+            merged["merged_from"] = []
+            ref = physics
+        else:
+            if physics != ref:
+                diff = sorted(k for k in set(physics) | set(ref) if physics.get(k) != ref.get(k))
+                raise SystemExit(f"silo_compare: {d} and {first} differ in {', '.join(diff)}: not one ensemble")
+            for k in same:
+                if settings.get(k) != merged.get(k):
+                    raise SystemExit(f"silo_compare: {d} has {k} {settings.get(k)}, {first} {merged.get(k)}; "
+                                     f"export them alike")
+            merged["slits"] = sorted(set(merged["slits"]) | set(settings["slits"]))
+            merged["variables"]["tmax"] = "various"
+        merged["merged_from"].append(os.path.basename(os.path.normpath(d)))
+        header, body = run_rows[0], run_rows[1:]
+        per_run_av = {}
+        for row in av_rows[1:]:
+            per_run_av.setdefault(tuple(row[:3]), []).append(row)
+        for row in body:
+            key = tuple(row[:3])
+            if key in runs:
+                if runs[key] != row or avalanches.get(key, []) != per_run_av.get(key, []):
+                    raise SystemExit(f"silo_compare: run {'/'.join(key)} is in {origin[key]} and {d} with "
+                                     f"different results: not a rerun of one seed")
+                print(f"silo_compare: run {'/'.join(key)} of {d} repeats that of {origin[key]} "
+                      f"(the same to every digit): kept once")
+                continue
+            runs[key], origin[key] = row, d
+            avalanches[key] = per_run_av.get(key, [])
+    os.makedirs(a.to, exist_ok=True)
+    head = f"# tools/silo_compare.py merge of {', '.join(merged['merged_from'])}: variables " \
+           f"{json.dumps(merged['variables'])}\n"
+    with open(os.path.join(a.to, "runs.csv"), "w") as f:
+        f.write(head + ",".join(header) + "\n")
+        f.writelines(",".join(r) + "\n" for r in runs.values())
+    with open(os.path.join(a.to, "avalanches.csv"), "w") as f:
+        f.write(head + "config,slit,seed,index,mass_kg\n")
+        f.writelines(",".join(r) + "\n" for rows in avalanches.values() for r in rows)
+    with open(os.path.join(a.to, "settings.json"), "w") as f:
+        json.dump(merged, f, indent=1)
+    print(f"silo_compare: {len(runs)} runs from {len(a.dirs)} folders -> {a.to}")
+    return 0
+
+
 def cmd_report(a):
     import numpy as np
     from scipy import optimize, stats
@@ -488,8 +569,11 @@ def main(argv=None):
                                     "'end'; default 0.05,end or that of an export)")
     p.add_argument("--until", help="take every observable over the first T seconds of discharge (default: the "
                                    "whole discharge, or that of an export)")
+    m = sub.add_parser("merge", help="pool exported folders into one, each run once")
+    m.add_argument("dirs", nargs="+")
+    m.add_argument("--to", required=True)
     a = ap.parse_args(argv)
-    return {"run": cmd_run, "export": cmd_export, "report": cmd_report}[a.cmd](a)
+    return {"run": cmd_run, "export": cmd_export, "report": cmd_report, "merge": cmd_merge}[a.cmd](a)
 
 
 if __name__ == "__main__":

@@ -179,6 +179,46 @@ class Export(unittest.TestCase):
                 for a, b in zip(reports[0]["liggghts_beads"][k], reports[1]["liggghts_beads"][k]):
                     self.assertAlmostEqual(a, b, places=8, msg=k)
 
+            # merge: the export twice with itself and a folder of two of its runs pools to the
+            # same six runs (each once); a run that differs, or other physics, stops it
+            sub = os.path.join(tmp, "sub")
+            shutil.copytree(compact, sub)
+            with open(os.path.join(sub, "runs.csv")) as f:
+                lines = f.read().splitlines(keepends=True)
+            with open(os.path.join(sub, "runs.csv"), "w") as f:
+                f.writelines(lines[:4])  # comment, header, two runs
+            pooled = os.path.join(tmp, "pooled")
+            r = subprocess.run(tool + ["merge", compact, sub, "--to", pooled], capture_output=True, text=True,
+                               check=True)
+            self.assertEqual(r.stdout.count("kept once"), 2)
+            self.assertIn("6 runs from 2 folders", r.stdout)
+            out = os.path.join(tmp, "pooled.json")
+            subprocess.run(tool + ["report", pooled, "--json", out], check=True, capture_output=True)
+            with open(out) as f:
+                merged = json.load(f)["cases"]["2"]
+            self.assertEqual(merged["tests"], reports[1]["tests"])
+            self.assertEqual(merged["granary"]["avalanches"], reports[1]["granary"]["avalanches"])
+            with open(os.path.join(sub, "runs.csv"), "w") as f:
+                f.writelines(lines[:3] + [lines[3].replace(",0.", ",0.9", 1)])
+            r = subprocess.run(tool + ["merge", compact, sub, "--to", pooled], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("different results: not a rerun of one seed", r.stderr)
+            with open(os.path.join(short, "settings.json")) as f:
+                self.assertEqual(json.load(f)["until"], "0.05")
+            r = subprocess.run(tool + ["merge", compact, short, "--to", pooled], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("export them alike", r.stderr)
+            other = os.path.join(tmp, "other")
+            shutil.copytree(compact, other)
+            with open(os.path.join(other, "settings.json")) as f:
+                st = json.load(f)
+            st["variables"]["phi"] = 0.1
+            with open(os.path.join(other, "settings.json"), "w") as f:
+                json.dump(st, f)
+            r = subprocess.run(tool + ["merge", compact, other, "--to", pooled], capture_output=True, text=True)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("differ in phi: not one ensemble", r.stderr)
+
 
 GRANARY = os.environ.get("GRANARY_BINARY", os.path.join(ROOT, "build", "granary"))
 
