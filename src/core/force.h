@@ -13,7 +13,7 @@ class Engine;
 class Pair;
 class ContactHistory;
 
-class FixMulticontactHalfspace;
+class MultiContact;
 
 class Force {
  public:
@@ -34,11 +34,11 @@ class Force {
   /// history (contact_history()), so its rows travel with migrating particles.
   std::unique_ptr<ContactHistory> pending_history;
   std::string restart_pair_style;  // the pair_style words of the run that wrote it
-  /// fix multicontact/halfspace, when defined: the contact loops with
+  /// The model of fix multicontact/halfspace, when defined: the contact loops with
   /// "surface multicontact" change their overlaps through it, and
   /// Update::compute_forces brackets every force evaluation with its
   /// begin() and finish().
-  FixMulticontactHalfspace* multicontact = nullptr;
+  MultiContact* multicontact = nullptr;
 
  private:
   Engine& engine_;

@@ -22,7 +22,7 @@
 #include "output/output.h"
 #include "output/thermo.h"
 #include "core/force.h"
-#include "fix/fix_multicontact_halfspace.h"
+#include "pair/multicontact.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
 

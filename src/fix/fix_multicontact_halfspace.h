@@ -1,79 +1,26 @@
-// fix multicontact/halfspace: the multiple-contact model of Brodu, Dijksman
-// and Behringer (Phys. Rev. E 91, 032201, 2015) for soft spheres, used with
-// the contact model word "surface multicontact" (pair_style gran, fix
-// wall/gran). Each contact of a sphere deforms it like a point force on an
-// elastic half-space (Boussinesq); the contact i-j then sees i's radius
-// changed by the displacement that i's other contacts cause at the i-j
-// contact point, along its normal:
-//
-//   delta_{ij<-ik} = -gamma (1 + nu) F_ik / (2 pi Y d) *
-//       [ (n_ik.u)(n_ij.u) + (3 - 4 nu) n_ik.n_ij - (1 - 2 nu) (n_ik + u).n_ij / (1 + n_ik.u) ]
-//
-// with n the inward normals of i at the contact points, u the unit vector and
-// d the distance from contact point ik to contact point ij, F_ik the normal
-// force of contact ik, Y and nu of i's type, gamma the geometric prefactor.
-// The overlap of contact i-j grows by the sum over k != j of i's terms plus the
-// sum over l != i of j's (a wall is rigid: no term of its own).
-//
-// The forces and points are those of the previous force evaluation: every
-// contact loop records, per particle, its contacts (partner, contact point
-// relative to the centre, inward normal, |F_n|) into a buffer; after the
-// evaluation the buffer becomes the per-particle field "multicontact", which
-// migrates with the particles, goes to restart files, and is sent to ghosts
-// before the next evaluation. The forces of a run's setup leave it as it was
-// (it is contact history). The formulas and choices: doc/fixes/multicontact_halfspace.md.
+// fix ID group multicontact/halfspace [geometric_prefactor GAMMA]: switches
+// on the multiple-contact model (pair/multicontact.h) for the contacts of
+// pair styles and walls with "surface multicontact"; see
+// doc/fixes/multicontact_halfspace.md.
 #pragma once
 
-#include <vector>
+#include <memory>
 
-#include "core/vec3.h"
 #include "fix/fix.h"
+#include "pair/multicontact.h"
 
 namespace granary {
 
-class Particles;
-
 class FixMulticontactHalfspace : public Fix {
  public:
-  /// Contacts recorded per particle, and doubles per record: partner key,
-  /// contact point minus the centre (3), inward normal (3), |F_n|.
-  static constexpr int kSlots = 24, kRecord = 8, kStride = 1 + kSlots * kRecord;
-
   FixMulticontactHalfspace(Engine& engine, const Args& args);
   ~FixMulticontactHalfspace() override;
   unsigned hooks() const override { return 0; }
   void init() override;
   void unfixed() override;
 
-  /// Before the contacts of a force evaluation (Update::compute_forces): the
-  /// records of the last evaluation go to the ghosts; the buffer is emptied.
-  void begin();
-  /// After the evaluation (pair and walls): the buffer becomes the field.
-  void finish();
-
-  /// The change of the overlap of particle i's contact at `point` (inward
-  /// normal n_in) caused by i's recorded contacts other than `exclude`.
-  double shift(const Particles& p, int i, double exclude, const Vec3& point, const Vec3& n_in) const;
-  /// Record a contact of owned particle i for the next evaluation.
-  void record(const Particles& p, int i, double key, const Vec3& rel_point, const Vec3& n_in, double fn);
-
-  /// The key of a wall contact: wall fix `ordinal` (0, 1, ...), mesh element
-  /// `element` (0 for a primitive wall). Negative: particle ids are positive.
-  static double wall_key(int ordinal, long long element) {
-    return -(static_cast<double>(ordinal + 1) * 1099511627776.0 + static_cast<double>(element));
-  }
-  /// A number for each wall fix that records contacts (its key's ordinal).
-  int wall_ordinal(const std::string& fix_id);
-
-  double gamma() const { return gamma_; }
-
  private:
-  double gamma_ = 1.125;  // LIGGGHTS 3.8's default (measured)
-  int field_ = -1;
-  std::vector<double> youngs_, poisson_;  // per type (1-based)
-  std::vector<double> next_;              // this evaluation's records, kStride per owned particle
-  int nnext_ = 0;                         // owned particles the buffer covers
-  std::vector<std::string> walls_;
+  std::unique_ptr<MultiContact> model_;
 };
 
 }  // namespace granary

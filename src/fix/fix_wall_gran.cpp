@@ -11,7 +11,7 @@
 #include "contact/contact_block.h"
 #include "contact/contact_kernels.h"
 #include "core/force.h"
-#include "fix/fix_multicontact_halfspace.h"
+#include "pair/multicontact.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -487,8 +487,8 @@ void FixWallGran::post_force() {
     // the contacts, a block at a time (contact/contact_block.h)
     WallContact blk[kWallBlock];
     int nblk = 0;
-    FixMulticontactHalfspace* const mc = mc_;
-    const double mc_key = FixMulticontactHalfspace::wall_key(mc_ordinal_, 0);
+    MultiContact* const mc = mc_;
+    const double mc_key = MultiContact::wall_key(mc_ordinal_, 0);
     auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
       f[w.i] += force;
       torque[w.i] += tq;
@@ -714,7 +714,7 @@ void FixWallGran::post_force_mesh() {
     // slots are restored by Update, the extra ones are not written.
     const bool keep_extra = engine_.update->in_setup_forces;
     const double step_dt = engine_.update->dt;
-    FixMulticontactHalfspace* const mc = mc_;
+    MultiContact* const mc = mc_;
     auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
       f[w.i] += force;
       torque[w.i] += tq;
@@ -851,8 +851,8 @@ void FixWallGran::post_force_mesh() {
         w.overlap0 = ck.overlap;
         w.r = r;
         if (mc) {
-          w.key = FixMulticontactHalfspace::wall_key(mc_ordinal_,
-                                                     static_cast<long long>(key_base_[ck.mesh]) + ck.tri + 1);
+          w.key =
+              MultiContact::wall_key(mc_ordinal_, static_cast<long long>(key_base_[ck.mesh]) + ck.tri + 1);
           const double s = mc->shift(p, i, w.key, xi - (r - 0.5 * ck.overlap) * ck.n, ck.n);
           w.r += s;
           w.overlap += s;

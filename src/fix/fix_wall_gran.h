@@ -27,7 +27,7 @@
 
 namespace granary {
 
-class FixMulticontactHalfspace;
+class MultiContact;
 
 class FixMeshSurface;
 
@@ -148,7 +148,7 @@ class FixWallGran : public Fix {
   bool initialized_ = false;  // init() has run: materials and meshes resolved
   /// "surface multicontact": the fix that changes the overlaps, and this
   /// wall's number in its contact keys
-  FixMulticontactHalfspace* mc_ = nullptr;
+  MultiContact* mc_ = nullptr;
   int mc_ordinal_ = 0;
   bool mesh_ = false;
   std::vector<std::string> mesh_ids_;

@@ -31,7 +31,7 @@
 #include "contact/contact_kernels.h"
 #include "contact/lane.h"
 #include "core/vec3.h"
-#include "fix/fix_multicontact_halfspace.h"
+#include "pair/multicontact.h"
 #include "pair/materials.h"
 #include "particles/particles.h"
 
@@ -60,7 +60,7 @@ struct PairLoopData {
   contact::HistoryDt dt;  ///< timesteps of the history integration
   /// "surface multicontact": the fix that changes the overlaps and records the
   /// contacts (null otherwise), and the particles it reads
-  FixMulticontactHalfspace* mc = nullptr;
+  MultiContact* mc = nullptr;
   const Particles* particles = nullptr;
 };
 
@@ -89,7 +89,7 @@ void pair_loop(const PairLoopData& L) {
   const MaterialTable& materials = *L.materials;
   const contact::HistoryDt dt = L.dt;
   const bool newton = L.newton;
-  FixMulticontactHalfspace* const mc = L.mc;
+  MultiContact* const mc = L.mc;
   // the block: list position and particle of each contact, the first stage's
   // results; fewer than kPairBlock contacts before the last group of W entries
   constexpr int kCap = kPairBlock + W;
