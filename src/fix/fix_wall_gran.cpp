@@ -492,7 +492,8 @@ void FixWallGran::post_force() {
     auto apply = [&](const WallContact& w, const Vec3& force, const Vec3& tq) {
       f[w.i] += force;
       torque[w.i] += tq;
-      if (mc) mc->record(p, w.i, w.key, -(radius[w.i] - 0.5 * w.overlap0) * w.n, w.n, force.dot(w.n));
+      if (mc)
+        mc->record(p, w.i, w.key, MultiContact::offset(radius[w.i], w.overlap0, w.n), w.n, force.dot(w.n));
     };
     for (int m = 0; m < nvisit; ++m) {
       const int i = use_near ? near[m] : m;
@@ -532,7 +533,7 @@ void FixWallGran::post_force() {
       if (mc) {
         // multicontact: the radius changed by the particle's other contacts
         w.key = mc_key;
-        const double s = mc->shift(p, i, mc_key, x[i] - (r - 0.5 * overlap) * n, n);
+        const double s = mc->shift(p, i, mc_key, x[i] + MultiContact::offset(r, overlap, n), n);
         w.r += s;
         w.overlap += s;
       }
@@ -719,11 +720,12 @@ void FixWallGran::post_force_mesh() {
       f[w.i] += force;
       torque[w.i] += tq;
       total -= force;
-      if (mc) mc->record(p, w.i, w.key, -(radius[w.i] - 0.5 * w.overlap0) * w.n, w.n, force.dot(w.n));
+      if (mc)
+        mc->record(p, w.i, w.key, MultiContact::offset(radius[w.i], w.overlap0, w.n), w.n, force.dot(w.n));
       FixMeshSurface& fm = *meshes_[w.mesh];
       fm.mesh.tri_force[w.tri] -= force;
       if (!fm.mesh.tri_moment.empty()) {  // at the contact point, on the triangle
-        const Vec3 cp = x[w.i] - w.n * (radius[w.i] - w.overlap);
+        const Vec3 cp = x[w.i] - w.n * (radius[w.i] - w.overlap0);
         fm.mesh.tri_moment[w.tri] -= cp.cross(force);
       }
       if (fm.wear_finnie) add_finnie_wear(fm, w, force, type[w.i], step_dt);
@@ -853,7 +855,7 @@ void FixWallGran::post_force_mesh() {
         if (mc) {
           w.key =
               MultiContact::wall_key(mc_ordinal_, static_cast<long long>(key_base_[ck.mesh]) + ck.tri + 1);
-          const double s = mc->shift(p, i, w.key, xi - (r - 0.5 * ck.overlap) * ck.n, ck.n);
+          const double s = mc->shift(p, i, w.key, xi + MultiContact::offset(r, ck.overlap, ck.n), ck.n);
           w.r += s;
           w.overlap += s;
         }

@@ -60,6 +60,10 @@ class MultiContact {
   /// Record a contact of owned particle i for the next evaluation.
   void record(const Particles& p, int i, double key, const Vec3& rel_point, const Vec3& n_in, double fn);
 
+  /// A contact's point relative to the centre of a sphere of radius r: the
+  /// middle of the (geometric) overlap, along the normal n pointing into it.
+  static Vec3 offset(double r, double overlap, const Vec3& n) { return -(r - 0.5 * overlap) * n; }
+
   /// The key of a wall contact: wall fix `ordinal` (0, 1, ...), mesh element
   /// `element` (0 for a primitive wall). Negative: particle ids are positive.
   static double wall_key(int ordinal, long long element) {

@@ -149,7 +149,7 @@ void pair_loop(const PairLoopData& L) {
         for (int l = 0; l < W; ++l) {
           const Vec3 nl = lane::get(g.n, l);
           const double ri = lane::get(r_i, l), ov = lane::get(g.overlap, l);
-          const Vec3 point = x[ii[l]] - (ri - 0.5 * ov) * nl;
+          const Vec3 point = x[ii[l]] + MultiContact::offset(ri, ov, nl);
           lane::set(ri_new, l, ri + mc->shift(P, ii[l], static_cast<double>(P.id[j[l]]), point, nl));
           lane::set(rj_new, l,
                     lane::get(r_j, l) + mc->shift(P, j[l], static_cast<double>(P.id[ii[l]]), point, -nl));
@@ -210,7 +210,7 @@ void pair_loop(const PairLoopData& L) {
           const Vec3 d = x[i] - x[j];
           const double r = d.norm();
           const Vec3 n = d * (1.0 / r);
-          const Vec3 rel_i = -(radius[i] - 0.5 * (radius[i] + radius[j] - r)) * n;
+          const Vec3 rel_i = MultiContact::offset(radius[i], radius[i] + radius[j] - r, n);
           const double fn = lane::get(out.fn, l);
           mc->record(P, i, static_cast<double>(P.id[j]), rel_i, n, fn);
           if (j < nlocal) mc->record(P, j, static_cast<double>(P.id[i]), d + rel_i, -n, fn);
