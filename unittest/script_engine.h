@@ -4,7 +4,10 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <charconv>
+#include <limits>
+#include <map>
 #include <cstdlib>
 #include <sstream>
 #include <string>
@@ -85,6 +88,30 @@ inline bool particle_state(granary::Engine& e, long long id, granary::Vec3& x, g
   x = granary::Vec3(all[0], all[1], all[2]);
   v = granary::Vec3(all[3], all[4], all[5]);
   return all[6] == 1.0;
+}
+
+/// Positions of particles 1..n by id, gathered from every rank (collective);
+/// a particle that no rank holds is left out.
+inline std::map<long long, granary::Vec3> positions_by_id(granary::Engine& e, long long n) {
+  std::map<long long, granary::Vec3> out;
+  for (long long id = 1; id <= n; ++id) {
+    granary::Vec3 x, v;
+    if (particle_state(e, id, x, v)) out[id] = x;
+  }
+  return out;
+}
+
+/// The largest distance between the positions of the same id in a and b
+/// (infinite when b lacks an id of a).
+inline double max_position_difference(const std::map<long long, granary::Vec3>& a,
+                                      const std::map<long long, granary::Vec3>& b) {
+  double d = 0.0;
+  for (const auto& kv : a) {
+    const auto it = b.find(kv.first);
+    if (it == b.end()) return std::numeric_limits<double>::infinity();
+    d = std::max(d, (kv.second - it->second).norm());
+  }
+  return d;
 }
 
 /// A closed 0.4 m box around the origin for two atom types, timestep 0.1 ms:

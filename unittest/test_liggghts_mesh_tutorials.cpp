@@ -1,5 +1,6 @@
 // The LIGGGHTS 3.8 tutorials meshGran, conveyor, insert_stream,
-// movingMeshGran, heatTransfer_1, heatTransfer_2, packing, hydrogel_default and hydrogel_multicontact
+// movingMeshGran, heatTransfer_1, heatTransfer_2, packing, hydrogel_default,
+// hydrogel_multicontact, sph_1 and sph_2
 // (package liggghts-doc) run in Granary, in shortened form, and agree with LIGGGHTS where the comparison is
 // deterministic (statistically where the random packings differ; each test says which).
 //
@@ -26,6 +27,8 @@
 // - chute_wear (mesh/surface/stress wear finnie, dump mesh/gran/VTK): the
 //   eroded mass of the chute (wear times area, summed) after 30000 steps
 //   agrees with LIGGGHTS' within the scatter of the random insertion.
+// - sph_1, sph_2 (SPH dam breaks, 3d and 2d): the kinetic energy of the
+//   first 2000 steps (deterministic lattice start) within 1.5 %.
 //
 // Without LIGGGHTS the Granary runs and their own checks still happen; the
 // test is skipped (with a warning) when the tutorials are not installed.
@@ -704,4 +707,76 @@ TEST_CASE("LIGGGHTS tutorial chute_wear: Finnie wear of a chute under a particle
     CHECK(mine == Approx(theirs).epsilon(0.15));
   }
   std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// An SPH tutorial (sph_1: 3d dam break, 2655 particles; sph_2: 2d, 295 fluid
+// and 459 stationary boundary particles) cut to the first 2000 steps with the
+// gate closed (its `run 5000` becomes `run 2000`, the lines from `unfix wall`
+// on and the VTK dump are removed) and with the total kinetic energy written
+// every 100 steps (compute ke, fix ave/time): it must follow LIGGGHTS' from
+// the same lattice start within `tol` at every 100th step.
+static void check_sph(const std::string& name, const std::vector<double>& liggghts, double tol) {
+  const std::string dir = copy_tutorial(name, "in." + name);
+  if (dir.empty()) return;
+  std::string text = read_text(dir + "/in." + name);
+  const auto cut = text.find("unfix         wall");
+  REQUIRE(cut != std::string::npos);
+  text.resize(cut);
+  replace_line(text, "dump dmp all custom/vtk", "");
+  replace_line(text, "run 5000", "run 2000");
+  replace_line(text, "run 1",
+               "compute ke_t all ke\nfix ke_t all ave/time 100 1 100 c_ke_t file post/ke.txt\nrun 1");
+  write_text(dir + "/in.short", text);
+  run_granary(dir, "in.short",
+              [&](granary::test::ScriptEngine& s) { CHECK(s.p().natoms == (name == "sph_1" ? 2655 : 754)); });
+  std::map<long long, double> ke;
+  std::istringstream in(read_text(dir + "/post/ke.txt"));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream w(line);
+    long long step;
+    double v;
+    if (w >> step >> v) ke[step] = v;
+  }
+  REQUIRE(liggghts.size() == 20);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < liggghts.size(); ++k) {
+    const long long step = 100 * static_cast<long long>(k + 1);
+    INFO(name << " step " << step);
+    REQUIRE(ke.count(step) == 1);
+    CHECK(ke[step] == Approx(liggghts[k]).epsilon(tol));
+    worst = std::max(worst, std::fabs(ke[step] / liggghts[k] - 1.0));
+  }
+  INFO("largest relative deviation: " << worst);
+  CHECK(worst < tol);
+  std::system(("rm -rf '" + dir + "'").c_str());
+}
+
+// sph_1 (atom_style sph, pair_style sph/artVisc/tensCorr cubicspline with
+// artificial viscosity and tensile correction, fix sph/density/continuity,
+// sph/density/corr shepard every 30, sph/pressure Tait, wall/region/sph
+// around the box, wall/sph as the dam's gate, nve/sph, gravity). LIGGGHTS
+// 3.8's total kinetic energy (thermo ke, norm no) at steps 100 ... 2000,
+// stored from `liggghts -in` the cut script. Granary: 1.21336e-4 ...
+// 1.86911e-3 J, within 0.41 % at every step; tolerance 1.5 %.
+TEST_CASE("LIGGGHTS tutorial sph_1: a 3d SPH dam behind a gate", "[liggghts][tutorial][sph]") {
+  check_sph("sph_1", {0.00012132793, 0.00042678199, 0.00079797696, 0.001118249,  0.0013150105,
+                      0.001371241,   0.0013292058,  0.0012497436,  0.0011983658, 0.0012134736,
+                      0.0012602467,  0.0012943696,  0.0013036431,  0.0012759891, 0.0012241962,
+                      0.0012131541,  0.0012797178,  0.0014221203,  0.0016347984, 0.0018615119},
+            0.015);
+}
+
+// sph_2: the same in 2d (dimension 2, lattice sq, cubicspline2d, fix
+// enforce2d, a box periodic in z), with walls made of particles of type 2
+// (fix nve/sph/stationary) instead of wall/region/sph. LIGGGHTS 3.8's total
+// kinetic energy at steps 100 ... 2000 (from `liggghts -in` the cut script).
+// Granary: within 0.70 % at every step; tolerance 1.5 %.
+TEST_CASE("LIGGGHTS tutorial sph_2: a 2d SPH dam with particle walls", "[liggghts][tutorial][sph]") {
+  check_sph("sph_2",
+            {0.0011484839, 0.0039595859, 0.0072148851, 0.0098545689, 0.011287401, 0.01156637, 0.011220674,
+             0.010804626,  0.010768475,  0.01126581,   0.01214547,   0.013264627, 0.01457482, 0.016088185,
+             0.017874148,  0.01996135,   0.02226792,   0.02463319,   0.026870215, 0.028810041},
+            0.015);
 }

@@ -50,17 +50,6 @@ std::vector<std::string> head(const std::string& surface, const std::string& zhi
   return s;
 }
 
-/// Positions of particles 1..n by id, gathered from every rank.
-std::map<long long, Vec3> positions(granary::Engine& e, int n) {
-  std::map<long long, Vec3> out;
-  for (long long id = 1; id <= n; ++id) {
-    Vec3 x, v;
-    REQUIRE(granary::test::particle_state(e, id, x, v));
-    out[id] = x;
-  }
-  return out;
-}
-
 // The settled stack in closed form: floor contact (sphere-wall, R* = r) and
 // sphere-sphere contact (R* = r/2) with the Hertz overlaps of their loads
 // 2 m g and m g, each reduced by the shift of the other contact; d, the
@@ -104,7 +93,7 @@ StackOverlaps settle_stack(MPI_Comm comm, bool multicontact) {
   s.cmds({"create_atoms 1 single 0 0 0.0100 units box", "create_atoms 1 single 0 0 0.0302 units box",
           "set group all diameter 0.02 density 1000", "fix damp all viscous 0.5", "fix integr all nve/sphere",
           "timestep 5e-5", "run 8000"});
-  const auto x = positions(s.e, 2);
+  const auto x = granary::test::positions_by_id(s.e, 2);
   return {kR - x.at(1)[2], 2.0 * kR - (x.at(2)[2] - x.at(1)[2])};
 }
 
@@ -139,14 +128,7 @@ std::map<long long, Vec3> run_bed(MPI_Comm comm, bool multicontact, const std::v
   s.cmds(bed_script(multicontact));
   for (int n : runs)
     s.cmd("run " + std::to_string(n));
-  return positions(s.e, 36);
-}
-
-double max_difference(const std::map<long long, Vec3>& a, const std::map<long long, Vec3>& b) {
-  double worst = 0.0;
-  for (const auto& [id, x] : a)
-    worst = std::max(worst, (x - b.at(id)).norm());
-  return worst;
+  return granary::test::positions_by_id(s.e, 36);
 }
 
 }  // namespace
@@ -175,8 +157,8 @@ TEST_CASE("multicontact: a compressed bed is the same on any number of ranks and
   const auto self = run_bed(MPI_COMM_SELF, true, {3000});
   const auto world = run_bed(MPI_COMM_WORLD, true, {3000});
   const auto plain = run_bed(MPI_COMM_SELF, false, {3000});
-  const double d_world = max_difference(self, world);
-  const double d_plain = max_difference(self, plain);
+  const double d_world = granary::test::max_position_difference(self, world);
+  const double d_plain = granary::test::max_position_difference(self, plain);
   INFO("largest difference of a position: " << d_world << " m (ranks), " << d_plain
                                             << " m (without the model)");
   // round-off of the sums' order only (a dense bed; doc/architecture.md, Determinism)
@@ -200,7 +182,8 @@ TEST_CASE("multicontact: a compressed bed is the same on any number of ranks and
       cont.push_back(line);
   r.cmds(cont);
   r.cmd("run 2000");
-  const double d_restart = max_difference(self, positions(r.e, 36));
+  const double d_restart =
+      granary::test::max_position_difference(self, granary::test::positions_by_id(r.e, 36));
   INFO("through the restart file: " << d_restart << " m");
   CHECK(d_restart < 1e-9);
   if (granary::test::world_rank() == 0) std::remove(file.c_str());

@@ -165,6 +165,7 @@ void Comm::choose_grid() {
       if ((n / px) % py || (user_grid[1] && user_grid[1] != py)) continue;
       const int pz = n / px / py;
       if (user_grid[2] && user_grid[2] != pz) continue;
+      if (engine_.domain->dimension == 2 && pz != 1) continue;  // 2d: one rank along z
       const double ax = prd[0] / px, ay = prd[1] / py, az = prd[2] / pz;
       const double surf = ax * ay + ay * az + ax * az;
       if (surf < best - 1e-12 * surf) {
@@ -234,7 +235,7 @@ int Comm::slab_of(int d, double x, const std::vector<double>& cuts) const {
 void Comm::check_widths(const std::array<std::vector<double>, 3>& cuts, double width,
                         const std::string& advice) const {
   const Domain& dom = *engine_.domain;
-  for (int d = 0; d < 3; ++d) {
+  for (int d = 0; d < dom.dimension; ++d) {
     if (procgrid[d] == 1 && !dom.periodic[d]) continue;
     for (int k = 0; k < procgrid[d]; ++k) {
       const double w = cut_coord(d, k + 1, cuts[d]) - cut_coord(d, k, cuts[d]);
@@ -255,7 +256,7 @@ void Comm::setup(double cutghost_needed) {
     // ghosts go straight to every box within the cutoff: only one periodic
     // image on each side is made
     const Domain& dom = *engine_.domain;
-    for (int d = 0; d < 3; ++d) {
+    for (int d = 0; d < dom.dimension; ++d) {
       if (dom.periodic[d] && cutghost > dom.prd[d]) {
         throw InputError("the ghost cutoff " + std::to_string(cutghost) + " exceeds the periodic length " +
                          std::to_string(dom.prd[d]) + " of the box along " + std::string(1, "xyz"[d]) +
@@ -378,7 +379,9 @@ void Comm::borders() {
   p.clear_ghosts();
   swaps_.clear();
   std::vector<double> recv;
-  for (int d = 0; d < 3; ++d) {
+  // 2d: one layer of particles in z, no periodic images of it (LAMMPS' rule)
+  const int ndims = dom.dimension == 2 ? 2 : 3;
+  for (int d = 0; d < ndims; ++d) {
     const int nlast = p.size();  // both swaps of this dimension scan what existed before it
     for (int dir = 0; dir < 2; ++dir) {
       Swap s;
@@ -676,8 +679,9 @@ void Comm::borders_tiled() {
     extended(r, rlo, rhi);
     int range[3][2];
     for (int d = 0; d < 3; ++d) {
-      range[d][0] = dom.periodic[d] ? -1 : 0;
-      range[d][1] = dom.periodic[d] ? 1 : 0;
+      const bool images = dom.periodic[d] && !(d == 2 && dom.dimension == 2);
+      range[d][0] = images ? -1 : 0;
+      range[d][1] = images ? 1 : 0;
     }
     for (int sx = range[0][0]; sx <= range[0][1]; ++sx)
       for (int sy = range[1][0]; sy <= range[1][1]; ++sy)

@@ -221,6 +221,7 @@ void create_lattice(Engine& e, int type, const Args& a, bool use_region) {
     ihi[d] = static_cast<long long>(std::ceil(hi[d] / sp[d])) + 1;
     ilo[d] = std::max(ilo[d], glo[d]);
     ihi[d] = std::min(ihi[d], glo[d] + gn[d] - 1);
+    if (d == 2 && dom.dimension == 2) ilo[d] = ihi[d] = 0;  // 2d: the plane z = 0 only
     ncand *= static_cast<double>(std::max(0ll, ihi[d] - ilo[d] + 1));
     nglobal *= static_cast<double>(gn[d]);
   }

@@ -1,4 +1,4 @@
-// The lattice command (lattice sc|bcc|fcc|none ...): the lattice create_atoms fills.
+// The lattice command (lattice sc|bcc|fcc|sq|sq2|none ...): the lattice create_atoms fills.
 
 #include "core/engine.h"
 #include "core/error.h"
@@ -15,7 +15,7 @@ namespace {
 using namespace particle_commands;
 
 void cmd_lattice(Engine& e, const Args& a) {
-  const char* usage = "lattice none [SCALE] | lattice sc|bcc|fcc SCALE [origin X Y Z]";
+  const char* usage = "lattice none [SCALE] | lattice sc|bcc|fcc|sq|sq2 SCALE [origin X Y Z]";
   if (a.empty()) throw InputError("lattice needs a style; usage: " + std::string(usage));
   Domain& dom = *e.domain;
   const std::string& style = a[0];
@@ -26,12 +26,22 @@ void cmd_lattice(Engine& e, const Args& a) {
     basis = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0.5)};
   } else if (style == "fcc") {
     basis = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
+  } else if (style == "sq") {
+    basis = {Vec3(0, 0, 0)};
+  } else if (style == "sq2") {
+    basis = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0)};
   } else if (style != "none") {
-    const std::vector<std::string> known = {"none", "sc", "bcc", "fcc"};
+    const std::vector<std::string> known = {"none", "sc", "bcc", "fcc", "sq", "sq2"};
     const std::string hint = did_you_mean(style, known);
     throw InputError("unknown lattice style '" + style + "'" + (hint.empty() ? "" : "; " + hint) +
                      "; usage: " + usage);
   }
+  const bool planar = style == "sq" || style == "sq2";
+  if (style != "none" && planar != (dom.dimension == 2))
+    throw InputError("lattice " + style + " is a " + (planar ? "2d" : "3d") +
+                     " lattice but the simulation is " + std::to_string(dom.dimension) + "d; use " +
+                     (planar ? "sc, bcc or fcc" : "sq or sq2") + " (or dimension " + (planar ? "2" : "3") +
+                     " before the box)");
   if (style == "none") {
     require_args(a, 1, 2, usage);
   } else if (a.size() < 2) {
@@ -54,6 +64,8 @@ void cmd_lattice(Engine& e, const Args& a) {
     }
     k += 4;
   }
+  if (planar && origin[2] != 0.0)
+    throw InputError("lattice " + style + ": the z origin of a 2d lattice must be 0");
   for (Vec3& b : basis)
     b += origin;
   const double scale = a.size() >= 2 ? parse_double(a[1], "the lattice constant") : 1.0;

@@ -15,6 +15,7 @@
 #include "domain/domain.h"
 #include "domain/groups.h"
 #include "domain/region.h"
+#include "pair/sph_kernel.h"
 #include "particles/particles.h"
 
 #include "commands/particle_commands.h"
@@ -86,7 +87,8 @@ void cmd_set(Engine& e, const Args& a) {
   // (core/atom_properties.h) can write, and those with more than one value
   static const std::vector<std::string> keys = [] {
     std::vector<std::string> k = settable_atom_property_names();
-    for (const char* w : {"type/fraction", "omega", "image", "property/atom", "property/peratom"})
+    for (const char* w :
+         {"type/fraction", "omega", "image", "property/atom", "property/peratom", "sphkernel"})
       k.push_back(w);
     return k;
   }();
@@ -110,9 +112,20 @@ void cmd_set(Engine& e, const Args& a) {
     const AtomProperty* prop = nullptr;  // a property of the table with its writer
   };
   std::vector<Setting> settings;
+  std::string sph_kernel;  // sphkernel NAME: one kernel for all SPH fixes, not per particle
   for (std::size_t k = 2; k < a.size();) {
     Setting s;
     s.key = a[k];
+    if (s.key == "sphkernel") {
+      if (!p.sph) throw InputError("set sphkernel needs atom_style sph");
+      sph::Kernel kernel;
+      if (k + 1 >= a.size() || !sph::kernel_from_name(a[k + 1], kernel))
+        throw InputError("set sphkernel needs a kernel name: " + std::string(sph::kernel_names()) +
+                         (k + 1 < a.size() ? ", got '" + a[k + 1] + "'" : ""));
+      sph_kernel = a[k + 1];
+      k += 2;
+      continue;
+    }
     std::size_t nval = 1;
     if (s.key == "omega" || s.key == "image" || s.key == "type/fraction") nval = 3;
     if (s.key == "property/atom" || s.key == "property/peratom") {
@@ -130,6 +143,7 @@ void cmd_set(Engine& e, const Args& a) {
       ++k;  // the name; the values follow as for any keyword
       nval = static_cast<std::size_t>(p.extras[s.field].ncomp);
     }
+    if (s.key == "meso_rho" && !p.sph) throw InputError("set meso_rho needs atom_style sph");
     s.prop = find_atom_property(s.key);
     if (s.prop && !s.prop->assign) {
       throw InputError("set cannot write '" + s.key +
@@ -176,6 +190,7 @@ void cmd_set(Engine& e, const Args& a) {
   }
 
   e.logger->print("Setting atom values ...\n");
+  if (!sph_kernel.empty()) p.sph_kernel = sph_kernel;
   for (const Setting& s : settings) {
     // per-atom values of variables, evaluated before this keyword changes anything
     std::vector<std::vector<double>> varvals(s.var.size());

@@ -1,6 +1,7 @@
 #include "core/atom_properties.h"
 
 #include "core/engine.h"
+#include "core/error.h"
 #include "domain/domain.h"
 #include "particles/particles.h"
 
@@ -84,6 +85,20 @@ void set_mass(Engine& e, int i, double v) {
   e.particles->rmass[i] = v;
 }
 
+// atom_style sph: density and pressure (fields sph_rho, sph_p)
+double sph_value(const Engine& e, int i, const char* field, const char* name) {
+  const Particles& p = *e.particles;
+  const int k = p.find_field(field);
+  if (k < 0) throw InputError(std::string("per-atom property '") + name + "' needs atom_style sph");
+  return p.extras[k].data[i];
+}
+void set_meso_rho(Engine& e, int i, double v) {
+  Particles& p = *e.particles;
+  const int k = p.find_field("sph_rho");
+  if (k < 0) throw InputError("set meso_rho needs atom_style sph");
+  p.extras[k].data[i] = v;
+}
+
 }  // namespace
 
 const std::vector<AtomProperty>& atom_properties() {
@@ -126,6 +141,10 @@ const std::vector<AtomProperty>& atom_properties() {
       {"tqy", false, torque_of<1>},
       {"tqz", false, torque_of<2>},
       {"proc", true, [](const Engine& e, int) { return static_cast<double>(e.rank); }},
+      {"rho", false, [](const Engine& e, int i) { return sph_value(e, i, "sph_rho", "rho"); }},
+      {"meso_rho", false, [](const Engine& e, int i) { return sph_value(e, i, "sph_rho", "meso_rho"); },
+       set_meso_rho, SetCheck::Positive},
+      {"p", false, [](const Engine& e, int i) { return sph_value(e, i, "sph_p", "p"); }},
   };
   return table;
 }

@@ -29,7 +29,8 @@ struct AtomProperty {
 
 /// Every property: id type body mol id_multisphere mass density radius
 /// diameter x y z xs ys zs xu yu zu ix iy iz vx vy vz fx fy fz omegax omegay
-/// omegaz tqx tqy tqz proc (the rank that owns the particle).
+/// omegaz tqx tqy tqz proc (the rank that owns the particle), and rho, meso_rho
+/// and p of atom_style sph (an InputError without it).
 const std::vector<AtomProperty>& atom_properties();
 /// The property called `name`, or nullptr.
 const AtomProperty* find_atom_property(const std::string& name);

@@ -24,7 +24,8 @@ namespace granary {
 const std::vector<std::string>& atom_style_names() {
   // Spheres with radius, density, mass, angular velocity and torque: LIGGGHTS'
   // granular style and its alias sphere.
-  static const std::vector<std::string> names = {"granular", "sphere"};
+  // sph: point particles of smoothed particle hydrodynamics (doc/atom_style_sph.md).
+  static const std::vector<std::string> names = {"granular", "sphere", "sph"};
   return names;
 }
 
@@ -49,12 +50,48 @@ void cmd_units(Engine& e, const Args& a) {
 }
 
 void cmd_atom_style(Engine& e, const Args& a) {
-  require_args(a, 1, 100, "atom_style granular|sphere");
+  require_args(a, 1, 100, "atom_style granular|sphere|sph");
   require_no_box(e, "atom_style");
   const auto& names = atom_style_names();
   if (std::find(names.begin(), names.end(), a[0]) == names.end()) {
-    throw InputError("atom_style '" + a[0] + "' is not supported; use granular (or sphere)");
+    throw InputError("atom_style '" + a[0] + "' is not supported; use granular (or sphere), or sph");
   }
+  if (a[0] == "sph" && a.size() > 1)
+    throw InputError("atom_style sph takes no arguments, got '" + a[1] + "'");
+  Particles& p = *e.particles;
+  const bool sph = a[0] == "sph";
+  if (sph && !p.sph) {
+    // density and pressure travel with the particle and are seen on ghosts
+    // (the SPH fixes forward them after every change); the density rate is local
+    for (const char* name : {"sph_rho", "sph_p"})
+      p.add_field(name, 1, true, true);
+    p.add_field("sph_drho", 1, false, true);
+  } else if (!sph && p.sph) {
+    for (const char* name : {"sph_rho", "sph_p", "sph_drho"})
+      p.release_field(name);
+  }
+  p.sph = sph;
+}
+
+// mass I value: the per-type mass of atom_style sph (LAMMPS' per-type masses);
+// granular particles take their mass from diameter and density.
+void cmd_mass(Engine& e, const Args& a) {
+  require_args(a, 2, 2, "mass I value   (I: a type or a range like * or 1*2)");
+  require_box(e, "mass");
+  Particles& p = *e.particles;
+  if (!p.sph)
+    throw InputError(
+        "mass sets per-type masses, which only atom_style sph has: granular particles take their "
+        "mass from their diameter and density (set density, or the particle template)");
+  int lo = 0, hi = 0;
+  parse_type_range(a[0], p.ntypes, lo, hi);
+  const double m = parse_double(a[1], "mass value");
+  if (!(m > 0.0)) throw InputError("mass must be positive, got '" + a[1] + "'");
+  if (static_cast<int>(p.type_mass.size()) <= p.ntypes) p.type_mass.resize(p.ntypes + 1, 0.0);
+  for (int t = lo; t <= hi; ++t)
+    p.type_mass[t] = m;
+  for (int i = 0; i < p.nlocal; ++i)
+    if (p.type[i] >= lo && p.type[i] <= hi) p.rmass[i] = m;
 }
 
 void cmd_atom_modify(Engine& e, const Args& a) {
@@ -119,9 +156,13 @@ void cmd_hard_particles(Engine&, const Args& a) {
   cmd_particle_stiffness_limit("hard_particles", a);
 }
 
+// dimension 2: particles in the xy plane (fix enforce2d keeps them there), the
+// box periodic in z around z = 0, no ghosts along z (doc/commands/dimension.md)
 void cmd_dimension(Engine& e, const Args& a) {
-  require_args(a, 1, 1, "dimension 3");
-  if (a[0] != "3") throw InputError("only 3d simulations are supported");
+  require_args(a, 1, 1, "dimension 2|3");
+  require_no_box(e, "dimension");
+  if (a[0] != "2" && a[0] != "3") throw InputError("dimension must be 2 or 3, got '" + a[0] + "'");
+  e.domain->dimension = a[0] == "2" ? 2 : 3;
 }
 
 void cmd_create_box(Engine& e, const Args& a) {
@@ -137,6 +178,11 @@ void cmd_create_box(Engine& e, const Args& a) {
   Vec3 lo, hi;
   if (!r->bounds(lo, hi))
     throw InputError("create_box needs a bounded region; '" + a[1] + "' has no finite bounds");
+  if (e.domain->dimension == 2 && (!e.domain->periodic[2] || !(lo[2] < 0.0 && hi[2] > 0.0)))
+    throw InputError(
+        "dimension 2 needs a box periodic in z (boundary X Y p) whose z range holds z = 0, e.g. "
+        "-0.001 0.001; region " +
+        a[1] + " spans z " + std::to_string(lo[2]) + " to " + std::to_string(hi[2]));
   e.domain->set_box(lo, hi);
   e.particles->ntypes = static_cast<int>(ntypes);
   e.comm->setup(0.0);
@@ -234,6 +280,7 @@ GRANARY_COMMAND("atom_modify", cmd_atom_modify);
 GRANARY_COMMAND("boundary", cmd_boundary);
 GRANARY_COMMAND("newton", cmd_newton);
 GRANARY_COMMAND("dimension", cmd_dimension);
+GRANARY_COMMAND("mass", cmd_mass);
 GRANARY_COMMAND("soft_particles", cmd_soft_particles);
 GRANARY_COMMAND("hard_particles", cmd_hard_particles);
 GRANARY_COMMAND("create_box", cmd_create_box);

@@ -3,7 +3,9 @@
 // x += dt v, v += dt/2 f/m. The spin is left alone, so torques turn nothing
 // (point particles; `fix nve/sphere` integrates the spin too). Spheres of
 // clumps are moved by their body; a group that holds some is refused at the
-// start of a run.
+// start of a run. nve/sph: the same for SPH particles (atom_style sph).
+#include <memory>
+
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
@@ -15,15 +17,20 @@ namespace granary {
 
 namespace {
 
+// nve/sph: the same integration for the particles of atom_style sph (their
+// densities are advanced by fix sph/density/continuity)
 class FixNve : public Fix {
  public:
-  FixNve(Engine& engine, const Args& args) : Fix(engine, args) {
-    require_args(args, 3, 3, "fix ID group nve");
+  FixNve(Engine& engine, const Args& args, bool sph) : Fix(engine, args), sph_(sph) {
+    require_args(args, 3, 3, sph ? "fix ID group nve/sph" : "fix ID group nve");
     time_integrate = true;
   }
 
   unsigned hooks() const override { return INITIAL_INTEGRATE | FINAL_INTEGRATE; }
 
+  void init() override {
+    if (sph_ && !engine_.particles->sph) throw InputError("fix " + id + " nve/sph needs atom_style sph");
+  }
   void setup() override { require_free_spheres(); }
 
   // (dt/2) / m as LIGGGHTS computes it, so that both programs round alike
@@ -43,10 +50,20 @@ class FixNve : public Fix {
     for (int i = 0; i < p.nlocal; ++i)
       if (p.mask[i] & groupbit) p.v[i] += (dtf / p.rmass[i]) * p.f[i];
   }
+
+ private:
+  bool sph_;
 };
 
 }  // namespace
 
-GRANARY_FIX_STYLE("nve", FixNve);
+static const bool nve_styles_registered = [] {
+  for (const bool sph : {false, true})
+    FixRegistry::instance().add(sph ? "nve/sph" : "nve",
+                                [sph](Engine& e, const Args& a) -> std::unique_ptr<Fix> {
+                                  return std::make_unique<FixNve>(e, a, sph);
+                                });
+  return true;
+}();
 
 }  // namespace granary

@@ -168,6 +168,16 @@ std::string global_section(Engine& e, long long natoms) {
   s << "format_version " << kVersion << "\n";
   s << "written_on_ranks " << e.nprocs << "\n";
   s << "units " << d.units << "\n";
+  s << "dimension " << d.dimension << "\n";
+  const Particles& p = *e.particles;
+  s << "atom_style " << (p.sph ? "sph" : "granular") << "\n";
+  if (p.sph) {
+    s << "type_mass";
+    for (int t = 1; t <= p.ntypes; ++t)
+      s << " " << fmt(t < static_cast<int>(p.type_mass.size()) ? p.type_mass[t] : 0.0);
+    s << "\n";
+    if (!p.sph_kernel.empty()) s << "sph_kernel " << p.sph_kernel << "\n";
+  }
   s << "step " << u.ntimestep << "\n";
   s << "atime " << fmt(u.atime) << "\n";
   s << "atimestep " << u.atimestep << "\n";
@@ -578,6 +588,7 @@ void read_restart(Engine& e, const std::string& file) {
     return Vec3(pdouble(w[0], key), pdouble(w[1], key), pdouble(w[2], key));
   };
   const std::string units = need("units", 1)[0];
+  const bool sph_file = g.count("atom_style") && !g["atom_style"].empty() && g["atom_style"][0] == "sph";
   const auto step = pint(need("step", 1)[0], "step");
   const double atime = pdouble(need("atime", 1)[0], "atime");
   const auto atimestep = pint(need("atimestep", 1)[0], "atimestep");
@@ -672,8 +683,12 @@ void read_restart(Engine& e, const std::string& file) {
         if (!integral(rec[1], 1.0, ntypes))
           throw bad(which + " has the type " + fmt(rec[1]) + " (1.." + std::to_string(ntypes) + ")");
         if (!integral(rec[2], 0.0, 2147483647.0)) throw bad(which + " has the group mask " + fmt(rec[2]));
-        if (!(rec[18] > 0.0 && rec[19] > 0.0 && rec[20] > 0.0))
+        if (!sph_file && !(rec[18] > 0.0 && rec[19] > 0.0 && rec[20] > 0.0))
           throw bad(which + " has a radius, density or mass that is not positive");
+        // SPH particles: points (radius and density 0 until the pair style sets the radius)
+        if (sph_file && !(rec[18] >= 0.0 && rec[19] >= 0.0 && rec[20] > 0.0))
+          throw bad(which +
+                    " (atom_style sph) has a negative radius or density or a mass that is not positive");
         if (!integral(rec[21], -1.0, 9.0e15)) throw bad(which + " has the body " + fmt(rec[21]));
         if (!integral(rec[22], -2147483648.0, 2147483647.0))
           throw bad(which + " has the image flags " + fmt(rec[22]));
@@ -800,9 +815,22 @@ void read_restart(Engine& e, const std::string& file) {
   for (const auto& gn : group_names)
     e.groups->names[gn.first] = gn.second;
   if (g.count("pair_style")) e.force->restart_pair_style = join(g["pair_style"]);
+  // (files without these keys predate them: 3d, granular)
+  d.dimension = g.count("dimension") && !g["dimension"].empty() && g["dimension"][0] == "2" ? 2 : 3;
   e.comm->setup(0.0);
 
   Particles& p = *e.particles;
+  if (sph_file) {
+    p.sph = true;
+    for (const char* name : {"sph_rho", "sph_p"})
+      p.add_field(name, 1, true, true);
+    p.add_field("sph_drho", 1, false, true);
+    p.type_mass.assign(ntypes + 1, 0.0);
+    if (g.count("type_mass"))
+      for (int t = 1; t <= ntypes && t <= static_cast<int>(g["type_mass"].size()); ++t)
+        p.type_mass[t] = pdouble(g["type_mass"][t - 1], "type_mass");
+    if (g.count("sph_kernel") && !g["sph_kernel"].empty()) p.sph_kernel = g["sph_kernel"][0];
+  }
   std::vector<int> field(nextra);
   for (std::uint32_t k = 0; k < nextra; ++k)
     field[k] = p.add_field(fnames[k], fncomp[k], false, true);

@@ -63,6 +63,11 @@ int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, 
   radius[i] = radius_;
   density[i] = density_;
   rmass[i] = sphere_mass(radius_, density_);
+  if (sph) {
+    radius[i] = 0.0;
+    density[i] = 0.0;
+    rmass[i] = type_ < static_cast<int>(type_mass.size()) ? type_mass[type_] : 0.0;
+  }
   body[i] = -1;
   image[i] = image_pack(0, 0, 0);
   init_extras(i);

@@ -49,6 +49,12 @@ class Particles {
   /// Most atom types a box may have (per-type-pair tables grow as its square).
   static constexpr int kMaxTypes = 10000;
   tagint natoms = 0;  // global number of particles (kept current by the owner of the count)
+  /// atom_style sph: point particles (radius 0 until pair_style sph/... sets
+  /// it to the smoothing length) with a per-type mass (the mass command) and
+  /// the per-particle fields sph_rho, sph_p, sph_drho
+  bool sph = false;
+  std::vector<double> type_mass;  // [type]; 0 = not set (atom_style sph)
+  std::string sph_kernel;         // `set ... sphkernel NAME`: the kernel the SPH fixes expect
 
   // core fields: [exchange, restart]; x v omega are forward-communicated;
   // f torque are reverse-communicated (newton on).
