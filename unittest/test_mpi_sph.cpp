@@ -22,12 +22,15 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/logger.h"
 #include "domain/domain.h"
 #include "pair/sph_kernel.h"
 #include "particles/particles.h"
@@ -342,6 +345,28 @@ TEST_CASE("sph: a small 3d dam break agrees with LIGGGHTS", "[sph][liggghts]") {
   }
 }
 
+TEST_CASE("sph: a timestep too long for the sound speed warns", "[sph]") {
+  // 0.25 h / c = 0.25 x 0.012 m / 20 m/s = 1.5e-4 s
+  for (const std::string dt : {"1e-5", "2e-4"}) {
+    const std::string log = "sph_test_timestep_" + std::to_string(granary::test::world_rank()) + ".log";
+    {
+      granary::test::ScriptEngine s(MPI_COMM_SELF);
+      s.e.logger->open_log(log, false);
+      s.cmds(dam(3));
+      s.cmds({"timestep " + dt, "run 0"});
+      s.e.logger->close_log();
+    }
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    if (dt == "1e-5")
+      CHECK(text.str().find("sound waves are not resolved") == std::string::npos);
+    else
+      CHECK_THAT(text.str(), Contains("exceeds 0.25 h / c = 0.00015 s"));
+    std::remove(log.c_str());
+  }
+}
+
 TEST_CASE("sph: errors", "[sph][mpi][errors]") {
   auto failing = [](const std::vector<std::string>& before, const std::vector<std::string>& after) {
     granary::test::ScriptEngine s(MPI_COMM_WORLD);
@@ -372,6 +397,15 @@ TEST_CASE("sph: errors", "[sph][mpi][errors]") {
                     Contains("differs from the kernel"));
   CHECK_THROWS_WITH(failing(base, {"fix w2 all wall/sph xplane NULL NULL 0.01 1.0"}),
                     Contains("lo and hi are both NULL"));
+  // a particle pushed through the wall of wall/region/sph (a run error on the
+  // rank that holds it: checked on each rank alone)
+  {
+    granary::test::ScriptEngine one(MPI_COMM_SELF);
+    one.cmds(base);
+    one.cmds({"region inner block 0.005 0.12 0 0.05 0 0.12 units box",
+              "fix inner all wall/region/sph inner 0.001 1.0", "set atom 1 x 0.002"});
+    CHECK_THROWS_WITH(one.cmd("run 1"), Contains("left region inner"));
+  }
   // the pair style's parameters missing from fix property/global
   CHECK_THROWS_WITH(failing(without("fix m1 "), {"run 1"}), Contains("speedOfSound"));
   // atom_style granular has no per-type masses, no SPH fields

@@ -305,6 +305,11 @@ class FixWallRegionSph : public Fix {
     Particles& p = *engine_.particles;
     for (int i = 0; i < p.nlocal; ++i) {
       if (!(p.mask[i] & groupbit)) continue;
+      if (!region_->match(p.x[i]))
+        throw RunError("fix " + id + " wall/region/sph: particle " + std::to_string(p.id[i]) +
+                       " left region " + region_id_ + " (through its wall) at step " +
+                       std::to_string(engine_.update->ntimestep) +
+                       "; raise D or r0, or lower the timestep, so that the wall holds the particles");
       const double hi = pair_->h(p.type[i]);
       region_->surface(p.x[i], std::max(r0_, hi), points_);
       for (const Region::SurfacePoint& s : points_) {

@@ -1,7 +1,9 @@
 // pair_style sph/artVisc/tensCorr (see pair_sph.h).
 #include "pair/pair_sph.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -9,8 +11,10 @@
 #include "core/error.h"
 #include "core/force.h"
 #include "core/global_property.h"
+#include "core/logger.h"
 #include "core/modify.h"
 #include "core/registry.h"
+#include "core/update.h"
 #include "neighbor/neighbor.h"
 
 namespace granary {
@@ -20,6 +24,12 @@ namespace {
 const char* const kUsage =
     "pair_style sph/artVisc/tensCorr cubicspline|cubicspline2d|wendland|wendland2d h "
     "[artVisc [alpha beta eta]] [tensCorr [epsilon deltap]]";
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 bool is_number(const std::string& w) {
   char* end = nullptr;
@@ -134,6 +144,17 @@ void PairSph::init() {
       epsilon_ = tenscorr_args_[0];
       deltap_.assign(nt + 1, tenscorr_args_[1]);
     }
+  }
+  // Monaghan's (1992) timestep condition for the sound waves: dt < 0.25 h / c
+  if (artvisc_) {
+    double hmin = h_[1], cmax = c_[1];
+    for (int t = 1; t <= nt; ++t)
+      hmin = std::min(hmin, h_[t]), cmax = std::max(cmax, c_[t]);
+    const double limit = 0.25 * hmin / cmax, dt = engine_.update->dt;
+    if (cmax > 0.0 && dt > limit)
+      engine_.logger->warning(who + ": the timestep " + num(dt) + " s exceeds 0.25 h / c = " + num(limit) +
+                              " s (smallest smoothing length, largest speedOfSound): sound waves are not "
+                              "resolved; lower the timestep");
   }
   // the neighbour list holds the pairs within 2h + skin: each particle's
   // radius is its smoothing length (radius_i + radius_j = 2h)
