@@ -424,5 +424,17 @@ TEST_CASE("sph: errors", "[sph][mpi][errors]") {
   CHECK_THROWS_WITH(failing({"atom_style sph", "dimension 2", "lattice sc 0.01"}, {}),
                     Contains("is a 3d lattice"));
   CHECK_THROWS_WITH(failing({"dimension 4"}, {}), Contains("dimension must be 2 or 3"));
+  // 2d: particles in the plane z = 0
+  const std::vector<std::string> flat = head(2, "0 0.2 0 0.2 -0.001 0.001", "1 * 1");
+  CHECK_THROWS_WITH(failing(flat, {"create_atoms 1 single 0.1 0.1 0.0005 units box"}),
+                    Contains("in 2d the z coordinate must be 0"));
+  {
+    granary::test::ScriptEngine r(MPI_COMM_WORLD);
+    r.cmds(flat);
+    r.cmd("create_atoms 1 random 50 12345 NULL");
+    CHECK(r.p().natoms == 50);
+    for (int i = 0; i < r.p().nlocal; ++i)
+      CHECK(r.p().x[i][2] == 0.0);
+  }
   CHECK_THROWS_WITH(failing(base, {"fix e all enforce2d"}), Contains("needs a 2d simulation"));
 }

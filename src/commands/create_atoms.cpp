@@ -51,6 +51,8 @@ void create_single(Engine& e, int type, const Args& a) {
     x[d] = parse_double(a[2 + d], "create_atoms single coordinate");
     if (lattice) x[d] *= dom.lattice_spacing[d];
   }
+  if (dom.dimension == 2 && x[2] != 0.0)
+    throw InputError("create_atoms single: in 2d the z coordinate must be 0, got " + fmt(x[2]));
   int image = Particles::image_pack(0, 0, 0);
   if (remap) dom.remap(x, image);
   if (!dom.inside_box(x)) {
@@ -151,6 +153,7 @@ void create_random(Engine& e, int type, const Args& a) {
       Vec3 x;
       for (int d = 0; d < 3; ++d)
         x[d] = lo[d] + uniform01(gen) * (hi[d] - lo[d]);
+      if (dom.dimension == 2) x[2] = 0.0;  // 2d: the plane z = 0
       if (region && !region->match(x)) {
         if (++misses >= kMaxRegionMisses) {
           throw InputError("create_atoms random: no point of region " + region->id +
