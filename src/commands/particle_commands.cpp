@@ -113,9 +113,7 @@ void require_no_clump_spheres(Engine& e, int bit, const std::string& group, cons
 }
 
 std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
+  return format_number(v);
 }
 
 // ---------------------------------------------------------------- lattice

@@ -24,7 +24,7 @@ namespace granary {
 const std::vector<std::string>& atom_style_names() {
   // Spheres with radius, density, mass, angular velocity and torque: LIGGGHTS'
   // granular style and its alias sphere.
-  // sph: point particles of smoothed particle hydrodynamics (doc/atom_style_sph.md).
+  // sph: point particles of smoothed particle hydrodynamics (doc/commands/atom_style.md).
   static const std::vector<std::string> names = {"granular", "sphere", "sph"};
   return names;
 }
@@ -58,19 +58,7 @@ void cmd_atom_style(Engine& e, const Args& a) {
   }
   if (a[0] == "sph" && a.size() > 1)
     throw InputError("atom_style sph takes no arguments, got '" + a[1] + "'");
-  Particles& p = *e.particles;
-  const bool sph = a[0] == "sph";
-  if (sph && !p.sph) {
-    // density and pressure travel with the particle and are seen on ghosts
-    // (the SPH fixes forward them after every change); the density rate is local
-    for (const char* name : {"sph_rho", "sph_p"})
-      p.add_field(name, 1, true, true);
-    p.add_field("sph_drho", 1, false, true);
-  } else if (!sph && p.sph) {
-    for (const char* name : {"sph_rho", "sph_p", "sph_drho"})
-      p.release_field(name);
-  }
-  p.sph = sph;
+  e.particles->set_sph(a[0] == "sph");
 }
 
 // mass I value: the per-type mass of atom_style sph (LAMMPS' per-type masses);

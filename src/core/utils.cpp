@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "core/error.h"
@@ -74,6 +75,19 @@ std::string join(const Args& words, std::size_t first) {
     out += words[i];
   }
   return out;
+}
+
+std::string format_number(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+bool is_number(const std::string& word) {
+  if (word.empty()) return false;
+  char* end = nullptr;
+  std::strtod(word.c_str(), &end);
+  return end && *end == '\0';
 }
 
 }  // namespace granary

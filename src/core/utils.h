@@ -22,6 +22,10 @@ void require_args(const Args& args, std::size_t lo, std::size_t hi, const std::s
 /// Parse a LAMMPS type range ("*", "2", "1*3", "*2", "3*") into [lo, hi] within [1, ntypes].
 void parse_type_range(const std::string& word, int ntypes, int& lo, int& hi);
 
+/// A number as printf's %g writes it (`digits` significant digits), for messages.
+std::string format_number(double v, int digits = 6);
+/// True when strtod reads the whole word as a number.
+bool is_number(const std::string& word);
 /// Join words with single spaces.
 std::string join(const Args& words, std::size_t first = 0);
 

@@ -17,13 +17,6 @@ namespace granary {
 // ============================================================ FixInsertPack
 
 namespace {
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 const char* kPackUsage =
     "fix ID group insert/pack seed SEED distributiontemplate DIST [maxattempt N] [insert_every once|N] "
     "[start STEP] [overlapcheck yes|no] [all_in yes|no] [random_distribute exact|uncorrelated] "
@@ -68,7 +61,7 @@ void FixInsertPack::init() {
   FixInsert::init();
   if (target_ == Target::VolumeFraction && target_value_ > 0.74) {
     engine_.logger->warning(
-        label() + ": a volume fraction of " + num(target_value_) +
+        label() + ": a volume fraction of " + format_number(target_value_) +
         " cannot be reached by random insertion (random loose packing is below about 0.6)");
   }
 }
@@ -99,28 +92,28 @@ void FixInsertPack::inserted_batch(const Result& r) {
   std::string target;
   switch (target_) {
     case Target::VolumeFraction:
-      target = "volume fraction " + num(target_value_);
+      target = "volume fraction " + format_number(target_value_);
       break;
     case Target::Particles:
-      target = num(target_value_) + " particles";
+      target = format_number(target_value_) + " particles";
       break;
     case Target::Mass:
-      target = "mass " + num(target_value_) + " kg";
+      target = "mass " + format_number(target_value_) + " kg";
       break;
   }
   if (verbose_) {
     std::ostringstream os;
     os << "INFO: " << label() << " inserted " << r.placed << " particles (target " << r.requested
        << ") at step " << engine_.update->ntimestep << "; region " << region_id_ << " now holds " << number
-       << " particles, mass " << num(mass) << " kg, volume fraction " << num(phi) << " (target: " << target
-       << ")\n";
+       << " particles, mass " << format_number(mass) << " kg, volume fraction " << format_number(phi)
+       << " (target: " << target << ")\n";
     engine_.logger->print(os.str());
   }
   if (r.placed < r.requested) {
     std::ostringstream os;
     os << label() << ": placed only " << r.placed << " of the " << r.requested
        << " particles requested in region " << region_id_ << " (maxattempt " << maxattempt_
-       << (all_in_ ? ", all_in yes" : "") << "); the region now holds volume fraction " << num(phi)
+       << (all_in_ ? ", all_in yes" : "") << "); the region now holds volume fraction " << format_number(phi)
        << " (target: " << target << "). Enlarge the region, lower the target or raise maxattempt";
     engine_.logger->warning(os.str());
   }

@@ -24,12 +24,6 @@ const char* kUsage =
     "spheres file FILE [scale S] | spheres x1 y1 z1 r1 ... type MT [mass M] "
     "[inertia_tensor Ixx Ixy Ixz Iyy Iyz Izz] [use_volume | use_density]";
 
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 }  // namespace
 
 void FixParticleTemplateMultisphere::read_file(const std::string& path, double scale,
@@ -194,7 +188,7 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
     centres_[k] = Vec3(values[4 * k], values[4 * k + 1], values[4 * k + 2]);
     radii[k] = values[4 * k + 3];
     if (!(radii[k] > 0.0)) {
-      throw InputError(what + ": sphere " + std::to_string(k + 1) + " has radius " + num(radii[k]) +
+      throw InputError(what + ": sphere " + std::to_string(k + 1) + " has radius " + format_number(radii[k]) +
                        "; radii must be positive");
     }
   }
@@ -215,8 +209,8 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
       density = mass / volume;
   }
   if (volume < volume_limit) {
-    throw InputError(what + ": the clump volume " + num(volume) + " m^3 is below volume_limit " +
-                     num(volume_limit) +
+    throw InputError(what + ": the clump volume " + format_number(volume) + " m^3 is below volume_limit " +
+                     format_number(volume_limit) +
                      " (check the units: coordinates and radii are in m, use scale), or lower volume_limit");
   }
   Eigen::Matrix3d inertia = (mass / props_.volume) * props_.inertia;
@@ -244,12 +238,13 @@ FixParticleTemplateMultisphere::FixParticleTemplateMultisphere(Engine& engine, c
   }
 
   std::ostringstream log;
-  log << what << ": " << n << " spheres, volume " << num(volume) << " m^3 (relative error "
-      << num(props_.relative_volume_error()) << ", " << props_.samples << " samples), mass " << num(mass)
-      << " kg, principal moments " << num(moments[0]) << " " << num(moments[1]) << " " << num(moments[2])
-      << " kg m^2 (relative error " << num(props_.relative_inertia_error()) << "), bounding radius "
-      << num(particle_.bounding_radius) << " m, centre of mass (" << num(centre_[0]) << ", "
-      << num(centre_[1]) << ", " << num(centre_[2]) << ") m in the input frame\n";
+  log << what << ": " << n << " spheres, volume " << format_number(volume) << " m^3 (relative error "
+      << format_number(props_.relative_volume_error()) << ", " << props_.samples << " samples), mass "
+      << format_number(mass) << " kg, principal moments " << format_number(moments[0]) << " "
+      << format_number(moments[1]) << " " << format_number(moments[2]) << " kg m^2 (relative error "
+      << format_number(props_.relative_inertia_error()) << "), bounding radius "
+      << format_number(particle_.bounding_radius) << " m, centre of mass (" << format_number(centre_[0])
+      << ", " << format_number(centre_[1]) << ", " << format_number(centre_[2]) << ") m in the input frame\n";
   engine.logger->print(log.str());
 }
 

@@ -21,12 +21,6 @@ double uniform01(std::mt19937_64& gen) {
   return static_cast<double>(gen() >> 11) * 0x1.0p-53;
 }
 
-std::string num(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
 }  // namespace
 
 FixParticleTemplateSphere::FixParticleTemplateSphere(Engine& engine, const Args& args)
@@ -77,8 +71,8 @@ FixParticleTemplateSphere::FixParticleTemplateSphere(Engine& engine, const Args&
   }
   const double rmin = uniform_ ? radius_lo_ : radius_;
   if (4.0 / 3.0 * M_PI * rmin * rmin * rmin < volume_limit_) {
-    throw InputError(what + ": the particle volume " + num(4.0 / 3.0 * M_PI * rmin * rmin * rmin) +
-                     " is below volume_limit " + num(volume_limit_) +
+    throw InputError(what + ": the particle volume " + format_number(4.0 / 3.0 * M_PI * rmin * rmin * rmin) +
+                     " is below volume_limit " + format_number(volume_limit_) +
                      " (check the units: radii are in m), or lower volume_limit");
   }
 }

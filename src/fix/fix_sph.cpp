@@ -45,25 +45,12 @@ const PairSph& sph_pair(const Engine& e, const std::string& who) {
   return *pair;
 }
 
-// f(i, j, r2, h) for each pair of the neighbour list (i owned) closer than
-// the kernel's support 2h
-template <class F>
-void for_each_pair(const Particles& p, const Neighbor& list, const PairSph& pair, F&& f) {
-  for (int i = 0; i < p.nlocal; ++i) {
-    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      const int j = list.neigh[k];
-      const double r2 = (p.x[i] - p.x[j]).squaredNorm();
-      const double h = pair.h(p.type[i], p.type[j]);
-      if (r2 < 4.0 * h * h) f(i, j, r2, h);
-    }
-  }
-}
-
 bool is_density_fix(const std::string& style) {
   return style == "sph/density/continuity" || style == "sph/density/corr" || style == "sph/density/summation";
 }
 
-// drho_i/dt = sum_j m_j (v_i - v_j) . grad_i W_ij; rho_i += dt drho_i/dt
+// drho_i/dt = sum_j m_j (v_i - v_j) . grad_i W_ij; rho_i advances by dt times
+// the mean of the previous and the new rate
 class FixSphDensityContinuity : public Fix {
  public:
   FixSphDensityContinuity(Engine& engine, const Args& args) : Fix(engine, args) {
@@ -94,7 +81,7 @@ class FixSphDensityContinuity : public Fix {
     for (int i = 0; i < nlocal; ++i)
       drho[i] = 0.0;
     const sph::Kernel kernel = pair_->kernel();
-    for_each_pair(p, list, *pair_, [&](int i, int j, double r2, double h) {
+    pair_->for_each_pair(p, list, [&](int i, int j, double r2, double h) {
       if (r2 == 0.0) return;
       const double r = std::sqrt(r2);
       // (v_i - v_j) . grad_i W_ij, the same for j with i's mass
@@ -147,7 +134,7 @@ class FixSphDensityCorr : public Fix {
       num_[i] += p.rmass[i] * w0;
       den_[i] += p.rmass[i] / rho[i] * w0;
     }
-    for_each_pair(p, list, *pair_, [&](int i, int j, double r2, double h) {
+    pair_->for_each_pair(p, list, [&](int i, int j, double r2, double h) {
       const double w = sph::kernel_w(kernel, std::sqrt(r2), h);
       num_[i] += p.rmass[j] * w;
       den_[i] += p.rmass[j] / rho[j] * w;
@@ -188,7 +175,7 @@ class FixSphDensitySummation : public Fix {
     sum_.assign(nlocal, 0.0);
     for (int i = 0; i < nlocal; ++i)
       sum_[i] = p.rmass[i] * sph::kernel_w(kernel, 0.0, pair_->h(p.type[i]));
-    for_each_pair(p, list, *pair_, [&](int i, int j, double r2, double h) {
+    pair_->for_each_pair(p, list, [&](int i, int j, double r2, double h) {
       const double w = sph::kernel_w(kernel, std::sqrt(r2), h);
       sum_[i] += p.rmass[j] * w;
       if (j < nlocal) sum_[j] += p.rmass[i] * w;

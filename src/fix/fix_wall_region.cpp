@@ -77,8 +77,8 @@ class FixWallRegion : public Fix {
         double f = 0.0, e = 0.0;
         if (!wall(s.r, p.radius[i], f, e)) {
           fail(i, style_ == Style::Colloid
-                      ? "touches the surface of region " + region_id_ + " (its distance " + num(s.r) +
-                            " m is not more than its radius)"
+                      ? "touches the surface of region " + region_id_ + " (its distance " +
+                            format_number(s.r) + " m is not more than its radius)"
                       : "is on the surface of region " + region_id_);
         }
         // f > 0 pushes the particle away from the surface
@@ -108,17 +108,11 @@ class FixWallRegion : public Fix {
 
  private:
   std::string where() const { return "fix " + id + " wall/region"; }
-  static std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-  }
-
   [[noreturn]] void fail(int i, const std::string& what) const {
     const Particles& p = *engine_.particles;
-    throw RunError(where() + ": particle " + std::to_string(p.id[i]) + " at (" + num(p.x[i][0]) + ", " +
-                   num(p.x[i][1]) + ", " + num(p.x[i][2]) + ") " + what + " at step " +
-                   std::to_string(engine_.update->ntimestep) +
+    throw RunError(where() + ": particle " + std::to_string(p.id[i]) + " at (" + format_number(p.x[i][0]) +
+                   ", " + format_number(p.x[i][1]) + ", " + format_number(p.x[i][2]) + ") " + what +
+                   " at step " + std::to_string(engine_.update->ntimestep) +
                    "; the wall acts on particles on its region's side of the surface only: start them "
                    "farther inside, or stiffen the wall (epsilon) so that they stay there");
   }

@@ -80,14 +80,6 @@ std::string strip_comment(const std::string& s) {
   return t.substr(b, e - b + 1);
 }
 
-bool is_number(const std::string& w) {
-  if (w.empty()) return false;
-  char* end = nullptr;
-  errno = 0;
-  std::strtod(w.c_str(), &end);
-  return end && *end == '\0';
-}
-
 // Header lines whose count must be 0 for granular spheres, with what they ask for.
 const std::map<std::string, std::string>& unsupported_counts() {
   static const std::map<std::string, std::string> m = {

@@ -820,11 +820,8 @@ void read_restart(Engine& e, const std::string& file) {
   e.comm->setup(0.0);
 
   Particles& p = *e.particles;
+  p.set_sph(sph_file);  // the file's atom style, whatever the script said before
   if (sph_file) {
-    p.sph = true;
-    for (const char* name : {"sph_rho", "sph_p"})
-      p.add_field(name, 1, true, true);
-    p.add_field("sph_drho", 1, false, true);
     p.type_mass.assign(ntypes + 1, 0.0);
     if (g.count("type_mass"))
       for (int t = 1; t <= ntypes && t <= static_cast<int>(g["type_mass"].size()); ++t)

@@ -25,18 +25,6 @@ const char* const kUsage =
     "pair_style sph/artVisc/tensCorr cubicspline|cubicspline2d|wendland|wendland2d h "
     "[artVisc [alpha beta eta]] [tensCorr [epsilon deltap]]";
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-bool is_number(const std::string& w) {
-  char* end = nullptr;
-  std::strtod(w.c_str(), &end);
-  return !w.empty() && end && *end == '\0';
-}
-
 }  // namespace
 
 PairSph::PairSph(Engine& engine, const Args& args) : Pair(engine, args) {
@@ -101,6 +89,7 @@ void PairSph::init() {
   Particles& p = *engine_.particles;
   const int nt = p.ntypes;
   const Modify& modify = *engine_.modify;
+  std::vector<double> h, c(nt + 1, 0.0), alpha(nt + 1, 0.0), beta(nt + 1, 0.0), deltap(nt + 1, 0.0);
   auto per_type = [&](const char* name, std::vector<double>& out) {
     const GlobalProperty& g = modify.require_property(name, who);
     out.assign(nt + 1, 0.0);
@@ -109,13 +98,13 @@ void PairSph::init() {
   };
   // smoothing length: per type (sl) where defined, else the pair_style's h
   if (modify.find_property("sl")) {
-    per_type("sl", h_);
+    per_type("sl", h);
     for (int t = 1; t <= nt; ++t)
-      if (!(h_[t] > 0.0))
+      if (!(h[t] > 0.0))
         throw InputError(who + ": the smoothing length sl of type " + std::to_string(t) +
                          " must be positive");
   } else {
-    h_.assign(nt + 1, h_arg_);
+    h.assign(nt + 1, h_arg_);
   }
   if (!p.sph_kernel.empty()) {
     sph::Kernel k = kernel_;
@@ -125,34 +114,46 @@ void PairSph::init() {
                        args_[0] + "): the SPH fixes use the pair style's kernel");
   }
   if (artvisc_) {
-    per_type("speedOfSound", c_);
+    per_type("speedOfSound", c);
     if (artvisc_args_.empty()) {
-      per_type("artViscAlpha", alpha_);
-      per_type("artViscBeta", beta_);
+      per_type("artViscAlpha", alpha);
+      per_type("artViscBeta", beta);
       eta2_ = modify.require_property("artViscEta", who).scalar();
     } else {
-      alpha_.assign(nt + 1, artvisc_args_[0]);
-      beta_.assign(nt + 1, artvisc_args_[1]);
+      alpha.assign(nt + 1, artvisc_args_[0]);
+      beta.assign(nt + 1, artvisc_args_[1]);
       eta2_ = artvisc_args_[2];
     }
   }
   if (tenscorr_) {
     if (tenscorr_args_.empty()) {
       epsilon_ = modify.require_property("tensCorrEpsilon", who).scalar();
-      per_type("tensCorrDeltaP", deltap_);
+      per_type("tensCorrDeltaP", deltap);
     } else {
       epsilon_ = tenscorr_args_[0];
-      deltap_.assign(nt + 1, tenscorr_args_[1]);
+      deltap.assign(nt + 1, tenscorr_args_[1]);
     }
   }
+  ntypes1_ = static_cast<std::size_t>(nt) + 1;
+  mix_.assign(ntypes1_ * ntypes1_, Mix{});
+  for (int ti = 1; ti <= nt; ++ti)
+    for (int tj = 1; tj <= nt; ++tj) {
+      Mix& m = mix_[ti * ntypes1_ + tj];
+      m.h = 0.5 * (h[ti] + h[tj]);
+      m.c = 0.5 * (c[ti] + c[tj]);
+      m.alpha = 0.5 * (alpha[ti] + alpha[tj]);
+      m.beta = 0.5 * (beta[ti] + beta[tj]);
+      if (tenscorr_) m.w_dp = sph::kernel_w(kernel_, 0.5 * (deltap[ti] + deltap[tj]), m.h);
+    }
   // Monaghan's (1992) timestep condition for the sound waves: dt < 0.25 h / c
   if (artvisc_) {
-    double hmin = h_[1], cmax = c_[1];
+    double hmin = h[1], cmax = c[1];
     for (int t = 1; t <= nt; ++t)
-      hmin = std::min(hmin, h_[t]), cmax = std::max(cmax, c_[t]);
+      hmin = std::min(hmin, h[t]), cmax = std::max(cmax, c[t]);
     const double limit = 0.25 * hmin / cmax, dt = engine_.update->dt;
     if (cmax > 0.0 && dt > limit)
-      engine_.logger->warning(who + ": the timestep " + num(dt) + " s exceeds 0.25 h / c = " + num(limit) +
+      engine_.logger->warning(who + ": the timestep " + format_number(dt) +
+                              " s exceeds 0.25 h / c = " + format_number(limit) +
                               " s (smallest smoothing length, largest speedOfSound): sound waves are not "
                               "resolved; lower the timestep");
   }
@@ -161,7 +162,7 @@ void PairSph::init() {
   const std::vector<double>& rho = p.extras[rho_].data;
   long long bad = 0;
   for (int i = 0; i < p.nlocal; ++i) {
-    p.radius[i] = h_[p.type[i]];
+    p.radius[i] = h[p.type[i]];
     if (!(rho[i] > 0.0) || !(p.rmass[i] > 0.0)) ++bad;
   }
   long long all = 0;
@@ -174,55 +175,49 @@ void PairSph::init() {
 
 void PairSph::compute() {
   Particles& p = *engine_.particles;
-  const Neighbor& list = *engine_.neighbor;
   const double* rho = p.extras[rho_].data.data();
   const double* pres = p.extras[p_].data.data();
   const int nlocal = p.nlocal;
-  for (int i = 0; i < nlocal; ++i) {
-    const int ti = p.type[i];
-    const double pi_rho2 = pres[i] / (rho[i] * rho[i]);
-    const double ri_t = tenscorr_ && pres[i] < 0.0 ? epsilon_ * std::fabs(pres[i]) / (rho[i] * rho[i]) : 0.0;
-    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      const int j = list.neigh[k];
-      const int tj = p.type[j];
-      const Vec3 dx = p.x[i] - p.x[j];
-      const double r2 = dx.squaredNorm();
-      const double h = 0.5 * (h_[ti] + h_[tj]);
-      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
-      const double r = std::sqrt(r2);
-      const Vec3 grad = (sph::kernel_dw(kernel_, r, h) / r) * dx;  // grad_i W_ij
-      double bracket = pi_rho2 + pres[j] / (rho[j] * rho[j]);
-      if (artvisc_) {
-        const double vr = (p.v[i] - p.v[j]).dot(dx);
-        if (vr < 0.0) {
-          const double mu = h * vr / (r2 + eta2_);
-          const double cbar = 0.5 * (c_[ti] + c_[tj]);
-          const double rhobar = 0.5 * (rho[i] + rho[j]);
-          const double alpha = 0.5 * (alpha_[ti] + alpha_[tj]), beta = 0.5 * (beta_[ti] + beta_[tj]);
-          bracket += (-alpha * cbar * mu + beta * mu * mu) / rhobar;
-        }
-      }
-      if (tenscorr_) {
-        const double rj_t = pres[j] < 0.0 ? epsilon_ * std::fabs(pres[j]) / (rho[j] * rho[j]) : 0.0;
-        const double rr = ri_t + rj_t;
-        if (rr > 0.0) {
-          const double dp = 0.5 * (deltap_[ti] + deltap_[tj]);
-          const double fab = sph::kernel_w(kernel_, r, h) / sph::kernel_w(kernel_, dp, h);
-          const double f2 = fab * fab;
-          bracket += rr * f2 * f2;
-        }
-      }
-      const Vec3 force = (-p.rmass[i] * p.rmass[j] * bracket) * grad;
-      p.f[i] += force;
-      if (j < nlocal) p.f[j] -= force;
-    }
+  // P/rho^2 and the tensile-correction R (zero for P >= 0) of owned and ghost particles
+  const int n = p.size();
+  p_rho2_.resize(n);
+  tension_.resize(n);
+  for (int a = 0; a < n; ++a) {
+    p_rho2_[a] = pres[a] / (rho[a] * rho[a]);
+    tension_[a] = tenscorr_ && pres[a] < 0.0 ? epsilon_ * std::fabs(p_rho2_[a]) : 0.0;
   }
+  for_each_pair(p, *engine_.neighbor, [&](int i, int j, double r2, double h) {
+    if (r2 == 0.0) return;
+    const Mix& m = mix(p.type[i], p.type[j]);
+    const Vec3 dx = p.x[i] - p.x[j];
+    const double r = std::sqrt(r2);
+    double bracket = p_rho2_[i] + p_rho2_[j];
+    if (artvisc_) {
+      const double vr = (p.v[i] - p.v[j]).dot(dx);
+      if (vr < 0.0) {
+        const double mu = h * vr / (r2 + eta2_);
+        bracket += (-m.alpha * m.c * mu + m.beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
+      }
+    }
+    if (tenscorr_) {
+      const double rr = tension_[i] + tension_[j];
+      if (rr > 0.0) {
+        const double fab = sph::kernel_w(kernel_, r, h) / m.w_dp;
+        const double f2 = fab * fab;
+        bracket += rr * f2 * f2;
+      }
+    }
+    // grad_i W_ij = dW/dr dx / r
+    const Vec3 force = (-p.rmass[i] * p.rmass[j] * bracket * sph::kernel_dw(kernel_, r, h) / r) * dx;
+    p.f[i] += force;
+    if (j < nlocal) p.f[j] -= force;
+  });
 }
 
 Vec3 PairSph::clone_force(const Particles& p, int i, const Vec3& dx) const {
   const double r2 = dx.squaredNorm();
-  const int t = p.type[i];
-  const double h = h_[t];
+  const Mix& m = mix(p.type[i], p.type[i]);
+  const double h = m.h;
   if (r2 >= 4.0 * h * h || r2 == 0.0) return Vec3::Zero();
   const double r = std::sqrt(r2);
   const double rho = p.extras[rho_].data[i];
@@ -230,7 +225,7 @@ Vec3 PairSph::clone_force(const Particles& p, int i, const Vec3& dx) const {
   const double rr = rho * rho;
   double bracket = 2.0 * pres / rr;
   if (tenscorr_ && pres < 0.0) {
-    const double fab = sph::kernel_w(kernel_, r, h) / sph::kernel_w(kernel_, deltap_[t], h);
+    const double fab = sph::kernel_w(kernel_, r, h) / m.w_dp;
     const double f2 = fab * fab;
     bracket += 2.0 * epsilon_ * std::fabs(pres) / rr * f2 * f2;
   }

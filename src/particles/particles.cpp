@@ -75,6 +75,20 @@ int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, 
   return i;
 }
 
+void Particles::set_sph(bool on) {
+  if (on && !sph) {
+    // density and pressure travel with the particle and are seen on ghosts
+    // (the SPH fixes forward them after every change); the density rate is local
+    for (const char* name : {"sph_rho", "sph_p"})
+      add_field(name, 1, true, true);
+    add_field("sph_drho", 1, false, true);
+  } else if (!on && sph) {
+    for (const char* name : {"sph_rho", "sph_p", "sph_drho"})
+      release_field(name);
+  }
+  sph = on;
+}
+
 void Particles::init_extras(int i) {
   for (auto& e : extras) {
     const auto at = e.data.begin() + static_cast<std::size_t>(i) * e.ncomp;

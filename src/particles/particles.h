@@ -53,6 +53,8 @@ class Particles {
   /// it to the smoothing length) with a per-type mass (the mass command) and
   /// the per-particle fields sph_rho, sph_p, sph_drho
   bool sph = false;
+  /// Switch atom_style sph on (adding its fields) or off (releasing them).
+  void set_sph(bool on);
   std::vector<double> type_mass;  // [type]; 0 = not set (atom_style sph)
   std::string sph_kernel;         // `set ... sphkernel NAME`: the kernel the SPH fixes expect
 
