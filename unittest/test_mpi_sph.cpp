@@ -345,6 +345,22 @@ TEST_CASE("sph: a small 3d dam break agrees with LIGGGHTS", "[sph][liggghts]") {
   }
 }
 
+// fix sph/pressure absolut and relativ: P = B rho and P = B (rho - rho0) for
+// every particle at the start of a run (densities set with meso_rho).
+TEST_CASE("sph: the absolut and relativ equations of state", "[sph]") {
+  for (const std::string eos : {"absolut 2.5", "relativ 60000. 1000."}) {
+    granary::test::ScriptEngine s(MPI_COMM_WORLD);
+    s.cmds(dam(3));
+    s.cmds({"set group all meso_rho 1001", "fix pressure all sph/pressure " + eos, "run 0"});
+    const granary::Particles& p = s.p();
+    const int pf = p.find_field("sph_p");
+    const double expected = eos[0] == 'a' ? 2.5 * 1001.0 : 60000.0 * (1001.0 - 1000.0);
+    INFO(eos);
+    for (int i = 0; i < p.nlocal; ++i)
+      CHECK(p.extras[pf].data[i] == Approx(expected).epsilon(1e-9));  // Shepard at step 0: round-off
+  }
+}
+
 TEST_CASE("sph: a timestep too long for the sound speed warns", "[sph]") {
   // 0.25 h / c = 0.25 x 0.012 m / 20 m/s = 1.5e-4 s
   for (const std::string dt : {"1e-5", "2e-4"}) {
