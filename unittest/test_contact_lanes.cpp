@@ -37,19 +37,21 @@ ModelSpec random_spec(std::mt19937_64& rng) {
   ModelSpec spec;
   // Every field, by position: a field added to ModelSpec stops this from
   // compiling until it is drawn here as well.
-  auto& [normal, tangential, rolling, cohesion, damping, surface, tangential_reduce, limit_force,
-         tangential_damping, kt_to_kn_user, absolute_damping] = spec;
+  auto& [normal, tangential, rolling, cohesion, damping, surface, tangential_reduce, modify_lb_volume,
+         limit_force, tangential_damping, kt_to_kn_user, absolute_damping] = spec;
   normal = std::array{NormalModel::Hertz, NormalModel::Hooke, NormalModel::HertzStiffness,
                       NormalModel::HookeStiffness, NormalModel::HookeHysteresis}[pick(5)];
   tangential = std::array{TangentialModel::None, TangentialModel::NoHistory, TangentialModel::History,
                           TangentialModel::MindlinDeresiewicz}[pick(4)];
   rolling = std::array{RollingModel::None, RollingModel::Cdt, RollingModel::Epsd2, RollingModel::Epsd,
                        RollingModel::Epsd3}[pick(5)];
+  // (the liquid bridges, easo and washino, are not kernel models: pair/liquid_bridge.h)
   cohesion = std::array{CohesionModel::None, CohesionModel::Sjkr, CohesionModel::Sjkr2}[pick(3)];
   damping = pick(2) ? DampingModel::Viscoelastic : DampingModel::Restitution;
   // read by the contact loops only (the kernels ignore it)
   surface = pick(2) ? SurfaceModel::Multicontact : SurfaceModel::Sphere;
   tangential_reduce = pick(2);
+  modify_lb_volume = pick(2);  // read by the liquid bridges only
   limit_force = pick(2);
   tangential_damping = pick(2);
   kt_to_kn_user = pick(2);

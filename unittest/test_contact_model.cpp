@@ -96,8 +96,14 @@ TEST_CASE("Bad model words give clear errors", "[contact][parse]") {
              Catch::Contains("unknown normal model 'hertzz'") && Catch::Contains("hertz, hooke"));
   CHECK_THAT(parse_error("model hertz tangential sticky"),
              Catch::Contains("unknown tangential model 'sticky'"));
-  CHECK_THAT(parse_error("model hertz cohesion washino/capillary/viscous"),
-             Catch::Contains("'cohesion washino/capillary/viscous' is not supported"));
+  CHECK_THAT(parse_error("model hertz surface superquadric"),
+             Catch::Contains("'surface superquadric' is not supported"));
+  CHECK_THAT(parse_error("model hertz cohesion easo/capillary/viscous tangential_reduce on"),
+             Catch::Contains("'tangential_reduce on' is not supported with the liquid-bridge"));
+  CHECK_THAT(parse_error("model hertz cohesion washino/capillary/viscous limitLiquidContent on"),
+             Catch::Contains("'limitLiquidContent on'"));
+  CHECK_THAT(parse_error("model hertz cohesion sjkr modifyLbVolume on"),
+             Catch::Contains("applies only with 'cohesion washino/capillary/viscous'"));
   CHECK_THAT(parse_error("model hooke damping viscoelastic"), Catch::Contains("only to 'model hertz'"));
   CHECK_THAT(parse_error("model hertz tangential"), Catch::Contains("missing value after"));
   CHECK_THAT(parse_error("model hertz limitForce yes"),
@@ -131,7 +137,9 @@ TEST_CASE("model_names lists the sub-models the parser accepts", "[contact][pars
   // The lists in the messages are the same names ("off" where it is allowed).
   CHECK_THAT(parse_error("model hertz tangential sticky"),
              Catch::Contains("(supported: history, no_history, mindlin_deresiewicz, off)"));
-  CHECK_THAT(parse_error("model hertz cohesion x"), Catch::Contains("(supported: sjkr, sjkr2, off)"));
+  CHECK_THAT(
+      parse_error("model hertz cohesion x"),
+      Catch::Contains("(supported: sjkr, sjkr2, easo/capillary/viscous, washino/capillary/viscous, off)"));
   CHECK(parse_all("model hertz surface multicontact").surface == SurfaceModel::Multicontact);
   CHECK(parse_all("model hertz surface default").surface == SurfaceModel::Sphere);
   CHECK_THAT(parse_error("model hertz surface superquadric"),
@@ -169,6 +177,18 @@ TEST_CASE("model_words round-trips through the parser", "[contact][parse]") {
           CHECK(t.kt_to_kn_user == s.kt_to_kn_user);
         }
       }
+    }
+  }
+  // the liquid bridges and washino's modifyLbVolume
+  for (CohesionModel c : {CohesionModel::Easo, CohesionModel::Washino}) {
+    for (bool lb : {false, true}) {
+      ModelSpec s;
+      s.tangential = TangentialModel::History;
+      s.cohesion = c;
+      s.modify_lb_volume = lb && c == CohesionModel::Washino;
+      const ModelSpec t = parse_all(model_words(s));
+      CHECK(t.cohesion == c);
+      CHECK(t.modify_lb_volume == s.modify_lb_volume);
     }
   }
 }

@@ -339,7 +339,7 @@ template <class K, class S>
   // below see the contact force without it (LIGGGHTS "tangential_reduce off");
   // with "tangential_reduce on" they see |fn - F_coh| (LIGGGHTS 3.8, measured).
   S fn_total = fn;
-  if (K::cohesion(spec) != CohesionModel::None) {
+  if (K::cohesion(spec) == CohesionModel::Sjkr || K::cohesion(spec) == CohesionModel::Sjkr2) {
     fn_total = fn - q.f_coh;
     if (spec.tangential_reduce) fn = fn_total;
   }

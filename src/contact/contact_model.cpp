@@ -70,8 +70,11 @@ const std::vector<std::pair<std::string, RollingModel>> kRollingNames = {{"cdt",
                                                                          {"epsd", RollingModel::Epsd},
                                                                          {"epsd2", RollingModel::Epsd2},
                                                                          {"epsd3", RollingModel::Epsd3}};
-const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {{"sjkr", CohesionModel::Sjkr},
-                                                                           {"sjkr2", CohesionModel::Sjkr2}};
+const std::vector<std::pair<std::string, CohesionModel>> kCohesionNames = {
+    {"sjkr", CohesionModel::Sjkr},
+    {"sjkr2", CohesionModel::Sjkr2},
+    {"easo/capillary/viscous", CohesionModel::Easo},
+    {"washino/capillary/viscous", CohesionModel::Washino}};
 const std::vector<std::pair<std::string, DampingModel>> kDampingNames = {
     {"restitution", DampingModel::Restitution}, {"viscoelastic", DampingModel::Viscoelastic}};
 const std::vector<std::pair<std::string, SurfaceModel>> kSurfaceNames = {
@@ -95,10 +98,7 @@ std::string join(const std::vector<std::string>& names) {
 
 // LIGGGHTS sub-models that exist there but are not implemented here.
 bool is_known_unsupported(const std::string& slot, const std::string& name) {
-  static const std::vector<std::pair<std::string, std::string>> known = {
-      {"cohesion", "easo/capillary/viscous"},
-      {"cohesion", "washino/capillary/viscous"},
-      {"surface", "superquadric"}};
+  static const std::vector<std::pair<std::string, std::string>> known = {{"surface", "superquadric"}};
   for (const auto& k : known)
     if (k.first == slot && k.second == name) return true;
   return false;
@@ -149,7 +149,7 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
   spec.rolling = RollingModel::None;        // LIGGGHTS default "rolling_friction off"
   bool seen_model = false, seen_tangential = false, seen_rolling = false;
   bool seen_cohesion = false, seen_surface = false, seen_kt_to_kn = false, seen_damping = false;
-  bool seen_reduce = false, seen_absolute = false;
+  bool seen_reduce = false, seen_absolute = false, seen_lb_volume = false, seen_limit_liquid = false;
 
   auto once = [](bool& seen, const std::string& word) {
     if (seen) fail("'" + word + "' given twice");
@@ -179,6 +179,15 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     } else if (w == "tangential_reduce") {
       spec.tangential_reduce = on_off(args, pos);
       seen_reduce = true;
+    } else if (w == "modifyLbVolume") {
+      spec.modify_lb_volume = on_off(args, pos);
+      seen_lb_volume = true;
+    } else if (w == "limitLiquidContent") {
+      if (on_off(args, pos))
+        fail(
+            "'limitLiquidContent on' (a cap on the liquid content of washino/capillary/viscous) is not "
+            "supported; leave it out or give off");
+      seen_limit_liquid = true;
     } else if (w == "surface") {
       once(seen_surface, w);
       const std::string& v = value_of(args, pos);
@@ -211,6 +220,13 @@ ModelSpec parse_model_words(const std::vector<std::string>& args, std::size_t& p
     fail("'damping viscoelastic' applies only to 'model hertz'");
   if (seen_reduce && spec.cohesion == CohesionModel::None)
     fail("'tangential_reduce' applies only with a cohesion model ('cohesion sjkr' or 'sjkr2')");
+  if (spec.tangential_reduce && liquid_bridge(spec.cohesion))
+    fail(
+        "'tangential_reduce on' is not supported with the liquid-bridge cohesion models (their force "
+        "does not enter the Coulomb limit: LIGGGHTS' default 'off'); leave it out or give off");
+  if ((seen_lb_volume || seen_limit_liquid) && spec.cohesion != CohesionModel::Washino)
+    fail(std::string("'") + (seen_lb_volume ? "modifyLbVolume" : "limitLiquidContent") +
+         "' applies only with 'cohesion washino/capillary/viscous'");
   return spec;
 }
 
@@ -238,6 +254,9 @@ std::string model_words(const ModelSpec& spec) {
     s += " rolling_friction " + name_of(kRollingNames, spec.rolling, "");
   if (spec.cohesion == CohesionModel::Sjkr) s += " cohesion sjkr";
   if (spec.cohesion == CohesionModel::Sjkr2) s += " cohesion sjkr2";
+  if (spec.cohesion == CohesionModel::Easo) s += " cohesion easo/capillary/viscous";
+  if (spec.cohesion == CohesionModel::Washino) s += " cohesion washino/capillary/viscous";
+  if (spec.modify_lb_volume) s += " modifyLbVolume on";
   if (spec.damping == DampingModel::Viscoelastic) s += " damping viscoelastic";
   if (spec.surface == SurfaceModel::Multicontact) s += " surface multicontact";
   if (spec.limit_force) s += " limitForce on";

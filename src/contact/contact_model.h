@@ -50,8 +50,15 @@ constexpr bool rolling_dashpot(RollingModel r) {
 }
 /// Cohesion: "cohesion off", "cohesion sjkr" (simplified JKR, F = k * contact
 /// area, the area of the circle where the spheres intersect), "cohesion sjkr2"
-/// (the same with the area 2 pi delta 2R*).
-enum class CohesionModel { None, Sjkr, Sjkr2 };
+/// (the same with the area 2 pi delta 2R*), and the liquid bridges
+/// "cohesion easo/capillary/viscous" and "cohesion washino/capillary/viscous"
+/// (pair_style gran only: a capillary and a viscous force between spheres that
+/// touch or nearly touch, computed by pair/liquid_bridge.h, not by the kernels).
+enum class CohesionModel { None, Sjkr, Sjkr2, Easo, Washino };
+/// Whether the cohesion model is a liquid bridge (acts beyond contact; not in the kernels).
+constexpr bool liquid_bridge(CohesionModel c) {
+  return c == CohesionModel::Easo || c == CohesionModel::Washino;
+}
 /// Normal (and tangential) damping of the Hertz model: "damping restitution"
 /// (LIGGGHTS' constant coefficient of restitution, the default) or
 /// "damping viscoelastic" (Brilliantov et al. 1996: dashpot proportional to the
@@ -76,6 +83,10 @@ struct ModelSpec {
   /// Cohesion: the Coulomb and epsd2 limits see the cohesive pull as well
   /// ("tangential_reduce on"); default off: they see the contact force only.
   bool tangential_reduce = false;
+  /// washino/capillary/viscous: the bridge volume is lbVolumeFraction (fix
+  /// property/global) times the liquid of both spheres ("modifyLbVolume on");
+  /// default off: 0.05 times it.
+  bool modify_lb_volume = false;
   /// Forbid attraction: the total normal force is clamped at >= 0 ("limitForce on").
   bool limit_force = false;
   /// Viscous damping of the tangential force ("tangential_damping", default on).

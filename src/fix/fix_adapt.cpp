@@ -154,7 +154,7 @@ class FixAdapt : public Fix {
     const double rmax = p.max_radius(engine_.world);
     if (rmax > nb.rmax) {
       nb.rmax = rmax;
-      nb.cutneighmax = 2.0 * nb.rmax + nb.skin;
+      nb.cutneighmax = nb.cutoff_for(nb.rmax);
     }
     nb.force_rebuild = true;
   }

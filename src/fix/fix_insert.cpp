@@ -687,7 +687,7 @@ FixInsert::Result FixInsert::insert(long long n) {
   Neighbor& nb = *e.neighbor;
   if (rplaced > nb.rmax) {
     nb.rmax = rplaced;
-    nb.cutneighmax = 2.0 * nb.rmax + nb.skin;
+    nb.cutneighmax = nb.cutoff_for(nb.rmax);
   }
   return res;
 }

@@ -106,6 +106,11 @@ FixWallGran::FixWallGran(Engine& engine, const Args& args) : Fix(engine, args) {
   } catch (const std::invalid_argument& e) {
     throw InputError(std::string("fix wall/gran: ") + e.what());
   }
+  if (contact::liquid_bridge(spec_.cohesion))
+    throw InputError(
+        "fix wall/gran: the liquid-bridge cohesion models (easo/capillary/viscous, "
+        "washino/capillary/viscous) act between particles only (pair_style gran), as in "
+        "LIGGGHTS; use another cohesion model or none for the wall");
   if (pos >= words.size()) throw InputError("fix wall/gran needs a wall; usage: " + usage);
   if (words[pos] == "mesh") {
     // mesh n_meshes N meshes M1 ... MN

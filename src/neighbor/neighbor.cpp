@@ -85,7 +85,7 @@ void Neighbor::modify_command(const Args& args) {
 
 void Neighbor::init() {
   rmax = engine_.particles->max_radius(engine_.world);
-  cutneighmax = 2.0 * rmax + skin;
+  cutneighmax = cutoff_for(rmax);
 }
 
 bool Neighbor::excluded(int i, int j) const {
@@ -244,6 +244,7 @@ void Neighbor::build() {
   const double* const br = binr_.data();
   const bool other_exclusions = !exclude_types_.empty() || !exclude_groups_.empty();
   const double sk = skin;
+  const double rf = range_factor;
 
   // Candidates are appended without a branch (whether one is within the
   // cutoff is unpredictable): each is written at the end and the end moves
@@ -273,7 +274,7 @@ void Neighbor::build() {
           neigh.resize(std::max(2 * neigh.size(), end + static_cast<std::size_t>(kend - kbeg)));
         int* const out = neigh.data();
         for (int k = kbeg; k < kend; ++k) {
-          const double rc = ri + br[k] + sk;
+          const double rc = (ri + br[k]) * rf + sk;
           const int j = bpart[k];
           out[end] = j;
           end += ((xi - bx[k]).squaredNorm() < rc * rc) & (j > i);

@@ -26,6 +26,12 @@ class Neighbor {
   explicit Neighbor(Engine& engine);
 
   double skin = 0.001;  // [m], `neighbor SKIN bin`
+  /// Pairs are listed while their distance is below range_factor (r_i + r_j)
+  /// + skin: 1 for contact forces; a pair style whose forces reach beyond
+  /// contact (liquid bridges: maxSeparationDistanceRatio) sets it at init.
+  double range_factor = 1.0;
+  /// The cutoff of the largest pair for particles up to radius rmax: 2 rmax range_factor + skin.
+  double cutoff_for(double rmax_) const { return 2.0 * rmax_ * range_factor + skin; }
   int every = 1, delay = 0;
   bool check = true;
   bool once = false;
@@ -44,7 +50,7 @@ class Neighbor {
   bool force_rebuild = false;
   /// Build the half list from owned and ghost particles.
   void build();
-  double cutneighmax = 0.0;  // largest pair cutoff plus skin: 2 * rmax + skin
+  double cutneighmax = 0.0;  // largest pair cutoff plus skin: cutoff_for(rmax)
   double rmax = 0.0;
 
   // CSR half list: neighbours of owned particle i are

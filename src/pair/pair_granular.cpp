@@ -88,6 +88,13 @@ PairGranular::PairGranular(Engine& engine, const Args& args, const std::string& 
     : Pair(engine, args) {
   style = style_name;
   spec_ = parse_spec(style_name, args);
+  kernel_spec_ = spec_;
+  if (contact::liquid_bridge(spec_.cohesion)) {
+    kernel_spec_.cohesion = contact::CohesionModel::None;
+    kernel_spec_.modify_lb_volume = false;
+    bridge_ =
+        std::make_unique<LiquidBridge>(engine, spec_.cohesion, spec_.modify_lb_volume, "pair_style " + style);
+  }
 }
 
 void PairGranular::coeff(const Args& args) {
@@ -115,7 +122,11 @@ void PairGranular::coeff(const Args& args) {
 
 void PairGranular::init() {
   if (!coeff_set_) throw InputError("pair style " + style + " needs 'pair_coeff * *' before run");
-  materials_.build(engine_, spec_, "pair_style " + style);
+  materials_.build(engine_, kernel_spec_, "pair_style " + style);
+  if (bridge_)
+    bridge_->init();  // sets the neighbour range
+  else
+    engine_.neighbor->range_factor = 1.0;
   if (spec_.surface == contact::SurfaceModel::Multicontact && !engine_.force->multicontact)
     throw InputError("pair style " + style +
                      " with 'surface multicontact' needs fix multicontact/halfspace (e.g. fix mc all "
@@ -152,7 +163,7 @@ void PairGranular::loop() {
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
   // contact history: one slot per neighbour-list entry
-  const int nh = Kernel::history_size(spec_);
+  const int nh = Kernel::history_size(kernel_spec_);
   const std::size_t nlist = list.neigh.size();
   if (nh > 0 && history_.touch_.size() != nlist) {
     history_.touch_.assign(nlist, 0);
@@ -175,7 +186,7 @@ void PairGranular::loop() {
   L.touch = nh > 0 ? history_.touch_.data() : nullptr;
   L.hist = nh > 0 ? history_.values_.data() : nullptr;
   L.materials = &materials_;
-  L.spec = &spec_;
+  L.spec = &kernel_spec_;
   L.dt = {engine_.update->history_dt(), engine_.update->dt};
   if (spec_.surface == contact::SurfaceModel::Multicontact) {
     L.mc = engine_.force->multicontact;
@@ -193,7 +204,8 @@ void PairGranular::loop() {
 }
 
 void PairGranular::compute() {
-  contact::dispatch_model(spec_, [this](auto kernel) { this->loop<decltype(kernel)>(); });
+  contact::dispatch_model(kernel_spec_, [this](auto kernel) { this->loop<decltype(kernel)>(); });
+  if (bridge_) bridge_->compute();
 }
 
 // One class under every name: gran (LIGGGHTS), hertz/rolling (Granary's, other

@@ -9,7 +9,10 @@
 
 #include "contact/contact_kernels.h"
 #include "contact/contact_model.h"
+#include <memory>
+
 #include "neighbor/contact_history.h"
+#include "pair/liquid_bridge.h"
 #include "pair/materials.h"
 #include "pair/pair.h"
 #include "particles/particles.h"
@@ -29,7 +32,9 @@ class PairGranular : public Pair {
     return granary::contact_times(engine_, materials_, spec(), vmax, groupbit);
   }
 
-  const contact::ModelSpec& spec() const { return spec_; }
+  /// The contact model as the kernels evaluate it (a liquid-bridge cohesion is
+  /// added by the bridge pass, not by the kernels, and does not appear here).
+  const contact::ModelSpec& spec() const { return kernel_spec_; }
   const MaterialTable& materials() const { return materials_; }
 
  private:
@@ -37,6 +42,9 @@ class PairGranular : public Pair {
   void loop();
   void take_restart_history();
   contact::ModelSpec spec_;
+  /// spec_ as the kernels see it: a liquid-bridge cohesion is computed by bridge_, not by them
+  contact::ModelSpec kernel_spec_;
+  std::unique_ptr<LiquidBridge> bridge_;  ///< cohesion easo/capillary/viscous or washino/capillary/viscous
   MaterialTable materials_;
   ContactHistory history_;
   bool coeff_set_ = false;
