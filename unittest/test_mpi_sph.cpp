@@ -9,6 +9,8 @@
 //    and 4 ranks (densities and pressures reach the ghosts) and through a
 //    restart file (density, density rate, per-type masses and the 2d setting
 //    are written with the particles);
+//  * lattice sq2 fills two points per square; a floor of fix
+//    nve/sph/stationary particles stays where it is while its density changes;
 //  * errors: bad style arguments, a missing density or mass, newton on, the
 //    pressure defined before the density, a 2d box that is not periodic in z,
 //    a 2d lattice in 3d.
@@ -347,6 +349,58 @@ TEST_CASE("sph: a small 3d dam break agrees with LIGGGHTS", "[sph][liggghts]") {
 
 // fix sph/pressure absolut and relativ: P = B rho and P = B (rho - rho0) for
 // every particle at the start of a run (densities set with meso_rho).
+// lattice sq2 puts a second point in the middle of each square; particles of
+// fix nve/sph/stationary (a floor) keep their places under gravity and the
+// fluid's pressure while their density follows the continuity equation.
+TEST_CASE("sph: lattice sq2 and a floor of nve/sph/stationary particles", "[sph]") {
+  auto count = [](const std::string& lattice) {
+    granary::test::ScriptEngine s(MPI_COMM_WORLD);
+    s.cmds(head(2, "0 0.06 0 0.2 -0.001 0.001", "1 * 1"));
+    s.cmds({"lattice " + lattice + " 0.01",
+            "region fluid block 0.0075 0.0475 0.0175 0.0575 -0.001 0.001 units box",
+            "create_atoms 1 region fluid"});
+    return s.p().natoms;
+  };
+  CHECK(count("sq") == 16);
+  CHECK(count("sq2") == 32);
+
+  granary::test::ScriptEngine s(MPI_COMM_WORLD);
+  s.cmds(head(2, "0 0.06 0 0.2 -0.001 0.001", "1 * 1"));
+  s.cmds({"lattice sq2 0.01", "region fluid block 0.0075 0.0475 0.0175 0.0575 -0.001 0.001 units box",
+          "region floor block 0.0075 0.0475 0.0025 0.0125 -0.001 0.001 units box",
+          "create_atoms 1 region fluid", "create_atoms 1 region floor"});
+  s.cmds(physics(2, 0.05));
+  s.cmds({"group floor region floor", "group fluid subtract all floor", "unfix integr",
+          "fix integr fluid nve/sph", "fix stat floor nve/sph/stationary", "fix only2d all enforce2d",
+          "region boxw block 0 0.06 0 0.2 -1 1 units box",
+          "fix boxwall fluid wall/region/sph boxw 0.01 5.0"});
+  REQUIRE(s.p().natoms == 40);
+  const auto before = granary::test::positions_by_id(s.e, 40);
+  s.cmd("run 2000");
+  const auto after = granary::test::positions_by_id(s.e, 40);
+  const granary::Particles& p = s.p();
+  const int rho = p.find_field("sph_rho");
+  double floor_drho = 0.0, floor_moved = 0.0, fluid_fall = 0.0;
+  for (int i = 0; i < p.nlocal; ++i) {
+    const long long id = p.id[i];
+    const double moved = (after.at(id) - before.at(id)).norm();
+    if (before.at(id)[1] < 0.015) {
+      floor_moved = std::max(floor_moved, moved);
+      floor_drho = std::max(floor_drho, std::abs(p.extras[rho].data[i] - kRho0));
+    } else {
+      fluid_fall = std::max(fluid_fall, before.at(id)[1] - after.at(id)[1]);
+    }
+  }
+  double all[3], mine[3] = {floor_moved, floor_drho, fluid_fall};
+  MPI_Allreduce(mine, all, 3, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  INFO("floor moved " << all[0] << " m, its density changed by " << all[1]
+                      << " kg/m^3; the fluid fell by up to " << all[2] << " m");
+  CHECK(all[0] == 0.0);
+  CHECK(all[1] > 0.1);
+  // the fluid falls (20 ms of free fall is 2 mm; measured 1.8 mm)
+  CHECK(all[2] > 1e-4);
+}
+
 TEST_CASE("sph: the absolut and relativ equations of state", "[sph]") {
   for (const std::string eos : {"absolut 2.5", "relativ 60000. 1000."}) {
     granary::test::ScriptEngine s(MPI_COMM_WORLD);
