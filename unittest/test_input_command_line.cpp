@@ -192,10 +192,10 @@ TEST_CASE("command line: -list-styles prints every registered name", "[input][cl
   require("model", {"hertz", "hooke", "hertz/stiffness", "hooke/stiffness", "hooke/hysteresis"});
   require("tangential", {"history", "no_history"});
   require("rolling_friction", {"cdt", "epsd", "epsd2", "epsd3"});
-  require("cohesion", {"sjkr", "sjkr2"});
+  require("cohesion", {"sjkr", "sjkr2", "easo/capillary/viscous", "washino/capillary/viscous"});
   require("surface", {"sphere"});
-  CHECK(listed.count({"tangential", "off"}) == 0);                   // "off" is no sub-model
-  CHECK(listed.count({"cohesion", "easo/capillary/viscous"}) == 0);  // not implemented
+  CHECK(listed.count({"tangential", "off"}) == 0);        // "off" is no sub-model
+  CHECK(listed.count({"surface", "superquadric"}) == 0);  // not implemented
 
   // Every listed contact sub-model is accepted by the model parser, and every
   // listed atom style by atom_style.
