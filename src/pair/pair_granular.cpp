@@ -200,7 +200,56 @@ void PairGranular::loop() {
     owner_build_ = list.nbuilds;
   }
   L.owner = owner_.data();
+  // (the forces of a run's setup leave the history as it was: a near list
+  // built then, which forgot ended contacts, is not kept)
+  const bool setup = engine_.update->in_setup_forces;
+  if (setup) near_build_ = -1;
+  if (near_list && engine_.neighbor->skin > 0.0) {
+    update_near_list(p, list.neigh, L.offset[p.nlocal], nh);
+    L.near = near_.data();
+    L.nnear = static_cast<int>(near_.size());
+  }
   pair_loop<Kernel, contact::lane::D2>(L);
+  if (setup) near_build_ = -1;
+}
+
+void PairGranular::update_near_list(const Particles& p, const std::vector<int>& neigh, int nentries, int nh) {
+  const Neighbor& list = *engine_.neighbor;
+  const double margin = 0.25 * list.skin;
+  const int nall = p.size();
+  const Vec3* const x = p.x.data();
+  const double* const radius = p.radius.data();
+  bool rebuild = near_build_ != list.nbuilds || static_cast<int>(near_x_.size()) != nall;
+  if (!rebuild) {
+    // a pair's distance changes by at most the sum of the two displacements
+    const double limit = 0.25 * margin * margin;
+    const Vec3* const x0 = near_x_.data();
+    const double* const r0 = near_r_.data();
+    for (int b = 0; b < nall && !rebuild; b += 1024) {
+      const int e = std::min(nall, b + 1024);
+      int moved = 0;
+      for (int i = b; i < e; ++i)
+        moved |= ((x[i] - x0[i]).squaredNorm() > limit) | (radius[i] != r0[i]);
+      rebuild = moved != 0;
+    }
+  }
+  if (!rebuild) return;
+  near_.clear();
+  const int* const owner = owner_.data();
+  for (int k = 0; k < nentries; ++k) {
+    const int i = owner[k], j = neigh[k];
+    const double reach = radius[i] + radius[j] + margin;
+    if ((x[i] - x[j]).squaredNorm() < reach * reach) {
+      near_.push_back(k);
+    } else if (nh > 0 && history_.touch_[k] != 0) {
+      // a contact that ended: forget its history, as the full scan would
+      history_.touch_[k] = 0;
+      std::fill_n(history_.values_.begin() + static_cast<std::ptrdiff_t>(k) * nh, nh, 0.0);
+    }
+  }
+  near_x_.assign(x, x + nall);
+  near_r_.assign(radius, radius + nall);
+  near_build_ = list.nbuilds;
 }
 
 void PairGranular::compute() {

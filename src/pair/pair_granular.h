@@ -35,6 +35,9 @@ class PairGranular : public Pair {
   /// The contact model as the kernels evaluate it (a liquid-bridge cohesion is
   /// added by the bridge pass, not by the kernels, and does not appear here).
   const contact::ModelSpec& spec() const { return kernel_spec_; }
+  /// Scan the near list (default) or every neighbour-list entry; the results
+  /// are the same to the last bit (unittest/test_pair_lane_loop.cpp).
+  bool near_list = true;
   const MaterialTable& materials() const { return materials_; }
 
  private:
@@ -51,6 +54,17 @@ class PairGranular : public Pair {
   FieldRef body_mass_;             ///< clump mass of each sub-sphere (fix multisphere), found at init
   std::vector<int> owner_;         // particle of each neighbour-list entry (pair loop)
   std::int64_t owner_build_ = -1;  // the list build owner_ belongs to
+  /// The near list: the entries of the neighbour list whose spheres were
+  /// within a quarter of the skin of touching when it was built, with the
+  /// positions and radii then (owned particles and ghosts). Until some
+  /// particle has moved by half that margin (or a radius changed, or the
+  /// list was rebuilt) no other entry can touch, so the pair loop scans only
+  /// these; the contacts, their order and so the forces are the same.
+  void update_near_list(const Particles& p, const std::vector<int>& neigh, int nentries, int nh);
+  std::vector<int> near_;
+  std::vector<Vec3> near_x_;
+  std::vector<double> near_r_;
+  std::int64_t near_build_ = -1;
 };
 
 }  // namespace granary

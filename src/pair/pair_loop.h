@@ -4,7 +4,8 @@
 // number type S (double: one contact at a time; lane::D2: two).
 //
 // In blocks of about kBlock contacts:
-//  1. all list entries as one stream, W at a time: which touch, without a
+//  1. all list entries (or those of the caller's near list: the entries that
+//     can touch before it is rebuilt) as one stream, W at a time: which touch, without a
 //     branch per entry (whether a listed pair touches is close to a coin toss
 //     in a dense bed, and a mispredicted branch per entry costs more than the
 //     distance test itself); the history of contacts that ended is cleared;
@@ -62,6 +63,10 @@ struct PairLoopData {
   /// contacts (null otherwise), and the particles it reads
   MultiContact* mc = nullptr;
   const Particles* particles = nullptr;
+  /// optional near list: the list entries (ascending) that can touch before
+  /// the caller rebuilds it; stage 1 scans only these (null: every entry)
+  const int* near = nullptr;
+  int nnear = 0;
 };
 
 constexpr int kPairBlock = 64;
@@ -228,50 +233,60 @@ void pair_loop(const PairLoopData& L) {
       h[q] = 0.0;
   };
 
-  // Stage 1 over all list entries as one stream, W at a time (entries of
+  // Stage 1 over the list entries as one stream, W at a time (entries of
   // consecutive particles lie one after the other; `owner` names each one's
-  // particle), appending the contacts to the block.
+  // particle), appending the contacts to the block: all entries, or the
+  // entries of the near list L.near (ascending) when the caller keeps one.
   const int* const owner = L.owner;
-  const int nentries = L.offset[nlocal];
-  int nblock = 0;
-  int k = 0;
-  for (; k + W <= nentries; k += W) {
-    int ii[W];
-    for (int l = 0; l < W; ++l)
-      ii[l] = owner[k + l];
-    const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, neigh + k);
-    const S rsum = lane::gather<S>(radius, ii) + lane::gather<S>(radius, neigh + k);
-    const S r2 = dot(d, d);
-    const auto t = lane::mask_and(r2 < rsum * rsum, r2 != 0.0);
-    bool ended = false;
-    for (int l = 0; l < W; ++l) {
-      const int tl = lane::on(t, l);
-      blk_k[nblock] = k + l;
-      blk_i[nblock] = ii[l];
-      nblock += tl;
-      if (nh > 0) ended |= !tl & (touch[k + l] != 0);
+  auto stage1 = [&](auto entry, int n) __attribute__((always_inline)) {
+    int nblock = 0;
+    int q = 0;
+    for (; q + W <= n; q += W) {
+      int kk[W], ii[W], jj[W];
+      for (int l = 0; l < W; ++l) {
+        kk[l] = entry(q + l);
+        ii[l] = owner[kk[l]];
+        jj[l] = neigh[kk[l]];
+      }
+      const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, jj);
+      const S rsum = lane::gather<S>(radius, ii) + lane::gather<S>(radius, jj);
+      const S r2 = dot(d, d);
+      const auto t = lane::mask_and(r2 < rsum * rsum, r2 != 0.0);
+      bool ended = false;
+      for (int l = 0; l < W; ++l) {
+        const int tl = lane::on(t, l);
+        blk_k[nblock] = kk[l];
+        blk_i[nblock] = ii[l];
+        nblock += tl;
+        if (nh > 0) ended |= !tl & (touch[kk[l]] != 0);
+      }
+      if (ended)
+        for (int l = 0; l < W; ++l)
+          if (!lane::on(t, l) && touch[kk[l]] != 0) forget(kk[l]);
+      if (nblock >= kPairBlock) {
+        flush(nblock);
+        nblock = 0;
+      }
     }
-    if (ended)
-      for (int l = 0; l < W; ++l)
-        if (!lane::on(t, l) && touch[k + l] != 0) forget(k + l);
-    if (nblock >= kPairBlock) {
-      flush(nblock);
-      nblock = 0;
+    for (; q < n; ++q) {  // the last entries, one lane's arithmetic
+      const int k = entry(q);
+      const int i = owner[k];
+      const int j = neigh[k];
+      const Vec3 d = x[i] - x[j];
+      const double rsum = radius[i] + radius[j];
+      const double r2 = d.squaredNorm();
+      const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
+      blk_k[nblock] = k;
+      blk_i[nblock] = i;
+      nblock += touching;
+      if (nh > 0 && !touching && touch[k] != 0) forget(k);
     }
-  }
-  for (; k < nentries; ++k) {  // the last entries, one lane's arithmetic
-    const int i = owner[k];
-    const int j = neigh[k];
-    const Vec3 d = x[i] - x[j];
-    const double rsum = radius[i] + radius[j];
-    const double r2 = d.squaredNorm();
-    const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
-    blk_k[nblock] = k;
-    blk_i[nblock] = i;
-    nblock += touching;
-    if (nh > 0 && !touching && touch[k] != 0) forget(k);
-  }
-  if (nblock > 0) flush(nblock);
+    if (nblock > 0) flush(nblock);
+  };
+  if (L.near)
+    stage1([&](int q) { return L.near[q]; }, L.nnear);
+  else
+    stage1([](int q) { return q; }, L.offset[nlocal]);
 }
 
 }  // namespace granary
