@@ -114,23 +114,22 @@ bool Neighbor::decide() {
   if (ago < delay || ago % every != 0) return false;
   if (!check) return true;
   const Particles& p = *engine_.particles;
-  const double limit = 0.25 * skin * skin;
-  int moved = 0;
   const int n = std::min<int>(p.nlocal, static_cast<int>(xhold_.size()));
-  if (n != p.nlocal) moved = 1;
-  // in blocks without an early exit, so that the compiler can vectorise them
-  const Vec3* const x = p.x.data();
-  const Vec3* const xhold = xhold_.data();
-  for (int b = 0; b < n && !moved; b += 1024) {
-    const int e = std::min(n, b + 1024);
-    int over = 0;
-    for (int i = b; i < e; ++i)
-      over |= (x[i] - xhold[i]).squaredNorm() > limit;
-    moved = over;
-  }
+  int moved = n != p.nlocal || moved_beyond(p.x.data(), xhold_.data(), n, 0.25 * skin * skin);
   int any = 0;
   MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, engine_.world);
   return any != 0;
+}
+
+bool Neighbor::moved_beyond(const Vec3* x, const Vec3* x0, int n, double limit2) {
+  for (int b = 0; b < n; b += 1024) {
+    const int e = std::min(n, b + 1024);
+    int over = 0;
+    for (int i = b; i < e; ++i)
+      over |= (x[i] - x0[i]).squaredNorm() > limit2;
+    if (over) return true;
+  }
+  return false;
 }
 
 void Neighbor::sort_particles(std::int64_t step) {

@@ -62,6 +62,9 @@ class Neighbor {
   std::int64_t last_build_step = -1;
 
   bool excluded(int i, int j) const;
+  /// Whether any of the n points x moved from x0 by more than sqrt(limit2)
+  /// (in blocks without an early exit, so that the compiler can vectorise them).
+  static bool moved_beyond(const Vec3* x, const Vec3* x0, int n, double limit2);
   /// Reorder owned particles along bins for memory locality (atom_modify sort)
   /// at steps that are multiples of sort_every (decide() forces a rebuild
   /// there); called after migration, before ghosts are built.

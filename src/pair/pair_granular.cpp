@@ -220,19 +220,10 @@ void PairGranular::update_near_list(const Particles& p, const std::vector<int>& 
   const Vec3* const x = p.x.data();
   const double* const radius = p.radius.data();
   bool rebuild = near_build_ != list.nbuilds || static_cast<int>(near_x_.size()) != nall;
-  if (!rebuild) {
-    // a pair's distance changes by at most the sum of the two displacements
-    const double limit = 0.25 * margin * margin;
-    const Vec3* const x0 = near_x_.data();
-    const double* const r0 = near_r_.data();
-    for (int b = 0; b < nall && !rebuild; b += 1024) {
-      const int e = std::min(nall, b + 1024);
-      int moved = 0;
-      for (int i = b; i < e; ++i)
-        moved |= ((x[i] - x0[i]).squaredNorm() > limit) | (radius[i] != r0[i]);
-      rebuild = moved != 0;
-    }
-  }
+  // a pair's distance changes by at most the sum of the two displacements
+  if (!rebuild)
+    rebuild = Neighbor::moved_beyond(x, near_x_.data(), nall, 0.25 * margin * margin) ||
+              !std::equal(radius, radius + nall, near_r_.data());
   if (!rebuild) return;
   near_.clear();
   const int* const owner = owner_.data();
