@@ -215,3 +215,62 @@ TEST_CASE("command line: -list-styles prints every registered name", "[input][cl
   }
   CHECK(s.run("-log none", "atom_style ellipsoid\n").status == 1);
 }
+
+TEST_CASE("the VTK module: loaded by the first VTK dump only, a missing or foreign one refused",
+          "[input][cli][vtk]") {
+  Scratch s;
+  const std::string setup =
+      "units si\n"
+      "atom_style sphere\n"
+      "region box block 0 10 0 10 0 10\n"
+      "create_box 1 box\n"
+      "create_atoms 1 single 0.5 0.5 0.5\n"
+      "neighbor 0.01 bin\n"
+      "info configuration\n";
+  s.write("in.plain", setup + "dump d all custom 1 plain.dump id x y z\nrun 0\ninfo configuration\n");
+  s.write("in.vtk", setup + "dump d all custom/vtk 1 p_*.vtp id x y z\nrun 0\ninfo configuration\n");
+  // A run without VTK output never loads it (nor the VTK libraries).
+  Result r = s.run("-in in.plain -log none");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("VTK output module: not loaded"));
+  CHECK_THAT(r.out, !Catch::Contains("granary_vtk.so"));
+  // The first VTK dump loads it from beside the executable.
+  r = s.run("-in in.vtk -log none");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.out, Catch::Contains("VTK output module: not loaded"));
+  CHECK_THAT(r.out, Catch::Contains("granary_vtk.so\n"));
+  CHECK(s.exists("p_0.vtp"));
+  CHECK(s.exists("p_.pvd"));
+
+  const auto run_with = [&](const std::string& env, const std::string& binary) {
+    const std::string cmd = "cd '" + s.dir + "' && env -i PATH=\"$PATH\" HOME=\"$HOME\" " + env +
+                            " timeout 120 " + binary + " -in in.vtk -log none > .stdout 2> .stderr";
+    const int rc = std::system(cmd.c_str());
+    Result out;
+    out.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    out.out = s.read(".stdout");
+    out.err = s.read(".stderr");
+    return out;
+  };
+  // A granary copied without its module: an error naming the script line, the
+  // place it looked and the remedy.
+  REQUIRE(std::system(("cp " GRANARY_BINARY " '" + s.dir + "/granary_alone'").c_str()) == 0);
+  r = run_with("", "./granary_alone");
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("in.vtk:8"));
+  CHECK_THAT(r.err, Catch::Contains(s.dir + "/granary_vtk.so"));
+  CHECK_THAT(r.err, Catch::Contains("GRANARY_VTK_MODULE"));
+  // GRANARY_VTK_MODULE names the module: that copy then writes its frames.
+  std::system(("rm -f '" + s.dir + "'/p_*").c_str());
+  r = run_with("GRANARY_VTK_MODULE=" GRANARY_VTK_MODULE_FILE, "./granary_alone");
+  CHECK(r.status == 0);
+  CHECK(s.exists("p_0.vtp"));
+  // A module of another build, and a file that is no module, are refused.
+  r = run_with("GRANARY_VTK_MODULE=" GRANARY_FOREIGN_VTK_MODULE_FILE, GRANARY_BINARY);
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("belongs to another build (granary 0.0.0, another build"));
+  s.write("not_a_module.so", "text\n");
+  r = run_with("GRANARY_VTK_MODULE=" + s.dir + "/not_a_module.so", GRANARY_BINARY);
+  CHECK(r.status == 1);
+  CHECK_THAT(r.err, Catch::Contains("could not be loaded from " + s.dir + "/not_a_module.so"));
+}

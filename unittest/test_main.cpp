@@ -3,9 +3,15 @@
 #define CATCH_CONFIG_RUNNER
 #include <mpi.h>
 
+#include <cstdlib>
+
 #include <catch2/catch.hpp>
 
 int main(int argc, char** argv) {
+  // The tests' VTK dumps load this build's VTK module (the test executables
+  // are not in the folder of granary and granary_vtk.so); granary run by a
+  // test inherits the setting.
+  setenv("GRANARY_VTK_MODULE", GRANARY_VTK_MODULE_FILE, 0);
   MPI_Init(&argc, &argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

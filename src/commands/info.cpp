@@ -24,6 +24,7 @@
 #include "core/modify.h"
 #include "core/registry.h"
 #include "core/update.h"
+#include "output/vtk_module.h"
 #include "core/variable.h"
 #include "domain/domain.h"
 #include "domain/groups.h"
@@ -188,6 +189,10 @@ void configuration_info(std::ostringstream& o) {
     << ", C++ standard " << __cplusplus << "\n";
   o << "Libraries: VTK " << VTK_VERSION << ", Eigen " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION
     << "." << EIGEN_MINOR_VERSION << "\n";
+  o << "VTK output module: "
+    << (vtk_module_path().empty() ? std::string("not loaded (loaded by the first VTK dump)")
+                                  : vtk_module_path())
+    << "\n";
 #ifdef NDEBUG
   o << "Assertions: off\n";
 #else

@@ -19,6 +19,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "output/vtk_module.h"
 #include "core/update.h"
 #include "particles/clumps.h"
 #include "core/modify.h"
@@ -154,6 +155,6 @@ void DumpBodiesVTK::write() {
   if (!err.empty()) throw RunError("dump " + id + ": " + err);
 }
 
-GRANARY_DUMP_STYLE("bodies/vtk", DumpBodiesVTK);
+GRANARY_VTK_DUMP_STYLE("bodies/vtk", DumpBodiesVTK);
 
 }  // namespace granary

@@ -28,6 +28,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "output/vtk_module.h"
 #include "core/update.h"
 #include "domain/domain.h"
 #include "domain/region.h"
@@ -331,7 +332,7 @@ void DumpCustomVTK::write() {
   if (!err.empty()) throw RunError("dump " + id + ": " + err);
 }
 
-GRANARY_DUMP_STYLE("custom/vtk", DumpCustomVTK);
-GRANARY_DUMP_STYLE("atom/vtk", DumpCustomVTK);
+GRANARY_VTK_DUMP_STYLE("custom/vtk", DumpCustomVTK);
+GRANARY_VTK_DUMP_STYLE("atom/vtk", DumpCustomVTK);
 
 }  // namespace granary

@@ -28,6 +28,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "output/vtk_module.h"
 #include "core/update.h"
 #include "output/dump.h"
 #include "output/dump_frame_vtk.h"
@@ -166,6 +167,6 @@ class DumpDecompositionVTK : public FrameDumpVTK {
 
 }  // namespace
 
-GRANARY_DUMP_STYLE("decomposition/vtk", DumpDecompositionVTK);
+GRANARY_VTK_DUMP_STYLE("decomposition/vtk", DumpDecompositionVTK);
 
 }  // namespace granary

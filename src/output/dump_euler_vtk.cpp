@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/modify.h"
 #include "core/registry.h"
+#include "output/vtk_module.h"
 #include "core/update.h"
 #include "fix/fix_ave_euler.h"
 #include "output/dump.h"
@@ -125,6 +126,6 @@ class DumpEulerVTK : public FrameDumpVTK {
 
 }  // namespace
 
-GRANARY_DUMP_STYLE("euler/vtk", DumpEulerVTK);
+GRANARY_VTK_DUMP_STYLE("euler/vtk", DumpEulerVTK);
 
 }  // namespace granary

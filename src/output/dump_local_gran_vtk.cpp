@@ -36,6 +36,7 @@
 #include "core/error.h"
 #include "core/modify.h"
 #include "core/registry.h"
+#include "output/vtk_module.h"
 #include "core/update.h"
 #include "output/dump.h"
 #include "output/dump_custom.h"
@@ -316,6 +317,6 @@ class DumpLocalGranVTK : public Dump {
 
 }  // namespace
 
-GRANARY_DUMP_STYLE("local/gran/vtk", DumpLocalGranVTK);
+GRANARY_VTK_DUMP_STYLE("local/gran/vtk", DumpLocalGranVTK);
 
 }  // namespace granary

@@ -33,6 +33,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "output/vtk_module.h"
 #include "core/update.h"
 #include "fix/fix_mesh_surface.h"
 #include "core/modify.h"
@@ -256,9 +257,9 @@ class DumpMeshVTK : public FrameDumpVTK {
 
 }  // namespace
 
-GRANARY_DUMP_STYLE("mesh/vtk", DumpMeshVTK);
+GRANARY_VTK_DUMP_STYLE("mesh/vtk", DumpMeshVTK);
 // LIGGGHTS' older name of the same dump
-GRANARY_DUMP_STYLE("mesh/gran/VTK", DumpMeshVTK);
+GRANARY_VTK_DUMP_STYLE("mesh/gran/VTK", DumpMeshVTK);
 
 namespace {
 class DumpMeshVTM : public DumpMeshVTK {
@@ -267,6 +268,6 @@ class DumpMeshVTM : public DumpMeshVTK {
 };
 }  // namespace
 
-GRANARY_DUMP_STYLE("mesh/vtm", DumpMeshVTM);
+GRANARY_VTK_DUMP_STYLE("mesh/vtm", DumpMeshVTM);
 
 }  // namespace granary
