@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <memory>
 
@@ -70,9 +71,16 @@ void load_vtk_module(const std::string& style) {
     throw InputError(need + "but " + path + " belongs to another build (" + theirs +
                      "; this granary: " + here + "): use the granary_vtk.so built with this granary");
   }
-  for (const std::string& name : vtk_module_dump_styles()) {
+  const std::vector<std::string>& listed = vtk_module_dump_styles();
+  for (const std::string& name : listed) {
     if (!vtk_module_dumps().find(name))
       throw InputError(need + "but " + path + " does not provide dump style " + name);
+  }
+  // and nothing the registry does not know by name (it could never be created)
+  for (const std::string& name : vtk_module_dumps().names()) {
+    if (std::find(listed.begin(), listed.end(), name) == listed.end())
+      throw InputError(need + "but " + path + " provides dump style " + name +
+                       ", which is missing from vtk_module_dump_styles() (src/output/vtk_module.cpp)");
   }
   loaded_path = path;  // never unloaded: its code runs until the program ends
 }
