@@ -3,7 +3,6 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdlib>
 #include <memory>
 
@@ -13,6 +12,7 @@
 namespace granary {
 
 const std::vector<std::string>& vtk_module_dump_styles() {
+  // sorted by name, as DumpRegistry::names() lists them
   static const std::vector<std::string> names = {"atom/vtk",          "bodies/vtk", "custom/vtk",
                                                  "decomposition/vtk", "euler/vtk",  "local/gran/vtk",
                                                  "mesh/gran/VTK",     "mesh/vtk",   "mesh/vtm"};
@@ -71,16 +71,13 @@ void load_vtk_module(const std::string& style) {
     throw InputError(need + "but " + path + " belongs to another build (" + theirs +
                      "; this granary: " + here + "): use the granary_vtk.so built with this granary");
   }
-  const std::vector<std::string>& listed = vtk_module_dump_styles();
-  for (const std::string& name : listed) {
-    if (!vtk_module_dumps().find(name))
-      throw InputError(need + "but " + path + " does not provide dump style " + name);
-  }
-  // and nothing the registry does not know by name (it could never be created)
-  for (const std::string& name : vtk_module_dumps().names()) {
-    if (std::find(listed.begin(), listed.end(), name) == listed.end())
-      throw InputError(need + "but " + path + " provides dump style " + name +
-                       ", which is missing from vtk_module_dump_styles() (src/output/vtk_module.cpp)");
+  // exactly the styles the registry names (both lists sorted by name)
+  if (vtk_module_dumps().names() != vtk_module_dump_styles()) {
+    std::string provided;
+    for (const std::string& name : vtk_module_dumps().names())
+      provided += " " + name;
+    throw InputError(need + "but " + path + " provides the dump styles" + provided +
+                     ", not those of vtk_module_dump_styles() (src/output/vtk_module.cpp)");
   }
   loaded_path = path;  // never unloaded: its code runs until the program ends
 }
@@ -88,10 +85,8 @@ void load_vtk_module(const std::string& style) {
 namespace {
 
 std::unique_ptr<Dump> create_from_module(const std::string& style, Engine& engine, const Args& args) {
-  load_vtk_module(style);
-  const DumpFactory* factory = vtk_module_dumps().find(style);
-  if (!factory) throw InputError("dump style " + style + ": not provided by " + loaded_path);
-  return (*factory)(engine, args);
+  load_vtk_module(style);  // it provides every style of vtk_module_dump_styles()
+  return (*vtk_module_dumps().find(style))(engine, args);
 }
 
 const bool registered = [] {
