@@ -430,11 +430,47 @@ void FixMultisphere::index_spheres() {
     pslot_[i] = b >= 0 ? slot_[b] + k : -1;
     poffset_[i] = b >= 0 ? Vec3(rot_[b] * bodies_.offsets[psphere_[i]]) : Vec3::Zero();
   }
+  std::vector<int> owned(bodies_.size(), 0);
+  for (int i = 0; i < n; ++i)
+    if (pbody_[i] >= 0 && slot_[pbody_[i]] >= 0) ++owned[pbody_[i]];
+  partial_.clear();
+  for (int b : active_)
+    if (owned[b] != bodies_.nspheres[b]) partial_.push_back(b);
+  // Bodies whole here whose sub-spheres lie in order at consecutive indices
+  // are summed along their run (runs_; their particles' pslot_ set to -1),
+  // the others through the slots (slotted_).
+  std::vector<char> in_run(bodies_.size(), 0);
+  runs_.clear();
+  for (int i = 0; i < n;) {
+    const int b = pbody_[i];
+    if (b < 0 || owned[b] != bodies_.nspheres[b]) {
+      ++i;
+      continue;
+    }
+    const int len = bodies_.nspheres[b];
+    int k = 0;
+    while (k < len && i + k < n && pbody_[i + k] == b && pslot_[i + k] == slot_[b] + k)
+      ++k;
+    if (k < len) {
+      ++i;
+      continue;
+    }
+    runs_.push_back(i);
+    in_run[b] = 1;
+    std::fill_n(pslot_.begin() + i, len, -1);
+    i += len;
+  }
+  slotted_.clear();
+  for (int b : active_)
+    if (!in_run[b]) slotted_.push_back(b);
 }
 
 Vec3 FixMultisphere::omega_from(int b) const {
+  return omega_from(rot_[b], b);
+}
+
+Vec3 FixMultisphere::omega_from(const Eigen::Matrix3d& r, int b) const {
   // R I^-1 R^T L with this step's R, the same operations as Bodies::omega_from_angmom
-  const Eigen::Matrix3d& r = rot_[b];
   const Vec3& inertia = bodies_.inertia[b];
   Vec3 lb = r.transpose() * bodies_.angmom[b];
   for (int d = 0; d < 3; ++d)
@@ -604,8 +640,11 @@ void FixMultisphere::place_spheres(bool positions) {
   for (int i = 0; i < n; ++i) {
     const int b = pbody[i];
     if (b < 0) continue;
+    // the lever arm in a local: read back from poffset just after being
+    // stored, it would wait for the store (the loads straddle its two parts)
+    Vec3 r;
     if (positions) {
-      const Vec3 r = rot[b] * offsets[psphere[i]];
+      r = rot[b] * offsets[psphere[i]];
       poffset[i] = r;
       Vec3 xi = xcm[b] + r;
       if (image[i] != image0) {
@@ -615,8 +654,10 @@ void FixMultisphere::place_spheres(bool positions) {
           if (dom.periodic[d]) xi[d] -= img[d] * dom.prd[d];
       }
       x[i] = xi;
+    } else {
+      r = poffset[i];
     }
-    v[i] = vcm[b] + omega[b].cross(poffset[i]);
+    v[i] = vcm[b] + omega[b].cross(r);
     w[i] = omega[b];
   }
 }
@@ -628,16 +669,19 @@ void FixMultisphere::sum_forces() {
   // stored, so bodies move bit for bit alike on any number of ranks.
   check_index();
   const Particles& p = *engine_.particles;
+  sum_forces_runs();
+  if (slotted_.empty()) return;
   double* const part = part_.data();
-  std::fill(part_.begin(), part_.end(), 0.0);  // slots of sub-spheres owned elsewhere read zero
+  // slots of sub-spheres owned elsewhere read zero
+  for (int b : partial_)
+    std::fill_n(part + 6 * static_cast<std::size_t>(slot_[b]), 6 * bodies_.nspheres[b], 0.0);
   const int n = p.nlocal;
-  const int* const pbody = pbody_.data();
   const int* const pslot = pslot_.data();
   const Vec3* const poffset = poffset_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
   for (int i = 0; i < n; ++i) {
-    if (pbody[i] < 0) continue;
+    if (pslot[i] < 0) continue;  // a free sphere, or summed along its body's run
     const Vec3 t = poffset[i].cross(f[i]) + torque[i];
     double* s = part + 6 * static_cast<std::size_t>(pslot[i]);
     for (int d = 0; d < 3; ++d) {
@@ -680,12 +724,35 @@ void FixMultisphere::sum_forces() {
       }
     }
   }
-  for (int b : active_) {
+  for (int b : slotted_) {
     const double* s = part + 6 * static_cast<std::size_t>(slot_[b]);
     double total[6] = {0, 0, 0, 0, 0, 0};
     for (int k = 0; k < bodies_.nspheres[b]; ++k, s += 6)
       for (int d = 0; d < 6; ++d)
         total[d] += s[d];
+    bodies_.fcm[b] = Vec3(total[0], total[1], total[2]);
+    bodies_.torque[b] = Vec3(total[3], total[4], total[5]);
+  }
+}
+
+void FixMultisphere::sum_forces_runs() {
+  // every sub-sphere's six values added to its body's totals in sub-sphere
+  // order, as sum_forces() adds the slots
+  const Particles& p = *engine_.particles;
+  const Vec3* const poffset = poffset_.data();
+  const Vec3* const f = p.f.data();
+  const Vec3* const torque = p.torque.data();
+  const int* const nspheres = bodies_.nspheres.data();
+  for (const int start : runs_) {
+    const int b = pbody_[start];
+    double total[6] = {0, 0, 0, 0, 0, 0};
+    for (int i = start; i < start + nspheres[b]; ++i) {
+      const Vec3 t = poffset[i].cross(f[i]) + torque[i];
+      for (int d = 0; d < 3; ++d) {
+        total[d] += f[i][d];
+        total[3 + d] += t[d];
+      }
+    }
     bodies_.fcm[b] = Vec3(total[0], total[1], total[2]);
     bodies_.torque[b] = Vec3(total[3], total[4], total[5]);
   }
@@ -788,8 +855,11 @@ void FixMultisphere::initial_integrate() {
       const int b = act[j];
       B.quat[b] = q[j];
       // the rotation matrix of the step, also used for omega (as omega_from_angmom)
-      rot_[b] = B.rotation(b);
-      B.omega[b] = omega_from(b);
+      // (omega from the matrix in hand: read back from rot_ just after being
+      // stored, it would wait for the stores)
+      const Eigen::Matrix3d r = B.rotation(b);
+      rot_[b] = r;
+      B.omega[b] = omega_from(r, b);
     }
   }
   place_spheres(true);

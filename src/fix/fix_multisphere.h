@@ -113,6 +113,7 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   /// and torques in sub-sphere index order (those of shared bodies exchanged
   /// with the ranks sharing them first), so the same on any decomposition.
   void sum_forces();
+  void sum_forces_runs();  ///< sum_forces() along runs_
   /// After the owned particles or the bodies changed (collective): the active
   /// bodies, their missing state (fetch_state), their rotation matrices, the
   /// per-particle caches and the sharing pattern (find_partners).
@@ -132,6 +133,7 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   void check_index();
   /// Space-frame angular velocity of body b from its angular momentum and rot_[b].
   Vec3 omega_from(int b) const;
+  Vec3 omega_from(const Eigen::Matrix3d& r, int b) const;  ///< the same with the rotation matrix r of b
 
   Bodies bodies_;
   std::vector<Eigen::Matrix3d> rot_;  // rotation matrix of each body at the current step
@@ -140,7 +142,7 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   // sphere or not yet taken over), the index of its offset in
   // Bodies::offsets, and its offset R d in the space frame at the current
   // step (set by place_spheres(true), read by sum_forces and place_spheres(false)).
-  // pslot_: the sub-sphere's slot in part_.
+  // pslot_: the sub-sphere's slot in part_ (-1: summed along its body's run).
   std::vector<int> pbody_, psphere_, pslot_;
   std::vector<Vec3> poffset_;
   // Force and torque of each sub-sphere of the active bodies (6 doubles per
@@ -148,6 +150,15 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   // to the next; zero where another rank owns the sub-sphere).
   std::vector<int> slot_;
   std::vector<double> part_;
+  // The active bodies with sub-spheres this rank does not own (their slots
+  // are zeroed before each sum; every other slot is written by its sub-sphere).
+  std::vector<int> partial_;
+  // The active bodies whole on this rank whose sub-spheres lie at
+  // consecutive indices in sub-sphere order (as after a spatial sort): the
+  // first index of each one's run (runs_); their sums go along the runs, the
+  // same additions in the same order as through the slots. The other active
+  // bodies, ascending (slotted_), are summed through the slots.
+  std::vector<int> runs_, slotted_;
   // Active bodies: indices of the bodies with an owned, taken-over sub-sphere,
   // ascending; is_active_ per body. Fixed from one reindex() to the next.
   std::vector<int> active_;

@@ -86,11 +86,13 @@ class FixNveSphere : public Fix {
     };
     int i = 0;
     for (; i + 1 < n; i += 2) {
+      const bool free0 = (mask[i] & bit) && body[i] < 0, free1 = (mask[i + 1] & bit) && body[i + 1] < 0;
+      if (!free0 && !free1) continue;  // (clump sub-spheres lie together: skipped without the divisions)
       const Eigen::Array2d m(rmass[i], rmass[i + 1]);
       const Eigen::Array2d r(radius[i], radius[i + 1]);
       const Eigen::Array2d dtfm = dtf / m;
       const Eigen::Array2d dtirotate = dtfrot / (r * r * m);
-      const bool both = (mask[i] & bit) && (mask[i + 1] & bit) && body[i] < 0 && body[i + 1] < 0;
+      const bool both = free0 && free1;
       if (both) {
         kick(v[i].data(), f[i].data(), dtfm[0], dtfm[1]);
         if constexpr (First) kick(x[i].data(), v[i].data(), dt, dt);

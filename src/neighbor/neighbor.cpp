@@ -257,6 +257,17 @@ void Neighbor::build() {
     const int cx = coord(x[i], 0), cy = coord(x[i], 1), cz = coord(x[i], 2);
     const double ri = radius[i];
     const Vec3 xi = x[i];
+    // the candidates k of [kbeg, kend) within the cutoff
+    auto scan = [&](int kbeg, int kend) __attribute__((always_inline)) {
+      if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
+        neigh.resize(std::max(2 * neigh.size(), end + static_cast<std::size_t>(kend - kbeg)));
+      int* const out = neigh.data();
+      for (int k = kbeg; k < kend; ++k) {
+        const double rc = (ri + br[k]) * rf + sk;
+        out[end] = bpart[k];
+        end += (xi - bx[k]).squaredNorm() < rc * rc;
+      }
+    };
     for (int dz = -1; dz <= 1; ++dz) {
       const int z = cz + dz;
       if (z < 0 || z >= nbin[2]) continue;
@@ -265,19 +276,28 @@ void Neighbor::build() {
         if (y < 0 || y >= nbin[1]) continue;
         const int row = (z * nbin[1] + y) * nbin[0];
         const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nbin[0] - 1);
-        // the bins x0..x1 of a row lie one after the other: one range.
         // Each pair once: only partners of higher index (every ghost's index
-        // is above every owned one).
-        const int kbeg = bstart[row + x0], kend = bstart[row + x1 + 1];
-        if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
-          neigh.resize(std::max(2 * neigh.size(), end + static_cast<std::size_t>(kend - kbeg)));
-        int* const out = neigh.data();
-        for (int k = kbeg; k < kend; ++k) {
-          const double rc = (ri + br[k]) * rf + sk;
-          const int j = bpart[k];
-          out[end] = j;
-          end += ((xi - bx[k]).squaredNorm() < rc * rc) & (j > i);
+        // is above every owned one). A bin holds its particles in ascending
+        // index order, so its partners are a tail of it: the scan starts
+        // there (after a spatial sort, the bins below i hold none). The bins
+        // x0..x1 of a row lie one after the other: the tails that join up
+        // are scanned as one range.
+        int kbeg = -1, kend = -1;  // the range gathered so far: none
+        for (int b = row + x0; b <= row + x1; ++b) {
+          const int te = bstart[b + 1];
+          int tb = bstart[b];
+          if (tb == te || bpart[te - 1] <= i) continue;  // no partner in bin b
+          while (bpart[tb] <= i)
+            ++tb;
+          if (tb == kend) {  // joins the range
+            kend = te;
+            continue;
+          }
+          if (kbeg < kend) scan(kbeg, kend);
+          kbeg = tb;
+          kend = te;
         }
+        if (kbeg < kend) scan(kbeg, kend);
       }
     }
     if (filter) {
