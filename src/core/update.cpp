@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <unordered_set>
 
 #include "comm/collectives.h"
@@ -124,10 +125,9 @@ void Update::compute_forces() {
   Engine& e = engine_;
   Particles& p = *e.particles;
   const int n = p.size();
-  for (int i = 0; i < n; ++i) {
-    p.f[i].setZero();
-    p.torque[i].setZero();
-  }
+  // (all bits zero is 0.0: one wide fill per array)
+  std::memset(static_cast<void*>(p.f.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
+  std::memset(static_cast<void*>(p.torque.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
   {
     Timer t(timers[kModify]);
     e.modify->pre_force();

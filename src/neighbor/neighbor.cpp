@@ -241,6 +241,9 @@ void Neighbor::build() {
   const int* const bpart = binpart_.data();
   const Vec3* const bx = binx_.data();
   const double* const br = binr_.data();
+  // per bin: where its particles of index above the current i begin
+  bincursor_.assign(binstart_.begin(), binstart_.end() - 1);
+  int* const cursor = bincursor_.data();
   const bool other_exclusions = !exclude_types_.empty() || !exclude_groups_.empty();
   const double sk = skin;
   const double rf = range_factor;
@@ -278,18 +281,21 @@ void Neighbor::build() {
         const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nbin[0] - 1);
         // Each pair once: only partners of higher index (every ghost's index
         // is above every owned one). A bin holds its particles in ascending
-        // index order, so its partners are a tail of it: the scan starts
-        // there (after a spatial sort, the bins below i hold none). The bins
-        // x0..x1 of a row lie one after the other: the tails that join up
-        // are scanned as one range.
+        // index order, so its partners are a tail of it, which starts at or
+        // after where it started for the last particle (cursor: each bin's
+        // entries are passed over once in the whole build; after a spatial
+        // sort, the bins below i hold no partner). The bins x0..x1 of a row
+        // lie one after the other: the tails that join up are scanned as one
+        // range.
         int kbeg = -1, kend = -1;  // the range gathered so far: none
         for (int b = row + x0; b <= row + x1; ++b) {
           const int te = bstart[b + 1];
-          int tb = bstart[b];
-          if (tb == te || bpart[te - 1] <= i) continue;  // no partner in bin b
-          while (bpart[tb] <= i)
+          int tb = cursor[b];
+          while (tb < te && bpart[tb] <= i)
             ++tb;
-          if (tb == kend) {  // joins the range
+          cursor[b] = tb;
+          if (tb == te) continue;  // no partner in bin b
+          if (tb == kend) {        // joins the range
             kend = te;
             continue;
           }

@@ -79,7 +79,7 @@ class Neighbor {
   // bins: the particles of bin b are binpart_[binstart_[b] .. binstart_[b+1])
   // in ascending index order, with their positions and radii in the same
   // order (binx_, binr_) so that scanning a bin reads contiguous memory
-  std::vector<int> binstart_, binpart_, bin_of_;
+  std::vector<int> binstart_, binpart_, bin_of_, bincursor_;
   std::vector<Vec3> binx_;
   std::vector<double> binr_;
 };
