@@ -125,9 +125,11 @@ void Update::compute_forces() {
   Engine& e = engine_;
   Particles& p = *e.particles;
   const int n = p.size();
-  // (all bits zero is 0.0: one wide fill per array)
-  std::memset(static_cast<void*>(p.f.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
-  std::memset(static_cast<void*>(p.torque.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
+  // (all bits zero is 0.0: one wide fill per array; an empty array may have no storage at all)
+  if (n > 0) {
+    std::memset(static_cast<void*>(p.f.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
+    std::memset(static_cast<void*>(p.torque.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
+  }
   {
     Timer t(timers[kModify]);
     e.modify->pre_force();
