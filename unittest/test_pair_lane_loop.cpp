@@ -216,23 +216,40 @@ TEST_CASE("Lane pair loop equals the scalar kernel pair by pair (no rolling, lim
 
 // The pour with the near list and with a scan of every list entry: the same
 // positions, velocities and spins to the last bit after 15,000 steps of
-// falling, bouncing and settling (the near list was remade many times).
+// falling, bouncing and settling (the near list was remade many times). With
+// the default neigh_modify the neighbour list's watch tells when to remake
+// it (and bounds the displacement since the last build: the builds must come
+// at the same steps as without it); with `every 2` the pair style checks for
+// itself at the steps where decide() does not look.
 TEST_CASE("The pair loop's near list gives the trajectories of a full scan", "[pair][near]") {
-  for (const std::string words : {"gran model hertz tangential history rolling_friction cdt",
-                                  "gran model hertz tangential mindlin_deresiewicz rolling_friction epsd2"}) {
-    INFO(words);
-    ScriptEngine a, b;
-    pour(a, words, "off", "run 0");
-    pour(b, words, "off", "run 0");
-    dynamic_cast<granary::PairGranular&>(*b.e.force->pair).near_list = false;
-    a.cmd("run 15000");
-    b.cmd("run 15000");
-    REQUIRE(a.p().nlocal == b.p().nlocal);
-    REQUIRE(a.p().nlocal > 100);
-    int differ = 0;
-    for (int i = 0; i < a.p().nlocal; ++i)
-      differ += !same_bits(a.p().x[i], b.p().x[i]) || !same_bits(a.p().v[i], b.p().v[i]) ||
-                !same_bits(a.p().omega[i], b.p().omega[i]);
-    CHECK(differ == 0);
+  for (const std::string every : {"1", "2"}) {
+    for (const std::string words :
+         {"gran model hertz tangential history rolling_friction cdt",
+          "gran model hertz tangential mindlin_deresiewicz rolling_friction epsd2"}) {
+      INFO(words << ", neigh_modify every " << every);
+      ScriptEngine a, b;
+      pour(a, words, "off", "run 0");
+      pour(b, words, "off", "neigh_modify delay 0");
+      dynamic_cast<granary::PairGranular&>(*b.e.force->pair).near_list = false;
+      b.cmd("run 0");
+      a.cmd("neigh_modify delay 0 every " + every);
+      b.cmd("neigh_modify delay 0 every " + every);
+      a.cmd("run 15000");
+      b.cmd("run 15000");
+      REQUIRE(a.p().nlocal == b.p().nlocal);
+      REQUIRE(a.p().nlocal > 100);
+      int differ = 0;
+      for (int i = 0; i < a.p().nlocal; ++i)
+        differ += !same_bits(a.p().x[i], b.p().x[i]) || !same_bits(a.p().v[i], b.p().v[i]) ||
+                  !same_bits(a.p().omega[i], b.p().omega[i]);
+      CHECK(differ == 0);
+      const granary::Neighbor &na = *a.e.neighbor, &nb = *b.e.neighbor;
+      CHECK(na.nbuilds == nb.nbuilds);
+      // the watch advanced between builds (the near list was remade on its word)
+      const std::int64_t between = na.watch_epoch() - na.nbuilds;
+      INFO(na.nbuilds << " builds, " << between << " near-list epochs between them");
+      CHECK(nb.watch_epoch() == nb.nbuilds);
+      CHECK(between > 10);
+    }
   }
 }

@@ -306,6 +306,7 @@ void Update::step_loop(std::int64_t n) {
       e.comm->forward_comm();
     }
     compute_forces();
+    e.neighbor->watch_step_done();
     {
       Timer t(timers[kModify]);
       modify.final_integrate();

@@ -104,6 +104,7 @@ bool Neighbor::excluded(int i, int j) const {
 }
 
 bool Neighbor::decide() {
+  watch_checked_ = false;
   if (force_rebuild) {
     force_rebuild = false;
     return true;
@@ -115,10 +116,37 @@ bool Neighbor::decide() {
   if (!check) return true;
   const Particles& p = *engine_.particles;
   const int n = std::min<int>(p.nlocal, static_cast<int>(xhold_.size()));
-  int moved = n != p.nlocal || moved_beyond(p.x.data(), xhold_.data(), n, 0.25 * skin * skin);
-  int any = 0;
-  MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, engine_.world);
-  return any != 0;
+  const Vec3* const x = p.x.data();
+  if (!watch_ready_) {
+    int moved = n != p.nlocal || moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
+    int any = 0;
+    MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, engine_.world);
+    return any != 0;
+  }
+  // (watch_ready_ is alike on every rank: set by the collective builds)
+  int local[2] = {n != p.nlocal || static_cast<int>(watch_x_.size()) != p.nlocal, 0};
+  if (!local[0]) {
+    const double w2 = max_displacement2(x, watch_x_.data(), n);
+    local[1] = w2 > watch_limit2_;
+    // |x - xhold| <= |x - watch_x| + |watch_x - xhold|: below half the skin
+    // (with room for rounding) no particle can have moved beyond it
+    if (std::sqrt(w2) + watch_hold_ > 0.5 * skin * (1.0 - 1e-9))
+      local[0] = moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
+  }
+  int any[2] = {0, 0};
+  MPI_Allreduce(local, any, 2, MPI_INT, MPI_MAX, engine_.world);
+  if (any[0]) return true;  // (the build takes the watch's positions anew)
+  watch_checked_ = true;
+  if (any[1]) {
+    double h2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+      watch_x_[i] = x[i];
+      h2 = std::max(h2, (x[i] - xhold_[i]).squaredNorm());
+    }
+    watch_hold_ = std::sqrt(h2);
+    ++watch_epoch_;
+  }
+  return false;
 }
 
 bool Neighbor::moved_beyond(const Vec3* x, const Vec3* x0, int n, double limit2) {
@@ -130,6 +158,29 @@ bool Neighbor::moved_beyond(const Vec3* x, const Vec3* x0, int n, double limit2)
     if (over) return true;
   }
   return false;
+}
+
+double Neighbor::max_displacement2(const Vec3* x, const Vec3* x0, int n) {
+  // four running maxima: no chain of dependent comparisons
+  double m[4] = {0.0, 0.0, 0.0, 0.0};
+  int i = 0;
+  for (; i + 3 < n; i += 4)
+    for (int q = 0; q < 4; ++q)
+      m[q] = std::max(m[q], (x[i + q] - x0[i + q]).squaredNorm());
+  for (; i < n; ++i)
+    m[0] = std::max(m[0], (x[i] - x0[i]).squaredNorm());
+  return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+}
+
+bool Neighbor::same_values(const double* a, const double* b, int n) {
+  for (int s = 0; s < n; s += 1024) {
+    const int e = std::min(n, s + 1024);
+    int differ = 0;
+    for (int i = s; i < e; ++i)
+      differ |= a[i] != b[i];
+    if (differ) return false;
+  }
+  return true;
 }
 
 void Neighbor::sort_particles(std::int64_t step) {
@@ -178,6 +229,11 @@ void Neighbor::build() {
   xhold_.assign(p.x.begin(), p.x.begin() + nlocal);
   ago = 0;
   ++nbuilds;
+  watch_ready_ = watch_limit2_ > 0.0;
+  if (watch_ready_) watch_x_ = xhold_;
+  watch_hold_ = 0.0;
+  watch_checked_ = false;
+  ++watch_epoch_;
 
   offset.assign(nlocal + 1, 0);
   neigh.clear();
@@ -218,16 +274,22 @@ void Neighbor::build() {
   // stable pass in index order keeps every bin in ascending index order
   bin_of_.resize(nall);
   binstart_.assign(nbins + 1, 0);
+  bool bodies = false;  // any sub-sphere of a clump, whose own body is left out
   for (int i = 0; i < nall; ++i) {
     const int b = (coord(x[i], 2) * nbin[1] + coord(x[i], 1)) * nbin[0] + coord(x[i], 0);
     bin_of_[i] = b;
     ++binstart_[b + 1];
+    bodies |= body[i] >= 0;
   }
+  bodies = bodies && exclude_body_;
   for (std::size_t b = 0; b < nbins; ++b)
     binstart_[b + 1] += binstart_[b];
   binpart_.resize(nall);
   binx_.resize(nall);
   binr_.resize(nall);
+  // the key: the body's id for a sub-sphere, -1 - index for a free sphere
+  auto key = [body](int i) { return body[i] >= 0 ? body[i] : -1 - static_cast<tagint>(i); };
+  if (bodies) binkey_.resize(nall);
   {
     std::vector<int> fill(binstart_.begin(), binstart_.end() - 1);
     for (int i = 0; i < nall; ++i) {
@@ -235,12 +297,14 @@ void Neighbor::build() {
       binpart_[k] = i;
       binx_[k] = x[i];
       binr_[k] = radius[i];
+      if (bodies) binkey_[k] = key(i);
     }
   }
   const int* const bstart = binstart_.data();
   const int* const bpart = binpart_.data();
   const Vec3* const bx = binx_.data();
   const double* const br = binr_.data();
+  const tagint* const bkey = bodies ? binkey_.data() : nullptr;
   // per bin: where its particles of index above the current i begin
   bincursor_.assign(binstart_.begin(), binstart_.end() - 1);
   int* const cursor = bincursor_.data();
@@ -250,9 +314,10 @@ void Neighbor::build() {
 
   // Candidates are appended without a branch (whether one is within the
   // cutoff is unpredictable): each is written at the end and the end moves
-  // on when it is near. Exclusions, possible only with ghosts, bodies or
-  // neigh_modify exclude, are filtered afterwards.
-  const bool filter = nall > nlocal || exclude_body_ || other_exclusions;
+  // on when it is near and, with clumps, of another body. The other
+  // exclusions, possible only with ghosts or neigh_modify exclude, are
+  // filtered afterwards.
+  const bool filter = nall > nlocal || other_exclusions;
   if (neigh.size() < static_cast<std::size_t>(nlocal) * 8) neigh.resize(static_cast<std::size_t>(nlocal) * 8);
   std::size_t end = 0;
   for (int i = 0; i < nlocal; ++i) {
@@ -260,15 +325,24 @@ void Neighbor::build() {
     const int cx = coord(x[i], 0), cy = coord(x[i], 1), cz = coord(x[i], 2);
     const double ri = radius[i];
     const Vec3 xi = x[i];
-    // the candidates k of [kbeg, kend) within the cutoff
+    const tagint ki = bodies ? key(i) : 0;
+    // the candidates k of [kbeg, kend) within the cutoff (and of another body)
     auto scan = [&](int kbeg, int kend) __attribute__((always_inline)) {
       if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
         neigh.resize(std::max(2 * neigh.size(), end + static_cast<std::size_t>(kend - kbeg)));
       int* const out = neigh.data();
-      for (int k = kbeg; k < kend; ++k) {
-        const double rc = (ri + br[k]) * rf + sk;
-        out[end] = bpart[k];
-        end += (xi - bx[k]).squaredNorm() < rc * rc;
+      if (bkey) {
+        for (int k = kbeg; k < kend; ++k) {
+          const double rc = (ri + br[k]) * rf + sk;
+          out[end] = bpart[k];
+          end += ((xi - bx[k]).squaredNorm() < rc * rc) & (bkey[k] != ki);
+        }
+      } else {
+        for (int k = kbeg; k < kend; ++k) {
+          const double rc = (ri + br[k]) * rf + sk;
+          out[end] = bpart[k];
+          end += (xi - bx[k]).squaredNorm() < rc * rc;
+        }
       }
     };
     for (int dz = -1; dz <= 1; ++dz) {
@@ -307,12 +381,10 @@ void Neighbor::build() {
       }
     }
     if (filter) {
-      const tagint bi = exclude_body_ ? body[i] : -1;
       std::size_t kept = offset[i];
       for (std::size_t a = offset[i]; a < end; ++a) {
         const int j = neigh[a];
         if (j >= nlocal && (id[j] == id[i] || (newton && id[j] < id[i]))) continue;
-        if (bi >= 0 && body[j] == bi) continue;
         if (other_exclusions && excluded(i, j)) continue;
         neigh[kept++] = j;
       }

@@ -65,6 +65,28 @@ class Neighbor {
   /// Whether any of the n points x moved from x0 by more than sqrt(limit2)
   /// (in blocks without an early exit, so that the compiler can vectorise them).
   static bool moved_beyond(const Vec3* x, const Vec3* x0, int n, double limit2);
+  /// The largest squared distance of the n points x from x0 (a NaN counts as 0).
+  static double max_displacement2(const Vec3* x, const Vec3* x0, int n);
+  /// Whether a[i] == b[i] for all n values (in blocks, as moved_beyond).
+  static bool same_values(const double* a, const double* b, int n);
+
+  /// A displacement watch for a list kept between builds (the granular pair
+  /// style's near list). Once set (limit2 > 0) and from the next build on,
+  /// decide() finds in its own pass over the owned particles, and in its one
+  /// reduction, whether any particle on any rank moved by more than
+  /// sqrt(limit2) since the watch's reference positions were taken; if so
+  /// every rank takes them anew and watch_epoch() changes, as it does at
+  /// every build. Its largest displacement also bounds the one since the
+  /// build, which then needs no pass of its own while the bound is below
+  /// half the skin. watch_checked(): decide() did this in the current step
+  /// (not with neigh_modify delay/every/check settings that skip it); a
+  /// client then keeps its list while the epoch is the one it was made in.
+  void watch(double limit2) { watch_limit2_ = limit2; }
+  std::int64_t watch_epoch() const { return watch_epoch_; }
+  bool watch_checked() const { return watch_checked_; }
+  /// Called after a step's forces: until the next decide(), nothing vouches
+  /// for the positions (forces computed outside a step check for themselves).
+  void watch_step_done() { watch_checked_ = false; }
   /// Reorder owned particles along bins for memory locality (atom_modify sort)
   /// at steps that are multiples of sort_every (decide() forces a rebuild
   /// there); called after migration, before ghosts are built.
@@ -76,12 +98,22 @@ class Neighbor {
   std::vector<std::pair<int, int>> exclude_types_;
   std::vector<std::pair<int, int>> exclude_groups_;
   bool exclude_body_ = true;  // sub-spheres of one clump never interact
+  double watch_limit2_ = 0.0;
+  bool watch_ready_ = false;    // reference positions taken at the last build
+  bool watch_checked_ = false;  // decide() checked the watch in this step
+  std::int64_t watch_epoch_ = 0;
+  std::vector<Vec3> watch_x_;  // owned particles' positions when the epoch began
+  double watch_hold_ = 0.0;    // largest |watch_x_ - xhold_| (0 after a build)
   // bins: the particles of bin b are binpart_[binstart_[b] .. binstart_[b+1])
   // in ascending index order, with their positions and radii in the same
-  // order (binx_, binr_) so that scanning a bin reads contiguous memory
+  // order (binx_, binr_) so that scanning a bin reads contiguous memory;
+  // with clumps also a key per particle that is equal for sub-spheres of one
+  // body and unique otherwise (binkey_), so that pairs within a body are
+  // left out as they are found
   std::vector<int> binstart_, binpart_, bin_of_, bincursor_;
   std::vector<Vec3> binx_;
   std::vector<double> binr_;
+  std::vector<std::int64_t> binkey_;  // (tagint)
 };
 
 }  // namespace granary

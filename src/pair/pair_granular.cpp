@@ -208,22 +208,30 @@ void PairGranular::loop() {
     update_near_list(p, list.neigh, L.offset[p.nlocal], nh);
     L.near = near_.data();
     L.nnear = static_cast<int>(near_.size());
+  } else {
+    engine_.neighbor->watch(0.0);
   }
   pair_loop<Kernel, contact::lane::D2>(L);
   if (setup) near_build_ = -1;
 }
 
 void PairGranular::update_near_list(const Particles& p, const std::vector<int>& neigh, int nentries, int nh) {
-  const Neighbor& list = *engine_.neighbor;
+  Neighbor& list = *engine_.neighbor;
   const double margin = 0.25 * list.skin;
   const int nall = p.size();
   const Vec3* const x = p.x.data();
   const double* const radius = p.radius.data();
+  // a pair's distance changes by at most the sum of the two displacements:
+  // remade when a particle moved by half the margin, found by the neighbour
+  // list's watch at this step (all ranks remake theirs together, so that a
+  // ghost's displacement is its owner's) or, when it did not look, here
+  list.watch(0.25 * margin * margin);
   bool rebuild = near_build_ != list.nbuilds || static_cast<int>(near_x_.size()) != nall;
-  // a pair's distance changes by at most the sum of the two displacements
   if (!rebuild)
-    rebuild = Neighbor::moved_beyond(x, near_x_.data(), nall, 0.25 * margin * margin) ||
-              !std::equal(radius, radius + nall, near_r_.data());
+    rebuild =
+        (list.watch_checked() ? near_epoch_ != list.watch_epoch()
+                              : Neighbor::moved_beyond(x, near_x_.data(), nall, 0.25 * margin * margin)) ||
+        !Neighbor::same_values(radius, near_r_.data(), nall);
   if (!rebuild) return;
   near_.clear();
   const int* const owner = owner_.data();
@@ -241,6 +249,7 @@ void PairGranular::update_near_list(const Particles& p, const std::vector<int>& 
   near_x_.assign(x, x + nall);
   near_r_.assign(radius, radius + nall);
   near_build_ = list.nbuilds;
+  near_epoch_ = list.watch_epoch();
 }
 
 void PairGranular::compute() {
