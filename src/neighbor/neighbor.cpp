@@ -117,15 +117,13 @@ bool Neighbor::decide() {
   const Particles& p = *engine_.particles;
   const int n = std::min<int>(p.nlocal, static_cast<int>(xhold_.size()));
   const Vec3* const x = p.x.data();
-  if (!watch_ready_) {
-    int moved = n != p.nlocal || moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
-    int any = 0;
-    MPI_Allreduce(&moved, &any, 1, MPI_INT, MPI_MAX, engine_.world);
-    return any != 0;
-  }
-  // (watch_ready_ is alike on every rank: set by the collective builds)
-  int local[2] = {n != p.nlocal || static_cast<int>(watch_x_.size()) != p.nlocal, 0};
-  if (!local[0]) {
+  // local[0]: moved beyond half the skin since the build; local[1]: beyond
+  // the watch's limit since its reference (watch_ready_ is alike on every
+  // rank: set by the collective builds)
+  int local[2] = {n != p.nlocal, 0};
+  if (!local[0] && !watch_ready_) {
+    local[0] = moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
+  } else if (!local[0]) {
     const double w2 = max_displacement2(x, watch_x_.data(), n);
     local[1] = w2 > watch_limit2_;
     // |x - xhold| <= |x - watch_x| + |watch_x - xhold|: below half the skin
@@ -136,14 +134,10 @@ bool Neighbor::decide() {
   int any[2] = {0, 0};
   MPI_Allreduce(local, any, 2, MPI_INT, MPI_MAX, engine_.world);
   if (any[0]) return true;  // (the build takes the watch's positions anew)
-  watch_checked_ = true;
+  watch_checked_ = watch_ready_;
   if (any[1]) {
-    double h2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-      watch_x_[i] = x[i];
-      h2 = std::max(h2, (x[i] - xhold_[i]).squaredNorm());
-    }
-    watch_hold_ = std::sqrt(h2);
+    watch_x_.assign(x, x + n);
+    watch_hold_ = std::sqrt(max_displacement2(x, xhold_.data(), n));
     ++watch_epoch_;
   }
   return false;

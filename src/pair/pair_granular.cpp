@@ -203,7 +203,7 @@ void PairGranular::loop() {
   // (the forces of a run's setup leave the history as it was: a near list
   // built then, which forgot ended contacts, is not kept)
   const bool setup = engine_.update->in_setup_forces;
-  if (setup) near_build_ = -1;
+  if (setup) near_epoch_ = -1;
   if (near_list && engine_.neighbor->skin > 0.0) {
     update_near_list(p, list.neigh, L.offset[p.nlocal], nh);
     L.near = near_.data();
@@ -212,7 +212,7 @@ void PairGranular::loop() {
     engine_.neighbor->watch(0.0);
   }
   pair_loop<Kernel, contact::lane::D2>(L);
-  if (setup) near_build_ = -1;
+  if (setup) near_epoch_ = -1;
 }
 
 void PairGranular::update_near_list(const Particles& p, const std::vector<int>& neigh, int nentries, int nh) {
@@ -226,11 +226,11 @@ void PairGranular::update_near_list(const Particles& p, const std::vector<int>& 
   // list's watch at this step (all ranks remake theirs together, so that a
   // ghost's displacement is its owner's) or, when it did not look, here
   list.watch(0.25 * margin * margin);
-  bool rebuild = near_build_ != list.nbuilds || static_cast<int>(near_x_.size()) != nall;
+  // (every build begins a new epoch)
+  bool rebuild = near_epoch_ != list.watch_epoch() || static_cast<int>(near_x_.size()) != nall;
   if (!rebuild)
     rebuild =
-        (list.watch_checked() ? near_epoch_ != list.watch_epoch()
-                              : Neighbor::moved_beyond(x, near_x_.data(), nall, 0.25 * margin * margin)) ||
+        (!list.watch_checked() && Neighbor::moved_beyond(x, near_x_.data(), nall, 0.25 * margin * margin)) ||
         !Neighbor::same_values(radius, near_r_.data(), nall);
   if (!rebuild) return;
   near_.clear();
@@ -248,7 +248,6 @@ void PairGranular::update_near_list(const Particles& p, const std::vector<int>& 
   }
   near_x_.assign(x, x + nall);
   near_r_.assign(radius, radius + nall);
-  near_build_ = list.nbuilds;
   near_epoch_ = list.watch_epoch();
 }
 

@@ -64,7 +64,6 @@ class PairGranular : public Pair {
   std::vector<int> near_;
   std::vector<Vec3> near_x_;
   std::vector<double> near_r_;
-  std::int64_t near_build_ = -1;
   std::int64_t near_epoch_ = -1;  // the neighbour list's watch epoch when it was made
 };
 
