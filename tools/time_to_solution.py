@@ -2,6 +2,7 @@
 """Time to solution of the silo study at the paper's full size, from measured figures.
 
 Usage: /usr/bin/python3 tools/time_to_solution.py [--results examples/silo_study/results] [--avalanches 100]
+       [--granary-rate 1.765e7] [--liggghts-rate 5.03e6]
 
 The paper's DEM silo: 65 x 30 x 10 dc (height x width x depth, dc = 3.2 mm),
 filled to 65 dc, discharged avalanche after avalanche down to 40 dc, then
@@ -29,7 +30,11 @@ cores. Where each number comes from:
 * timestep: 0.2 of the Rayleigh time of the smallest sphere (the campaign's
   rule): the 50-sphere clump's 0.66 mm spheres, or the glass spheres if smaller.
 * speed: particle-steps per second per core measured on the 50-sphere clump
-  silo (doc/performance.md, 1 rank: Granary 1.668e7, LIGGGHTS 7.714e6); 16
+  silo, both programs in one run on 2026-11-28 (doc/performance.md "Time to
+  solution", 1 rank, the faster of two: Granary 1.765e7, LIGGGHTS 5.03e6; on
+  2026-11-26 the same benchmark gave 1.668e7 and 7.714e6: LIGGGHTS' rate
+  varies most between days on this virtual machine; --granary-rate and
+  --liggghts-rate set others); 16
   cores: the parallel efficiency measured at 16 ranks on the 198,000-particle
   silo (Granary 0.56, LIGGGHTS 0.455: the means of the two series); 64 cores:
   the same efficiency (an assumption: about 12,000-15,000 particles per rank
@@ -51,7 +56,7 @@ R_SUB = 0.66e-3  # m: its spheres
 YOUNG, NU = 5.0e6, 0.45
 DT_FRAC = 0.2
 SETTLE = 0.2  # s of settling after each refill (examples/silo_study/in.cycle)
-RATE = {"granary": 1.668e7, "liggghts": 7.714e6}  # particle-steps/s on one core
+RATE = {"granary": 1.765e7, "liggghts": 5.03e6}  # particle-steps/s on one core (defaults)
 EFF = {"granary": 0.56, "liggghts": 0.455}  # parallel efficiency at 16 (and assumed at 64) cores
 
 
@@ -90,12 +95,11 @@ def campaign(case_dir):
     return sim_time / mass, bodies / len(nonempty), mass / bodies
 
 
-def estimate(r, phi, s_per_kg, mean_s, m_body, avalanches):
-    ds = DC / r
-    v_sph = math.pi / 6 * ds**3
+def estimate(r, phi, s_per_kg, mean_s, m_body, avalanches, rate):
+    ds = DC / r if r > 0 else 0.0  # (phi = 0: no spheres, no size ratio)
     solid = PHI_T * H_FILL * WIDTH * DEPTH * DC**3
     n_cyl = solid * (1 - phi) / V_CYL
-    n_sph = solid * phi / v_sph
+    n_sph = solid * phi / (math.pi / 6 * ds**3) if phi > 0 else 0.0
     subs = 50 * n_cyl + n_sph
     mean_subs = subs * 0.5 * (H_FILL + H_STOP) / H_FILL
     scale = DEPTH / CAMPAIGN_DEPTH
@@ -113,7 +117,7 @@ def estimate(r, phi, s_per_kg, mean_s, m_body, avalanches):
     for prog in ("granary", "liggghts"):
         for cores in (1, 16, 64):
             eff = 1.0 if cores == 1 else EFF[prog]
-            hours[prog, cores] = psteps / (RATE[prog] * cores * eff) / 3600.0
+            hours[prog, cores] = psteps / (rate[prog] * cores * eff) / 3600.0
     return dict(subs=subs, cycles=cycles, sim_time=sim_time, dt=dt, steps=steps, psteps=psteps, hours=hours)
 
 
@@ -122,15 +126,20 @@ def main():
     ap.add_argument("--results", default=os.path.join(os.path.dirname(__file__), "..", "examples", "silo_study",
                                                       "results"))
     ap.add_argument("--avalanches", type=int, default=100, help="non-empty avalanches per case (default 100)")
+    ap.add_argument("--granary-rate", type=float, default=RATE["granary"],
+                    help="Granary's particle-steps/s on one core (default %g)" % RATE["granary"])
+    ap.add_argument("--liggghts-rate", type=float, default=RATE["liggghts"],
+                    help="LIGGGHTS' particle-steps/s on one core (default %g)" % RATE["liggghts"])
     args = ap.parse_args()
+    if args.granary_rate <= 0 or args.liggghts_rate <= 0:
+        sys.exit("--granary-rate and --liggghts-rate must be positive")
+    rate = {"granary": args.granary_rate, "liggghts": args.liggghts_rate}
     cases = []
     for name in sorted(os.listdir(args.results)):
         if not name.startswith("r") or "_n50" in name:
             continue
         r_word, phi_word = name[1:].split("_phi")
         r, phi = float(r_word), float(phi_word)
-        if r == 0:
-            continue  # (phi = 0 has no size ratio)
         c = campaign(os.path.join(args.results, name))
         if c is None:
             continue
@@ -141,7 +150,7 @@ def main():
           "Granary h, 1 / 16 / 64 cores | LIGGGHTS h, 1 / 16 / 64 cores |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r, phi, name, (s_per_kg, mean_s, m_body) in sorted(cases):
-        e = estimate(r, phi, s_per_kg, mean_s, m_body, args.avalanches)
+        e = estimate(r, phi, s_per_kg, mean_s, m_body, args.avalanches, rate)
         h = e["hours"]
         print("| %s | %.0f | %.1f | %.0f | %.1f | %.2e | %.2e | %.0f / %.1f / %.1f | %.0f / %.1f / %.1f |" % (
             name, e["subs"], e["cycles"], e["sim_time"], e["dt"] * 1e6, e["steps"], e["psteps"],

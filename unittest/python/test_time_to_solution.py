@@ -33,7 +33,7 @@ class TimeToSolution(unittest.TestCase):
         return [c.strip() for c in row[0].strip("|").split("|")]
 
     def test_by_hand(self):
-        cells = self.run_tool()
+        cells = self.run_tool("--granary-rate", "1.5e7", "--liggghts-rate", "6e6")
         dc3 = 3.2e-3 ** 3
         solid = 0.51 * 65 * 30 * 10 * dc3
         cylinders = solid * 0.95 / 15.086e-9
@@ -57,10 +57,25 @@ class TimeToSolution(unittest.TestCase):
         self.assertAlmostEqual(float(cells[6]) / psteps, 1.0, delta=0.01)
         g1, g16, g64 = (float(x) for x in cells[7].split("/"))
         l1, l16, l64 = (float(x) for x in cells[8].split("/"))
-        self.assertAlmostEqual(g1 / (psteps / 1.668e7 / 3600), 1.0, delta=0.02)
-        self.assertAlmostEqual(l1 / (psteps / 7.714e6 / 3600), 1.0, delta=0.02)
+        self.assertAlmostEqual(g1 / (psteps / 1.5e7 / 3600), 1.0, delta=0.02)
+        self.assertAlmostEqual(l1 / (psteps / 6e6 / 3600), 1.0, delta=0.02)
         self.assertAlmostEqual(g16 / (g1 / (16 * 0.56)), 1.0, delta=0.02)
         self.assertAlmostEqual(l64 / (l1 / (64 * 0.455)), 1.0, delta=0.02)
+
+    def test_default_rates(self):
+        # the defaults are the documented measurement (doc/performance.md "Time to solution")
+        sys.path.insert(0, TOOLS)
+        import time_to_solution
+        cells = self.run_tool()
+        g1 = float(cells[7].split("/")[0])
+        psteps = float(cells[6])
+        self.assertAlmostEqual(g1 / (psteps / time_to_solution.RATE["granary"] / 3600), 1.0, delta=0.02)
+
+    def test_bad_rate_refused(self):
+        r = subprocess.run([sys.executable, os.path.join(TOOLS, "time_to_solution.py"), "--liggghts-rate", "0"],
+                           capture_output=True, text=True)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("must be positive", r.stderr)
 
     def test_more_avalanches_cost_in_proportion(self):
         a, b = self.run_tool(), self.run_tool("--avalanches", "300")
