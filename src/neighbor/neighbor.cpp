@@ -121,14 +121,12 @@ bool Neighbor::decide() {
   // the watch's limit since its reference (watch_ready_ is alike on every
   // rank: set by the collective builds)
   int local[2] = {n != p.nlocal, 0};
-  if (!local[0] && !watch_ready_) {
-    local[0] = moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
-  } else if (!local[0]) {
-    const double w2 = max_displacement2(x, watch_x_.data(), n);
-    local[1] = w2 > watch_limit2_;
+  if (!local[0]) {
     // |x - xhold| <= |x - watch_x| + |watch_x - xhold|: below half the skin
     // (with room for rounding) no particle can have moved beyond it
-    if (std::sqrt(w2) + watch_hold_ > 0.5 * skin * (1.0 - 1e-9))
+    const double w2 = watch_ready_ ? max_displacement2(x, watch_x_.data(), n) : 0.0;
+    local[1] = w2 > watch_limit2_;
+    if (!watch_ready_ || std::sqrt(w2) + watch_hold_ > 0.5 * skin * (1.0 - 1e-9))
       local[0] = moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
   }
   int any[2] = {0, 0};

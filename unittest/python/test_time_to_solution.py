@@ -63,7 +63,7 @@ class TimeToSolution(unittest.TestCase):
         self.assertAlmostEqual(l64 / (l1 / (64 * 0.455)), 1.0, delta=0.02)
 
     def test_default_rates(self):
-        # the defaults are the documented measurement (doc/performance.md "Time to solution")
+        # without the options the tool uses its RATE table
         sys.path.insert(0, TOOLS)
         import time_to_solution
         cells = self.run_tool()
