@@ -15,10 +15,13 @@ counted only with --count-first), or --max-cycles cycles.
                      [-var NAME VALUE ...]
     /usr/bin/python3 tools/silo_study.py status [--data DIR]
     /usr/bin/python3 tools/silo_study.py picture --case NAME --out PNG [--data DIR] [--work DIR]
-    /usr/bin/python3 tools/silo_study.py list
+    /usr/bin/python3 tools/silo_study.py list [--candidates]
 
-Cases are named r<r>_phi<phi>[_n<nres>] (e.g. r3.2_phi0.05, r1.6_phi0, r3.2_phi0_n50);
-without --case, every case of the study (`list`) is run, in order, J at a time.
+Cases are named r<r>_phi<phi>[_n<nres>][_coh<kcoh>] (e.g. r3.2_phi0.05, r1.6_phi0,
+r3.2_phi0_n50, r4.6_phi0.075_coh20000: cohesion sjkr of energy density kcoh J/m^3 on every
+contact of a sphere); without --case, every case of the study (`list`) is run, in order, J at a
+time. `list --candidates` gives the cases that test the candidate causes of the paper's r = 4.6
+discrepancy (run them with --case).
 
 Results (compact, meant to be committed) go to DATA/<case>/:
   avalanches.csv  every avalanche of the completed cycles (the rows of fix
@@ -72,9 +75,9 @@ PHIS = [0.01, 0.02, 0.03, 0.05, 0.075, 0.1]
 RS = [1.6, 3.2, 4.6]
 
 
-def case_name(phi, r, nres=10):
+def case_name(phi, r, nres=10, kcoh=0):
     name = f"r{r:g}_phi{phi:g}" if phi > 0 else "r0_phi0"
-    return name + (f"_n{nres}" if nres != 10 else "")
+    return name + (f"_n{nres}" if nres != 10 else "") + (f"_coh{kcoh:g}" if kcoh > 0 else "")
 
 
 def study_cases():
@@ -85,14 +88,35 @@ def study_cases():
     return cases
 
 
+def candidate_cases():
+    """The candidate causes of the paper's r = 4.6 discrepancy (its sustained minimum of <S>/<S0>
+    in the experiments), each at the phi where the study's r = 4.6 curve lies furthest above it
+    (doc/silo_study.md, "The candidate causes at r = 4.6"): the cylinders' sharp edges (50-sphere
+    clumps, with their own <S0> from r0_phi0_n50) and cohesion of the small beads (cohesion sjkr on
+    every contact of a sphere, KCOH J/m^3; <S0> unchanged, as phi = 0 has no sphere)."""
+    return [case_name(0.075, 4.6, 50), case_name(0.075, 4.6, 10, KCOH)]
+
+
+# the cohesion energy density of the cohesion candidate [J/m^3], deliberately strong: an unloaded
+# bead-bead contact (r = 4.6, Y = 1 MPa) sits at an overlap of 1.1 % of the radius, where the
+# cohesive pull is 20 times the bead's weight (doc/silo_study.md)
+KCOH = 2e4
+
+
 def parse_case(name):
-    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?", name)
+    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?(?:_coh([0-9.]+(?:e[+-]?[0-9]+)?))?", name)
     if not m:
-        raise ValueError(f"case name '{name}' is not r<r>_phi<phi>[_n<nres>]")
+        raise ValueError(f"case name '{name}' is not r<r>_phi<phi>[_n<nres>][_coh<kcoh>]")
     r, phi, nres = float(m.group(1)), float(m.group(2)), int(m.group(3) or 10)
+    kcoh = float(m.group(4) or 0)
     if phi > 0 and r <= 0:
         raise ValueError(f"case '{name}': spheres (phi > 0) need a size ratio r > 0")
-    return {"phi": phi, "r": r if r > 0 else 3.2, "nres": nres}
+    if kcoh > 0 and phi <= 0:
+        raise ValueError(f"case '{name}': cohesion of the spheres (_coh) needs spheres (phi > 0)")
+    p = {"phi": phi, "r": r if r > 0 else 3.2, "nres": nres}
+    if kcoh > 0:
+        p["kcoh"] = kcoh
+    return p
 
 
 # ------------------------------------------------------------------ files
@@ -195,6 +219,8 @@ def cycle_command(a, case, k, fresh, variables, resume=None):
              "-var", "phi", f"{p['phi']:g}", "-var", "r", f"{p['r']:g}", "-var", "nres", str(p["nres"]),
              "-var", "potdir", os.path.join(ROOT, "potentials"), "-var", "meshdir", work,
              "-var", "seed", str(variables.get("seed", 15485863))]
+    if p.get("kcoh"):
+        args += ["-var", "kcoh", f"{p['kcoh']:g}"]
     if resume:
         args += ["-var", "resume", resume[0], "-var", "resume_n0", str(resume[1])]
     for name, value in variables.items():
@@ -467,7 +493,7 @@ def merge_case(src, dst):
         dvars = dict(dinfo.get("variables", {}))
         dseed = str(dvars.pop("seed", "15485863"))
         if dvars != svars or dinfo.get("phi") != sinfo.get("phi") or dinfo.get("r") != sinfo.get("r") or \
-                dinfo.get("nres") != sinfo.get("nres"):
+                dinfo.get("nres") != sinfo.get("nres") or dinfo.get("kcoh") != sinfo.get("kcoh"):
             return f"{case}: REFUSED: {src} was made with other parameters ({sinfo.get('variables')} against " \
                    f"{dinfo.get('variables')})"
         if dseed == seed:
@@ -656,7 +682,9 @@ def main(argv=None):
     mg.add_argument("--from", dest="source", required=True, help="data folder of the other chains")
     mg.add_argument("--case", action="append", help="case name (repeatable); default: every case in --from")
     mg.add_argument("--data", default=DATA)
-    sub.add_parser("list", help="the cases of the study")
+    ls = sub.add_parser("list", help="the cases of the study")
+    ls.add_argument("--candidates", action="store_true",
+                    help="the cases of the candidate causes of the r = 4.6 discrepancy instead")
     a = ap.parse_args(argv)
     if a.cmd == "run":
         a.granary = os.path.abspath(a.granary)
@@ -673,7 +701,7 @@ def main(argv=None):
         a.data = os.path.abspath(a.data)
         a.work = os.path.abspath(a.work)
         return cmd_picture(a)
-    print("\n".join(study_cases()))
+    print("\n".join(candidate_cases() if a.candidates else study_cases()))
     return 0
 
 

@@ -2,7 +2,7 @@
 """Statistics and figures of the silo clogging study from its committed results.
 
 Reads DATA/<case>/avalanches.csv and box.csv (written by tools/silo_study.py)
-for every case r<r>_phi<phi>[_n<nres>] and writes to OUT:
+for every case r<r>_phi<phi>[_n<nres>][_coh<kcoh>] and writes to OUT:
   summary.json              every number below, per case
   summary.md                the tables of doc/silo_study.md
   mean_avalanche.png        <S>/<S0> against phi for each size ratio, 95 % CIs (the paper's Fig. 6b)
@@ -80,10 +80,27 @@ def read_table(path):
 
 
 def parse_case(name):
-    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?", name)
+    """(r, phi, nres, kcoh) of a case name r<r>_phi<phi>[_n<nres>][_coh<kcoh>], None for other names."""
+    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?(?:_coh([0-9.]+(?:e[+-]?[0-9]+)?))?", name)
     if not m:
         return None
-    return float(m.group(1)), float(m.group(2)), int(m.group(3) or 10)
+    return float(m.group(1)), float(m.group(2)), int(m.group(3) or 10), float(m.group(4) or 0)
+
+
+def is_main(row):
+    """A case of the study's curves: 10-sphere clumps, no cohesion."""
+    return row["nres"] == 10 and row.get("kcoh", 0) == 0
+
+
+def is_candidate(row):
+    """A case that tests a candidate cause: spheres, and another clump resolution or cohesion."""
+    return row["phi"] > 0 and not is_main(row)
+
+
+def cause(row):
+    if row.get("kcoh", 0) > 0:
+        return f"cohesion of the spheres (sjkr, {row['kcoh']:g} J/m^3)"
+    return f"clump resolution ({row['nres']}-sphere clumps)"
 
 
 def mean_ci(x):
@@ -160,7 +177,12 @@ def analyse(a):
         raise SystemExit(f"silo_study_analysis: no case with results in {a.data}")
     summary = {"keep_first": a.keep_first, "bootstrap": a.bootstrap, "cases": {}}
     boots = {}
-    for name, ((r, phi, nres), c) in cases.items():
+    # the cases of the candidate causes after the others, so that adding one leaves the
+    # bootstrap draws (and so the numbers) of the study's cases as they were
+    order = sorted(cases, key=lambda n: is_candidate({"phi": cases[n][0][1], "nres": cases[n][0][2],
+                                                        "kcoh": cases[n][0][3]}))
+    for name in order:
+        (r, phi, nres, kcoh), c = cases[name]
         S = c["S"]
         m, h = mean_ci(S)
         bm = bootstrap_means(S, rng, a.bootstrap) if len(S) > 1 else np.full(a.bootstrap, np.nan)
@@ -168,7 +190,8 @@ def analyse(a):
         d, p = ks_exponential(S, a.bootstrap // 4, rng)
         tail = S[S > np.quantile(S, 0.2)] - np.quantile(S, 0.2) if len(S) >= 10 else np.array([])
         dt_, pt_ = ks_exponential(tail, a.bootstrap // 4, rng) if len(tail) >= 5 else (float("nan"), float("nan"))
-        row = {"r": r, "phi": phi, "nres": nres, "n": int(len(S)), "n_empty": c["n_empty"], "cycles": c["cycles"],
+        row = {"r": r, "phi": phi, "nres": nres, **({"kcoh": kcoh} if kcoh > 0 else {}), "n": int(len(S)),
+               "n_empty": c["n_empty"], "cycles": c["cycles"],
                "S_mean": m, "S_ci95_t": h, "S_ci95_boot": [float(np.nanpercentile(bm, 2.5)),
                                                        float(np.nanpercentile(bm, 97.5))],
                "bodies_mean": float(np.mean(c["bodies"])) if len(S) else float("nan"),
@@ -207,10 +230,10 @@ def analyse(a):
                 row[f"box_{k}_ratio_ci95"] = row[f"box_{k}_ratio"] * rel
     # the minimum of <S>/<S0> per size ratio
     summary["minimum"] = {}
-    for r in sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and row["nres"] == 10}):
+    for r in sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and is_main(row)}):
         # complete cases only (one short of its avalanches is provisional)
         names = [n for n, row in summary["cases"].items()
-                 if row["nres"] == 10 and (row["r"] == r or row["phi"] == 0) and row["complete"]]
+                 if is_main(row) and (row["r"] == r or row["phi"] == 0) and row["complete"]]
         names.sort(key=lambda n: summary["cases"][n]["phi"])
         rows = [summary["cases"][n] for n in names]
         if not rows or rows[0]["phi"] != 0 or len(rows) < 3:
@@ -228,6 +251,30 @@ def analyse(a):
         res["n_phi"] = len(names)
         res["p_all_alike"] = float(stats.kruskal(*[cases[n][1]["S"] for n in names]).pvalue)
         summary["minimum"][f"{r:g}"] = res
+    # each candidate cause against the study's case of the same r and phi: its <S>/<S0> (with the
+    # <S0> of its own clump resolution), the change of <S>/<S0> it makes with a bootstrap CI and a
+    # two-sided bootstrap p-value that it makes none, and the bootstrap share of <S>/<S0> < 1 (the
+    # paper's experiments at r = 4.6 have <S>/<S0> below 1 over a range of phi)
+    summary["candidates"] = {}
+    for name, row in summary["cases"].items():
+        if not is_candidate(row) or "ratio" not in row:
+            continue
+        base = next((n for n, b in summary["cases"].items()
+                     if is_main(b) and b["phi"] == row["phi"] and b["r"] == row["r"] and "ratio" in b), None)
+        if base is None:
+            continue
+        s0 = {x: next(n for n, b in summary["cases"].items() if b["phi"] == 0 and b["nres"] == summary["cases"][x]["nres"])
+              for x in (name, base)}
+        rc = boots[name] / boots[s0[name]]
+        rb = boots[base] / boots[s0[base]]
+        change = rc / rb
+        below = float(np.nanmean(change < 1))
+        summary["candidates"][name] = {
+            "cause": cause(row), "baseline": base, "ratio": row["ratio"], "ratio_ci95": row["ratio_ci95"],
+            "baseline_ratio": summary["cases"][base]["ratio"], "change": row["ratio"] / summary["cases"][base]["ratio"],
+            "change_ci95": [float(np.nanpercentile(change, 2.5)), float(np.nanpercentile(change, 97.5))],
+            "p_no_change": float(min(1.0, max(2 * min(below, 1 - below), 1.0 / len(change)))),
+            "share_below_1": float(np.nanmean(rc < 1)), "n": row["n"], "complete": row["complete"]}
     return cases, summary
 
 
@@ -238,12 +285,12 @@ def write_outputs(a, cases, summary):
     os.makedirs(a.out, exist_ok=True)
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
-    rs = sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and row["nres"] == 10})
+    rs = sorted({row["r"] for row in summary["cases"].values() if row["phi"] > 0 and is_main(row)})
     colors = {1.6: "tab:green", 3.2: "tab:blue", 4.6: "tab:red"}
 
     def series(r, key, nres=10):
-        rows = sorted([row for row in summary["cases"].values() if row["nres"] == nres and
-                       (row["r"] == r or row["phi"] == 0) and key in row], key=lambda x: x["phi"])
+        rows = sorted([row for row in summary["cases"].values() if row["nres"] == nres and row.get("kcoh", 0) == 0
+                       and (row["r"] == r or row["phi"] == 0) and key in row], key=lambda x: x["phi"])
         return rows
 
     # <S>/<S0> (Fig. 6b)
@@ -261,10 +308,13 @@ def write_outputs(a, cases, summary):
             ax.errorbar(x, y, yerr=[lo, hi], marker="o", capsize=3, color=colors.get(r), ls="-" if done else "none",
                         mfc=None if done else "white", alpha=1.0 if done else 0.6,
                         label=f"r = {r:g}" + ("" if done else f" (in progress, {min(x['n'] for x in rows)}+ aval.)"))
-    for row in summary["cases"].values():
-        if row["nres"] != 10 and "ratio" in row:
-            ax.errorbar([row["phi"]], [row["ratio"]], marker="s", color="k", ls="none",
-                        label=f"{row['nres']}-sphere clumps, phi = {row['phi']:g}")
+    for k, row in enumerate(r for r in summary["cases"].values() if not is_main(r) and "ratio" in r):
+        ci = row["ratio_ci95"] if row["phi"] > 0 else [row["ratio"]] * 2
+        ax.errorbar([row["phi"] + 0.0024 * (k % 2 + 1)], [row["ratio"]],
+                    yerr=[[row["ratio"] - ci[0]], [ci[1] - row["ratio"]]], marker="sD"[k % 2], color="k",
+                    mfc="none" if row.get("kcoh", 0) > 0 else "k", capsize=3, ls="none",
+                    label=f"{cause(row)}, r = {row['r']:g}, phi = {row['phi']:g}" if row["phi"] > 0 else
+                    f"{row['nres']}-sphere clumps, phi = 0")
     ax.axhline(1.0, color="0.6", lw=0.8)
     ax.set_xlabel("sphere volume fraction phi")
     ax.set_ylabel("<S>/<S0>")
@@ -278,7 +328,8 @@ def write_outputs(a, cases, summary):
     ncol = max(1, len(rs))
     fig, axes = plt.subplots(1, ncol, figsize=(4.2 * ncol, 3.8), squeeze=False)
     for ax, r in zip(axes[0], rs or [0]):
-        names = sorted([n for n, ((rr, phi, nres), _) in cases.items() if nres == 10 and (rr == r or phi == 0)],
+        names = sorted([n for n, ((rr, phi, nres, kcoh), _) in cases.items()
+                        if nres == 10 and kcoh == 0 and (rr == r or phi == 0)],
                        key=lambda n: cases[n][0][1])
         cmap = plt.get_cmap("viridis", max(2, len(names)))
         for k, n in enumerate(names):
@@ -366,6 +417,14 @@ def write_outputs(a, cases, summary):
         lines.append(f"| {r} | {m['phi_min']:g} | {m['ratio_min']:.3f} | {ci[0]:.3f} - {ci[1]:.3f} | "
                      f"{m.get('p_below_phi0', float('nan')):.2g} | {m.get('p_below_last', float('nan')):.2g} | "
                      f"{m['n_phi']} | {m['p_all_alike']:.2g} |")
+    if summary["candidates"]:
+        lines += ["", "| candidate cause | case | baseline | <S>/<S0> | 95 % CI | baseline's <S>/<S0> | change | "
+                  "95 % CI | p (no change) | P(<S>/<S0> < 1) |", "|---|---|---|---:|---|---:|---:|---|---:|---:|"]
+        for n, c in sorted(summary["candidates"].items()):
+            lines.append(f"| {c['cause']} | {n}{'' if c['complete'] else ' (in progress)'} | {c['baseline']} | "
+                         f"{c['ratio']:.3f} | {c['ratio_ci95'][0]:.3f} - {c['ratio_ci95'][1]:.3f} | "
+                         f"{c['baseline_ratio']:.3f} | {c['change']:.3f} | {c['change_ci95'][0]:.3f} - "
+                         f"{c['change_ci95'][1]:.3f} | {c['p_no_change']:.2g} | {c['share_below_1']:.2f} |")
     with open(os.path.join(a.out, "summary.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

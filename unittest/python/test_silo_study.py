@@ -262,6 +262,47 @@ class CaseNames(unittest.TestCase):
         with self.assertRaises(ValueError):
             st.parse_case("r0_phi0.05")
 
+    def test_candidate_cases(self):
+        # the candidate causes of the r = 4.6 discrepancy: 50-sphere clumps, cohesion of the spheres
+        self.assertEqual(st.candidate_cases(), ["r4.6_phi0.075_n50", "r4.6_phi0.075_coh20000"])
+        self.assertEqual(st.parse_case("r4.6_phi0.075_coh2e4"), {"phi": 0.075, "r": 4.6, "nres": 10, "kcoh": 2e4})
+        self.assertEqual(st.parse_case("r4.6_phi0.075_n50_coh500")["nres"], 50)
+        self.assertEqual(st.case_name(0.075, 4.6, 10, 2e4), "r4.6_phi0.075_coh20000")
+        self.assertNotIn("kcoh", st.parse_case("r4.6_phi0.075"))
+        with self.assertRaises(ValueError):
+            st.parse_case("r0_phi0_coh100")  # no spheres to be cohesive
+
+        class A:
+            np, granary, work = 1, "granary", "/w"
+
+        cmd = st.cycle_command(A, "r4.6_phi0.075_coh20000", 0, True, {})
+        self.assertEqual(cmd[cmd.index("kcoh") + 1], "20000")
+        self.assertNotIn("kcoh", st.cycle_command(A, "r4.6_phi0.075", 0, True, {}))
+
+    @unittest.skipUnless(os.path.exists(GRANARY), f"granary not built ({GRANARY})")
+    def test_cohesion_switched_on_by_kcoh_only(self):
+        # in.cycle: kcoh > 0 gives cohesion sjkr on the contacts of a sphere (not cylinder-cylinder);
+        # without kcoh the pair style is the study's
+        with tempfile.TemporaryDirectory() as tmp:
+            subprocess.run([sys.executable, os.path.join(TOOLS, "make_silo_stl.py"), "--W", "7", "--D", "2",
+                            "--H", "11", "--slit", "2.3", "--out", tmp], check=True, capture_output=True)
+            logs = {}
+            for k in ("0", "2e4"):
+                r = subprocess.run([GRANARY, "-in", st.SCRIPT, "-log", f"log{k}", "-screen", "none",
+                                    "-var", "restart_out", "c.restart", "-var", "phi", "0.1",
+                                    "-var", "potdir", os.path.join(ROOT, "potentials"), "-var", "meshdir", tmp,
+                                    "-var", "kcoh", k, "-var", "discharge_max", "200"] + TINY,
+                                   cwd=tmp, capture_output=True, text=True, timeout=300)
+                self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+                logs[k] = read(os.path.join(tmp, f"log{k}")).splitlines()
+            style = "pair_style gran model hertz tangential history rolling_friction cdt"
+            self.assertIn(style, logs["0"])
+            self.assertIn(style + " cohesion sjkr", logs["2e4"])
+            self.assertIn("fix m4 all property/global cohesionEnergyDensity peratomtypepair 2 0 2e4 2e4 2e4",
+                          logs["2e4"])
+            self.assertFalse(any("cohesionEnergyDensity" in ln and not ln.lstrip().startswith(("#", "if"))
+                                 for ln in logs["0"]))
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)

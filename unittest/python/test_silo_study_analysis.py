@@ -187,6 +187,57 @@ class HiddenMinimum(unittest.TestCase):
             self.assertLess(c["first_S_mean"], 0.5 * c["S_mean"])
 
 
+class CandidateCauses(unittest.TestCase):
+    """The cases of the candidate causes (another clump resolution, cohesion of the spheres) against
+    the study's case of the same r and phi: a cause hidden in one of them is found, the other,
+    which changes nothing once normalised by its own <S0>, is not; adding them leaves the study's
+    numbers as they were."""
+
+    def write_study(self, data, rng):
+        write_case(data, "r0_phi0", rng.exponential(40 * M_BODY, 150) + M_BODY)
+        write_case(data, "r4.6_phi0.075", rng.exponential(1.5 * 40 * M_BODY, 150) + M_BODY)
+        # 50-sphere clumps: <S0> 0.6 times the 10-sphere one
+        write_case(data, "r0_phi0_n50", rng.exponential(0.6 * 40 * M_BODY, 150) + M_BODY)
+
+    def test_hidden_cause_found_the_other_not(self):
+        rng = np.random.default_rng(21)
+        with tempfile.TemporaryDirectory() as tmp:
+            data = os.path.join(tmp, "data")
+            self.write_study(data, rng)
+            alone = analyse(data, os.path.join(tmp, "alone"))
+            self.assertEqual(alone["candidates"], {})
+            # cohesion halves <S>/<S0> (1.5 -> 0.75); the 50-sphere clumps keep it at 1.5 of their own <S0>
+            write_case(data, "r4.6_phi0.075_coh20000", rng.exponential(0.75 * 40 * M_BODY, 150) + M_BODY)
+            write_case(data, "r4.6_phi0.075_n50", rng.exponential(1.5 * 0.6 * 40 * M_BODY, 150) + M_BODY)
+            s = analyse(data, os.path.join(tmp, "out"))
+            coh, n50 = s["candidates"]["r4.6_phi0.075_coh20000"], s["candidates"]["r4.6_phi0.075_n50"]
+            self.assertEqual(coh["baseline"], "r4.6_phi0.075")
+            self.assertEqual(n50["baseline"], "r4.6_phi0.075")
+            self.assertIn("cohesion", coh["cause"])
+            self.assertIn("50-sphere", n50["cause"])
+            self.assertAlmostEqual(coh["change"], 0.5, delta=0.15)
+            self.assertLess(coh["change_ci95"][1], 1.0)
+            self.assertLess(coh["p_no_change"], 0.01)
+            self.assertGreater(coh["share_below_1"], 0.9)
+            # normalised by its own <S0> (r0_phi0_n50) the 50-sphere case changes nothing; by the
+            # 10-sphere <S0> it would seem to shrink by 0.6
+            self.assertAlmostEqual(n50["change"], 1.0, delta=0.25)
+            self.assertLess(n50["change_ci95"][0], 1.0)
+            self.assertGreater(n50["change_ci95"][1], 1.0)
+            self.assertGreater(n50["p_no_change"], 0.05)
+            self.assertLess(n50["share_below_1"], 0.1)
+            self.assertEqual(s["cases"]["r4.6_phi0.075_coh20000"]["kcoh"], 20000.0)
+            # the study's cases: the same numbers with and without the candidates
+            for name, row in alone["cases"].items():
+                self.assertEqual(row, s["cases"][name], name)
+            self.assertEqual(alone["minimum"], s["minimum"])
+            with open(os.path.join(tmp, "out", "summary.md")) as f:
+                md = f.read()
+            self.assertIn("| cohesion of the spheres (sjkr, 20000 J/m^3) | r4.6_phi0.075_coh20000 | r4.6_phi0.075 |",
+                          md)
+            self.assertIn("| clump resolution (50-sphere clumps) | r4.6_phi0.075_n50 | r4.6_phi0.075 |", md)
+
+
 class UpdateDocs(unittest.TestCase):
     """--update-docs: the tables are replaced between their markers, the
     text around them kept; a missing block is refused and the file left as
