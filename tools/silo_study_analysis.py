@@ -263,8 +263,8 @@ def analyse(a):
                      if is_main(b) and b["phi"] == row["phi"] and b["r"] == row["r"] and "ratio" in b), None)
         if base is None:
             continue
-        s0 = {x: next(n for n, b in summary["cases"].items() if b["phi"] == 0 and b["nres"] == summary["cases"][x]["nres"])
-              for x in (name, base)}
+        s0 = {x: next(n for n, b in summary["cases"].items()
+                      if b["phi"] == 0 and b["nres"] == summary["cases"][x]["nres"]) for x in (name, base)}
         rc = boots[name] / boots[s0[name]]
         rb = boots[base] / boots[s0[base]]
         change = rc / rb
@@ -308,7 +308,7 @@ def write_outputs(a, cases, summary):
             ax.errorbar(x, y, yerr=[lo, hi], marker="o", capsize=3, color=colors.get(r), ls="-" if done else "none",
                         mfc=None if done else "white", alpha=1.0 if done else 0.6,
                         label=f"r = {r:g}" + ("" if done else f" (in progress, {min(x['n'] for x in rows)}+ aval.)"))
-    for k, row in enumerate(r for r in summary["cases"].values() if not is_main(r) and "ratio" in r):
+    for k, row in enumerate(c for c in summary["cases"].values() if not is_main(c) and "ratio" in c):
         ci = row["ratio_ci95"] if row["phi"] > 0 else [row["ratio"]] * 2
         ax.errorbar([row["phi"] + 0.0024 * (k % 2 + 1)], [row["ratio"]],
                     yerr=[[row["ratio"] - ci[0]], [ci[1] - row["ratio"]]], marker="sD"[k % 2], color="k",
