@@ -524,6 +524,48 @@ TEST_CASE("a rolling sphere decelerates at 5/7 mu_r g with cdt rolling friction"
   CHECK(w[1] * kRadius == Approx(v2).epsilon(0.01));  // still rolling
 }
 
+// cdt does not stop at zero spin. A bead spinning on a wall without sliding
+// friction (mu = 0: only the rolling torque acts on its spin) is stopped by
+// the torque mu_r (m g) r within a few steps; from then on the torque flips
+// its sign every step: the half-step spin that the torque is computed from
+// alternates between two values Delta = mu_r m g r dt / I apart, while the
+// full-step spin stays constant (|w| < Delta / 2) and the bead does not turn
+// on average. epsd's elastic spring and its dashpot instead bring the spin
+// to rest and the torque to zero (doc/contact_models.md).
+TEST_CASE("cdt rolling torque flips every step at rest, epsd comes to rest", "[physics][engine]") {
+  const double mu_r = 0.1, g = 9.81, w0 = 1.0;  // w0 / (mu_r m g r / I) = 0.41 ms to stop
+  const double I = 0.4 * bead_mass() * kRadius * kRadius;
+  const double torque = mu_r * bead_mass() * g * kRadius;
+  const double delta = torque * 1e-5 / I;  // 0.0245 rad/s
+  for (const std::string model : {std::string("cdt"), std::string("epsd")}) {
+    Roller r(0.0, mu_r, 0.0, w0, model,
+             {"fix m6 all property/global coefficientRollingViscousDamping peratomtypepair 1 0.3"});
+    r.s.cmd("run 3000");
+    std::vector<double> ty, wy;
+    for (int k = 0; k < 6; ++k) {
+      r.s.cmd("run 1 pre no post no");  // step by step, without a setup's force computation in between
+      ty.push_back(r.s.p().torque[r.s.index(1)][1]);
+      wy.push_back(r.s.omega(1)[1]);
+    }
+    INFO(model << ": torque_y " << ty[0] << " " << ty[1] << " " << ty[2] << " " << ty[3] << ", omega_y "
+               << wy[0] << " " << wy[1] << " " << wy[2] << " " << wy[3] << "; mu_r m g r = " << torque
+               << ", Delta = " << delta);
+    if (model == "cdt") {
+      for (int k = 0; k < 6; ++k) {
+        CHECK(std::fabs(ty[k]) == Approx(torque).epsilon(1e-3));  // the full torque, whatever the spin
+        if (k > 0) CHECK(ty[k] * ty[k - 1] < 0);                  // of the other sign each step
+        CHECK(std::fabs(wy[k]) < 0.5 * delta);
+        CHECK(wy[k] == Approx(wy[0]).margin(1e-6 * delta));  // the full-step spin does not change
+      }
+    } else {
+      for (int k = 0; k < 6; ++k) {
+        CHECK(std::fabs(ty[k]) < 1e-3 * torque);  // no torque left: the bead rests
+        CHECK(std::fabs(wy[k]) < 1e-3 * delta);
+      }
+    }
+  }
+}
+
 // epsd and epsd3 in a script: the material properties each needs, and a
 // rolling sphere decelerating at 5/7 mu_r g once the rolling spring is fully
 // mobilised (its dashpot is off then). epsd3's prefactor is read as

@@ -264,7 +264,7 @@ class CaseNames(unittest.TestCase):
 
     def test_candidate_cases(self):
         # the candidate causes of the r = 4.6 discrepancy: 50-sphere clumps, cohesion of the spheres
-        self.assertEqual(st.candidate_cases(), ["r4.6_phi0.075_n50", "r4.6_phi0.075_coh20000"])
+        self.assertEqual(st.candidate_cases(), ["r4.6_phi0.075_n50", "r4.6_phi0.075_coh10000"])
         self.assertEqual(st.parse_case("r4.6_phi0.075_coh2e4"), {"phi": 0.075, "r": 4.6, "nres": 10, "kcoh": 2e4})
         self.assertEqual(st.parse_case("r4.6_phi0.075_n50_coh500")["nres"], 50)
         self.assertEqual(st.case_name(0.075, 4.6, 10, 2e4), "r4.6_phi0.075_coh20000")
@@ -275,8 +275,8 @@ class CaseNames(unittest.TestCase):
         class A:
             np, granary, work = 1, "granary", "/w"
 
-        cmd = st.cycle_command(A, "r4.6_phi0.075_coh20000", 0, True, {})
-        self.assertEqual(cmd[cmd.index("kcoh") + 1], "20000")
+        cmd = st.cycle_command(A, "r4.6_phi0.075_coh10000", 0, True, {})
+        self.assertEqual(cmd[cmd.index("kcoh") + 1], "10000")
         self.assertNotIn("kcoh", st.cycle_command(A, "r4.6_phi0.075", 0, True, {}))
 
     @unittest.skipUnless(os.path.exists(GRANARY), f"granary not built ({GRANARY})")

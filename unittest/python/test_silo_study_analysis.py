@@ -207,10 +207,10 @@ class CandidateCauses(unittest.TestCase):
             alone = analyse(data, os.path.join(tmp, "alone"))
             self.assertEqual(alone["candidates"], {})
             # cohesion halves <S>/<S0> (1.5 -> 0.75); the 50-sphere clumps keep it at 1.5 of their own <S0>
-            write_case(data, "r4.6_phi0.075_coh20000", rng.exponential(0.75 * 40 * M_BODY, 150) + M_BODY)
+            write_case(data, "r4.6_phi0.075_coh10000", rng.exponential(0.75 * 40 * M_BODY, 150) + M_BODY)
             write_case(data, "r4.6_phi0.075_n50", rng.exponential(1.5 * 0.6 * 40 * M_BODY, 150) + M_BODY)
             s = analyse(data, os.path.join(tmp, "out"))
-            coh, n50 = s["candidates"]["r4.6_phi0.075_coh20000"], s["candidates"]["r4.6_phi0.075_n50"]
+            coh, n50 = s["candidates"]["r4.6_phi0.075_coh10000"], s["candidates"]["r4.6_phi0.075_n50"]
             self.assertEqual(coh["baseline"], "r4.6_phi0.075")
             self.assertEqual(n50["baseline"], "r4.6_phi0.075")
             self.assertIn("cohesion", coh["cause"])
@@ -226,14 +226,14 @@ class CandidateCauses(unittest.TestCase):
             self.assertGreater(n50["change_ci95"][1], 1.0)
             self.assertGreater(n50["p_no_change"], 0.05)
             self.assertLess(n50["share_below_1"], 0.1)
-            self.assertEqual(s["cases"]["r4.6_phi0.075_coh20000"]["kcoh"], 20000.0)
+            self.assertEqual(s["cases"]["r4.6_phi0.075_coh10000"]["kcoh"], 10000.0)
             # the study's cases: the same numbers with and without the candidates
             for name, row in alone["cases"].items():
                 self.assertEqual(row, s["cases"][name], name)
             self.assertEqual(alone["minimum"], s["minimum"])
             with open(os.path.join(tmp, "out", "summary.md")) as f:
                 md = f.read()
-            self.assertIn("| cohesion of the spheres (sjkr, 20000 J/m^3) | r4.6_phi0.075_coh20000 | r4.6_phi0.075 |",
+            self.assertIn("| cohesion of the spheres (sjkr, 10000 J/m^3) | r4.6_phi0.075_coh10000 | r4.6_phi0.075 |",
                           md)
             self.assertIn("| clump resolution (50-sphere clumps) | r4.6_phi0.075_n50 | r4.6_phi0.075 |", md)
 
