@@ -43,6 +43,9 @@ Definitions:
             k_re = rotational kinetic energy of the bodies in the box (J),
             theta = mean angle of the cylinders' long axes to the vertical (deg);
             CIs from the spread of the avalanche means (t-distribution).
+  cylinders the mean number of cylinders (type 1 bodies) per non-empty avalanche, over that of
+            phi = 0 with the same clump resolution, with a bootstrap CI: S is a mass and
+            grows with the spheres' share of it even when as many cylinders pass.
   minimum   for each r (its complete cases) the phi with the smallest <S>/<S0>; its depth 1 - min,
             and one-sided Mann-Whitney p-values that S there is smaller than at
             phi = 0 and than at the largest phi; and the Kruskal-Wallis p-value
@@ -251,6 +254,25 @@ def analyse(a):
         res["n_phi"] = len(names)
         res["p_all_alike"] = float(stats.kruskal(*[cases[n][1]["S"] for n in names]).pvalue)
         summary["minimum"][f"{r:g}"] = res
+    # cylinders per avalanche against phi = 0 of the same clump resolution: S is a mass (the paper's
+    # measure) and grows with the spheres' share of it even when as many cylinders pass; the
+    # cylinders alone say whether the cylinders clog sooner or later. Own bootstrap draws (seed + 2),
+    # made in the order above, so that they leave the other numbers, and the study's cases'
+    # values when candidate cases are added, as they were.
+    rng_cyl = np.random.default_rng(a.seed + 2)
+    cyl_boot = {}
+    for name in order:
+        t1 = cases[name][1]["types"].get("bodies_t1")
+        if t1 is not None and len(t1) > 1:
+            cyl_boot[name] = (float(np.mean(t1)), bootstrap_means(t1, rng_cyl, a.bootstrap))
+    for name, row in summary["cases"].items():
+        base = next((n for n, b in summary["cases"].items() if b["phi"] == 0 and b["nres"] == row["nres"]), None)
+        if row["phi"] == 0 or base is None or name not in cyl_boot or base not in cyl_boot:
+            continue
+        row["cylinders_mean"] = cyl_boot[name][0]
+        row["cyl_ratio"] = cyl_boot[name][0] / cyl_boot[base][0]
+        cr = cyl_boot[name][1] / cyl_boot[base][1]
+        row["cyl_ratio_ci95"] = [float(np.nanpercentile(cr, 2.5)), float(np.nanpercentile(cr, 97.5))]
     # each candidate cause against the study's case of the same r and phi: its <S>/<S0> (with the
     # <S0> of its own clump resolution), the change of <S>/<S0> it makes with a bootstrap CI and a
     # two-sided bootstrap p-value that it makes none, and the bootstrap share of <S>/<S0> < 1 (the
@@ -400,15 +422,19 @@ def write_outputs(a, cases, summary):
                      f"{row.get('box_k_te_ratio', float('nan')):.3f} ± {row.get('box_k_te_ratio_ci95', float('nan')):.3f} | "
                      f"{row.get('box_k_re_ratio', float('nan')):.3f} ± {row.get('box_k_re_ratio_ci95', float('nan')):.3f} | "
                      f"{row['box_theta']:.2f} ± {row['box_theta_ci95']:.2f} |")
-    lines += ["", "| case | phi (filled) | spheres' share of the solids in the box | spheres' share of the discharged mass |",
-              "|---|---:|---:|---:|"]
+    lines += ["", "| case | phi (filled) | spheres' share of the solids in the box | spheres' share of the discharged mass "
+              "| cylinders per avalanche / phi = 0's | 95 % CI |",
+              "|---|---:|---:|---:|---:|---|"]
     for n, row in sorted(summary["cases"].items(), key=lambda kv: (kv[1]["nres"], kv[1]["r"] if kv[1]["phi"] else 0,
                                                                     kv[1]["phi"])):
         if row["phi"] == 0 or "box_sphere_share" not in row:
             continue
         lines.append(f"| {n}{'' if row['complete'] else ' (in progress)'} | {row['phi']:g} | "
                      f"{row['box_sphere_share']:.4f} ± {row['box_sphere_share_ci95']:.4f} | "
-                     f"{row.get('discharge_sphere_mass_share', float('nan')):.4f} |")
+                     f"{row.get('discharge_sphere_mass_share', float('nan')):.4f} | "
+                     f"{row.get('cyl_ratio', float('nan')):.3f} | "
+                     + (f"{row['cyl_ratio_ci95'][0]:.3f} - {row['cyl_ratio_ci95'][1]:.3f} |" if "cyl_ratio_ci95" in row
+                        else " |"))
     lines += ["", "| r | phi at the minimum | <S>/<S0> there | 95 % CI | p (below phi = 0) | p (below the last phi) "
               "| phi values | p (all phi alike) |",
               "|---|---:|---:|---|---:|---:|---:|---:|"]

@@ -104,6 +104,10 @@ class HiddenMinimum(unittest.TestCase):
             lo, hi = s["cases"]["r3.2_phi0.03"]["ratio_ci95"]
             self.assertLess(hi, 1.0)
             self.assertLess(lo, 0.55 + 0.02)
+            # every body of the generated avalanches is a cylinder: as many cylinders as the mass says
+            c3 = s["cases"]["r3.2_phi0.03"]
+            self.assertAlmostEqual(c3["cyl_ratio"], c3["ratio"], delta=0.02)
+            self.assertLess(c3["cyl_ratio_ci95"][1], 1.0)
             for name, c in s["cases"].items():
                 self.assertEqual(c["n"], 150 - 4, name)  # the first avalanche of each of 4 cycles apart
                 self.assertEqual(c["first_n"], 4, name)
@@ -139,6 +143,32 @@ class HiddenMinimum(unittest.TestCase):
             # correction for the six comparisons, not significant
             self.assertGreater(min(1.0, 6 * m.get("p_below_phi0", 1.0)), 0.05)
             self.assertGreater(m["p_all_alike"], 0.05)  # seven cases of one distribution
+
+    def test_cylinders_counted_apart_from_the_spheres_mass(self):
+        # spheres add mass (a third of it at phi = 0.1) to avalanches of as many cylinders as at
+        # phi = 0: <S>/<S0> rises by 1.5, the cylinders per avalanche do not
+        rng = np.random.default_rng(13)
+        with tempfile.TemporaryDirectory() as tmp:
+            data = os.path.join(tmp, "data")
+            write_case(data, "r0_phi0", rng.exponential(40 * M_BODY, 300) + M_BODY)
+            write_case(data, "r3.2_phi0.1", rng.exponential(40 * M_BODY, 300) + M_BODY)
+            path = os.path.join(data, "r3.2_phi0.1", "avalanches.csv")
+            with open(path) as f:
+                text = f.read().splitlines()
+            out = text[:2]
+            for line in text[2:]:
+                v = [float(x) for x in line.split(",")]
+                v[7] *= 1.5  # mass: the cylinders' plus half as much glass
+                v[14] = v[7] / 3
+                v[12] = v[7] - v[14]
+                out.append(",".join(f"{x:.10g}" for x in v))
+            with open(path, "w") as f:
+                f.write("\n".join(out) + "\n")
+            c = analyse(data, os.path.join(tmp, "out"))["cases"]["r3.2_phi0.1"]
+            self.assertGreater(c["ratio_ci95"][0], 1.2)
+            self.assertAlmostEqual(c["cyl_ratio"], c["ratio"] / 1.5, places=9)
+            self.assertLess(c["cyl_ratio_ci95"][0], 1.0)
+            self.assertGreater(c["cyl_ratio_ci95"][1], 1.0)
 
     def test_sizes_that_are_not_exponential_fail(self):
         rng = np.random.default_rng(3)
