@@ -202,9 +202,10 @@ def granary_version(granary):
 
 # ------------------------------------------------------------------ one cycle
 
-def cycle_command(a, case, k, fresh, variables, resume=None):
+def cycle_command(a, case, k, fresh, variables, resume=None, script=SCRIPT):
     """The granary command of cycle k (paths absolute: it runs in the cycle's folder or a part's).
-    resume: (restart file of a stopped discharge, bodies when that discharge began)."""
+    resume: (restart file of a stopped discharge, bodies when that discharge began); script: the
+    input script to run (a copy of in.cycle, see private_script)."""
     p = parse_case(case)
     work = os.path.join(a.work, case)
     args = []
@@ -214,7 +215,7 @@ def cycle_command(a, case, k, fresh, variables, resume=None):
             args += ["--allow-run-as-root"]
         if a.np > (os.cpu_count() or 1):
             args += ["--oversubscribe"]
-    args += [a.granary, "-in", SCRIPT, "-log", "log", "-screen", "none",
+    args += [a.granary, "-in", script, "-log", "log", "-screen", "none",
              "-var", "cycle", str(k), "-var", "restart_out", f"restart_{k}.restart",
              "-var", "restart_in", "none" if fresh else os.path.join(work, f"restart_{k - 1}.restart"),
              "-var", "phi", f"{p['phi']:g}", "-var", "r", f"{p['r']:g}", "-var", "nres", str(p["nres"]),
@@ -277,6 +278,15 @@ def load_partial(cdir, k):
     return state
 
 
+def private_script(folder):
+    """A copy of in.cycle in `folder` for one run to read. granary reads its input script as it
+    goes (as LAMMPS does), and `jump` reads it again: an in.cycle edited in the source tree while a
+    cycle runs would otherwise be read from the middle of a command, and the run fail or differ."""
+    path = os.path.join(folder, "in.cycle")
+    shutil.copyfile(SCRIPT, path)
+    return path
+
+
 def run_cycle(a, case, k, fresh, variables):
     """Run cycle k of the case (fresh: fill a new silo instead of continuing from the restart file
     of cycle k - 1), or continue it where its discharge was stopped (partial.json in its folder).
@@ -304,7 +314,7 @@ def run_cycle(a, case, k, fresh, variables):
             shutil.rmtree(pdir)
         os.makedirs(pdir)
     resume = (os.path.join(cdir, state["restart"]), state["n0"]) if j > 0 else None
-    cmd = cycle_command(a, case, k, fresh, variables, resume)
+    cmd = cycle_command(a, case, k, fresh, variables, resume, private_script(pdir))
     rc, wall, signalled = run_granary(a, cmd, pdir)
     log = os.path.join(pdir, "log")
     text = open(log, errors="replace").read() if os.path.exists(log) else ""
@@ -580,7 +590,7 @@ def cmd_picture(a):
     os.makedirs(pdir)
     a.np = 1
     v = dict(variables, final="no", clog_dump="1", stop="1000", restart_out="picture.restart")
-    cmd = cycle_command(a, a.case, k, False, v)
+    cmd = cycle_command(a, a.case, k, False, v, script=private_script(pdir))
     cmd[cmd.index("restart_in") + 1] = os.path.abspath(restart)
     env = dict(os.environ, OMP_NUM_THREADS="1")
     rc = subprocess.run(cmd, cwd=pdir, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,

@@ -84,6 +84,22 @@ class SiloStudyDriver(unittest.TestCase):
             restarts = sorted(f for f in os.listdir(os.path.join(self.ref, "work", c)) if f.endswith(".restart"))
             self.assertEqual(restarts, [f"restart_{len(cycles) - 1}.restart"])
 
+    def test_each_run_reads_its_own_copy_of_the_script(self):
+        # granary reads its script as it goes: the driver gives every run a copy of in.cycle in its
+        # folder, so an in.cycle edited in the source tree meanwhile cannot reach a running cycle
+        base = os.path.join(self.tmp, "copy")
+        cmd = [sys.executable, os.path.join(TOOLS, "silo_study.py"), "run", "--granary", GRANARY, "--data",
+               os.path.join(base, "data"), "--work", os.path.join(base, "work"), "--min-avalanches", "1",
+               "--max-cycles", "1", "--keep-work", "--case", "r0_phi0"] + TINY
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        cdir = os.path.join(base, "work", "r0_phi0", "cycle_0")
+        self.assertEqual(read(os.path.join(cdir, "in.cycle")), read(st.SCRIPT))
+        # and the command runs the copy it is given
+        args = type("A", (), {"np": 1, "granary": "g", "work": "w"})
+        cmd = st.cycle_command(args, "r0_phi0", 0, True, {}, script=os.path.join(cdir, "in.cycle"))
+        self.assertEqual(cmd[cmd.index("-in") + 1], os.path.join(cdir, "in.cycle"))
+
     def test_killed_and_resumed_gives_the_same_results(self):
         self.assertEqual(self.ref_rc, 0, self.ref_out)
         base = os.path.join(self.tmp, "killed")
