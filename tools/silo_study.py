@@ -104,8 +104,12 @@ def candidate_cases():
 KCOH = 1e4
 
 
+# r<r>_phi<phi>[_n<nres>][_coh<kcoh>] (also read by tools/silo_study_analysis.py)
+CASE_NAME = re.compile(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?(?:_coh([0-9.]+(?:e[+-]?[0-9]+)?))?")
+
+
 def parse_case(name):
-    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?(?:_coh([0-9.]+(?:e[+-]?[0-9]+)?))?", name)
+    m = CASE_NAME.fullmatch(name)
     if not m:
         raise ValueError(f"case name '{name}' is not r<r>_phi<phi>[_n<nres>][_coh<kcoh>]")
     r, phi, nres = float(m.group(1)), float(m.group(2)), int(m.group(3) or 10)

@@ -66,6 +66,7 @@ from scipy import stats
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from avalanche_stats import bootstrap_means, mean_ci_t  # noqa: E402
+from silo_study import CASE_NAME, cost_markdown  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
@@ -83,11 +84,17 @@ def read_table(path):
 
 
 def parse_case(name):
-    """(r, phi, nres, kcoh) of a case name r<r>_phi<phi>[_n<nres>][_coh<kcoh>], None for other names."""
-    m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)(?:_n(\d+))?(?:_coh([0-9.]+(?:e[+-]?[0-9]+)?))?", name)
+    """(r, phi, nres, kcoh) of a case name r<r>_phi<phi>[_n<nres>][_coh<kcoh>] (the driver's
+    CASE_NAME), None for other names."""
+    m = CASE_NAME.fullmatch(name)
     if not m:
         return None
     return float(m.group(1)), float(m.group(2)), int(m.group(3) or 10), float(m.group(4) or 0)
+
+
+def phi0_case(summary, row):
+    """The name of the phi = 0 case with the clump resolution of `row`, None when there is none."""
+    return next((n for n, b in summary["cases"].items() if b["phi"] == 0 and b["nres"] == row["nres"]), None)
 
 
 def is_main(row):
@@ -219,7 +226,7 @@ def analyse(a):
     summary["complete_at"] = a.complete
     # ratios to phi = 0 of the same clump resolution
     for name, row in summary["cases"].items():
-        base = next((n for n, rr in summary["cases"].items() if rr["phi"] == 0 and rr["nres"] == row["nres"]), None)
+        base = phi0_case(summary, row)
         if base is None:
             continue
         ratio = boots[name] / boots[base]
@@ -266,7 +273,7 @@ def analyse(a):
         if t1 is not None and len(t1) > 1:
             cyl_boot[name] = (float(np.mean(t1)), bootstrap_means(t1, rng_cyl, a.bootstrap))
     for name, row in summary["cases"].items():
-        base = next((n for n, b in summary["cases"].items() if b["phi"] == 0 and b["nres"] == row["nres"]), None)
+        base = phi0_case(summary, row)
         if row["phi"] == 0 or base is None or name not in cyl_boot or base not in cyl_boot:
             continue
         row["cylinders_mean"] = cyl_boot[name][0]
@@ -285,8 +292,7 @@ def analyse(a):
                      if is_main(b) and b["phi"] == row["phi"] and b["r"] == row["r"] and "ratio" in b), None)
         if base is None:
             continue
-        s0 = {x: next(n for n, b in summary["cases"].items()
-                      if b["phi"] == 0 and b["nres"] == summary["cases"][x]["nres"]) for x in (name, base)}
+        s0 = {x: phi0_case(summary, summary["cases"][x]) for x in (name, base)}
         rc = boots[name] / boots[s0[name]]
         rb = boots[base] / boots[s0[base]]
         change = rc / rb
@@ -492,15 +498,13 @@ def update_docs(a):
     examples/silo_study/README.md (tools/silo_study.py status --markdown),
     from the committed results. The prose around them (status, claims, cost
     figures in sentences) is left to the author."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import silo_study
     with open(os.path.join(a.out, "summary.md")) as f:
         summary_md = f.read()
     doc = os.path.join(ROOT, "doc", "silo_study.md")
     replace_block(doc, "| case | cycles | avalanches |", lambda ln: ln.startswith("Columns: `bodies`"),
                   summary_md.rstrip("\n") + "\n\n")
     readme = os.path.join(ROOT, "examples", "silo_study", "README.md")
-    table, total = silo_study.cost_markdown(a.data, a.complete)
+    table, total = cost_markdown(a.data, a.complete)
     with open(readme) as f:
         text = _with_block(readme, f.read(), "| case | cycles | non-empty avalanches |", lambda ln: not ln.strip(),
                            table)
