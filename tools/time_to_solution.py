@@ -36,7 +36,9 @@ cores. Where each number comes from:
   varies most between days on this virtual machine; --granary-rate and
   --liggghts-rate set others); 16
   cores: the parallel efficiency measured at 16 ranks on the 198,000-particle
-  silo (Granary 0.56, LIGGGHTS 0.455: the means of the two series); 64 cores:
+  silo on 2026-11-28 (doc/performance.md "Strong scaling to 16 ranks, the
+  build of 2026-11-28": Granary 0.52 with rcb and weight time balancing, 0.47
+  without; LIGGGHTS 0.49, which cannot balance); 64 cores:
   the same efficiency (an assumption: about 12,000-15,000 particles per rank
   in both; not measured).
 """
@@ -57,7 +59,7 @@ YOUNG, NU = 5.0e6, 0.45
 DT_FRAC = 0.2
 SETTLE = 0.2  # s of settling after each refill (examples/silo_study/in.cycle)
 RATE = {"granary": 1.765e7, "liggghts": 5.03e6}  # particle-steps/s on one core (defaults)
-EFF = {"granary": 0.56, "liggghts": 0.455}  # parallel efficiency at 16 (and assumed at 64) cores
+EFF = {"granary": 0.52, "liggghts": 0.49}  # parallel efficiency at 16 (and assumed at 64) cores
 
 
 def rayleigh_time(radius, rho):

@@ -135,6 +135,21 @@ TEST_CASE("bench_silo_large: insert, settle from the restart, then discharge wit
     CHECK(s.e.update->ntimestep == 71);
     CHECK(s.e.group_function("mass", {"all"}) == Approx(mass).epsilon(1e-12));
   }
+  for (const char* balance : {"3", "4", "5"}) {
+    // weight time (grid or rcb) and rcb by counts: the same particles and mass
+    // after 20 steps, and the imbalance factors printed (1 rank: even)
+    INFO("balance " << balance);
+    ScriptEngine s;
+    s.cmds({"variable in index bench_large_2.restart", std::string("variable balance index ") + balance,
+            "variable nsteps index 20", "variable dir index " + kBench,
+            "include " + kBench + "/in.bench_silo_large_run"});
+    CHECK(s.e.comm->tiled() == (std::string(balance) != "3"));
+    CHECK(s.p().natoms == n);
+    CHECK(s.e.update->ntimestep == 71);
+    CHECK(s.e.group_function("mass", {"all"}) == Approx(mass).epsilon(1e-12));
+    CHECK(s.e.fix_value("lb", 0) == Approx(1.0));
+    CHECK(s.e.fix_value("lb", 3) == Approx(1.0));
+  }
   std::remove("bench_large_1.restart");
   std::remove("bench_large_2.restart");
 }

@@ -59,8 +59,8 @@ class TimeToSolution(unittest.TestCase):
         l1, l16, l64 = (float(x) for x in cells[8].split("/"))
         self.assertAlmostEqual(g1 / (psteps / 1.5e7 / 3600), 1.0, delta=0.02)
         self.assertAlmostEqual(l1 / (psteps / 6e6 / 3600), 1.0, delta=0.02)
-        self.assertAlmostEqual(g16 / (g1 / (16 * 0.56)), 1.0, delta=0.02)
-        self.assertAlmostEqual(l64 / (l1 / (64 * 0.455)), 1.0, delta=0.02)
+        self.assertAlmostEqual(g16 / (g1 / (16 * 0.52)), 1.0, delta=0.02)
+        self.assertAlmostEqual(l64 / (l1 / (64 * 0.49)), 1.0, delta=0.02)
 
     def test_default_rates(self):
         # without the options the tool uses its RATE table
