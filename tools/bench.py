@@ -47,8 +47,9 @@ What is measured, per run (each run is started from a fresh measuring subprocess
 A second table gives each run's time split from the programs' own end-of-run
 reports (pair, neighbour lists, communication, fixes, output, other; each the
 mean over the ranks, summed over the run commands; LIGGGHTS 3.8 reports fixes
-under "other") and, on several ranks, the load imbalance max/avg of Granary's
-compute sections.
+under "other"), on several ranks the load imbalance max/avg of Granary's
+compute sections, and for Granary the time of fix multisphere and of the wall
+fixes (wall/gran, mesh/surface) from its per-fix report.
 
 1-rank runs start the program directly, runs on more ranks go through mpirun
 (Open MPI: --allow-run-as-root is added when running as root and
@@ -87,6 +88,17 @@ SPLIT_NEW_RE = re.compile(r"^(Pair|Neigh|Comm|Output|Modify|Other)\s*\|\s*(\S+)\
 SPLIT_KEYS = {"Pair": "pair", "Neigh": "neigh", "Comm": "comm", "Outpt": "output", "Output": "output",
               "Modify": "fixes", "Other": "other"}
 SPLIT_COLUMNS = ["pair", "neigh", "comm", "fixes", "output", "other"]
+# Granary's per-fix lines after the section table ("fix ms multisphere | min | avg | max | ...")
+FIX_RE = re.compile(r"^fix\s+(\S+)\s+(\S+)\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|\s*(\S+)\s*\|")
+FIX_COLUMNS = ["multisphere", "walls"]  # of which: fix multisphere; wall/gran and mesh/surface fixes
+
+
+def fix_category(style):
+    if style.startswith("multisphere"):
+        return "multisphere"
+    if style.startswith("wall/") or style.startswith("mesh/"):
+        return "walls"
+    return None
 
 
 # ---------------------------------------------------------------------------
@@ -193,7 +205,14 @@ def parse_output(text):
     contact_runs = 0
     split = {}
     split_max = {}
+    fix_split = {}
     for line in text.splitlines():
+        m = FIX_RE.match(line.strip())
+        if m:
+            cat = fix_category(m.group(2))
+            if cat:
+                fix_split[cat] = fix_split.get(cat, 0.0) + float(m.group(4))
+            continue
         m = SPLIT_OLD_RE.match(line.strip())
         if m:
             key = SPLIT_KEYS[m.group(1)]
@@ -237,6 +256,8 @@ def parse_output(text):
         info["time_split_s"] = split  # mean over ranks, summed over the runs
     if split_max:
         info["time_split_max_s"] = split_max  # each section's largest rank time
+    if fix_split:
+        info["fix_split_s"] = fix_split  # of the fixes: multisphere, walls (means over ranks, summed over runs)
     if loops:
         info["loop_s"] = sum(l[0] for l in loops)
         info["procs"] = loops[-1][1]
@@ -453,13 +474,15 @@ def print_split(rows, out=sys.stdout):
     have = [r for r in rows if "error" not in r and r.get("time_split_s")]
     if not have:
         return
-    heads = ["program", "ranks"] + ["%s s" % c for c in SPLIT_COLUMNS] + ["max/avg"]
+    heads = (["program", "ranks"] + ["%s s" % c for c in SPLIT_COLUMNS] + ["max/avg"] +
+             ["%s s" % c for c in FIX_COLUMNS])
     lines = []
     for r in have:
         sp = r["time_split_s"]
         cells = [r["program"], str(r["ranks"])]
         for c in SPLIT_COLUMNS:
             cells.append(fmt(sp.get(c), ".2f"))
+        fx = r.get("fix_split_s") or {}
         # load imbalance: the compute sections' largest rank times over their
         # means (summed; at least the slowest rank's share, so an upper bound)
         mx = r.get("time_split_max_s")
@@ -469,6 +492,8 @@ def print_split(rows, out=sys.stdout):
             cells.append(fmt(busy_max / busy if busy > 0 else None, ".2f"))
         else:
             cells.append("-")
+        for c in FIX_COLUMNS:
+            cells.append(fmt(fx.get(c), ".2f") if fx else "-")
         lines.append(cells)
     write_markdown(heads, lines, out)
 
@@ -617,7 +642,9 @@ def main(argv):
     if any(r.get("time_split_s") for r in ok):
         print()
         print("time split (each section's mean over the ranks, s; LIGGGHTS 3.8 counts fixes under other;")
-        print("max/avg = pair + neigh + fixes, each at its slowest rank, over their means):")
+        print("max/avg = pair + neigh + fixes, each at its slowest rank, over their means; multisphere and")
+        print("walls = Granary's own per-fix times, the means over the ranks of fix multisphere and of the")
+        print("wall/gran and mesh/surface fixes, in all their hooks, also those counted under neigh):")
         print_split(rows)
 
     if args.json:

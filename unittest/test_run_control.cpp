@@ -15,7 +15,9 @@
 #include "core/error.h"
 #include "core/input.h"
 #include "core/logger.h"
+#include "core/modify.h"
 #include "core/update.h"
+#include "fix/fix.h"
 #include "neighbor/neighbor.h"
 #include "particles/particles.h"
 
@@ -186,6 +188,38 @@ TEST_CASE("run N every M executes commands between chunks", "[run]") {
 
 // thermo N prints a line every N steps plus the first and last step of each
 // run; thermo 0 only those two.
+// The timing report gives each fix with a timestep hook its own line: the
+// time spent in its hooks, which the Modify and Neigh sections contain, reset
+// by every run.
+TEST_CASE("the timing report times each fix that has a timestep hook", "[run]") {
+  LogFile log("fix_times");
+  Sim s;
+  s.cmd("log " + log.path);
+  s.lines(setup());
+  s.lines({"lattice sc 0.0025", "region cube block 0 3 0 3 0 3", "create_atoms 1 region cube",
+           "set type 1 diameter 0.002 density 2500", "fix gravi all gravity 9.81 vector 0 0 -1",
+           "fix floor all wall/gran model hertz tangential history primitive type 1 zplane -0.002",
+           "run 2000"});
+  const granary::Update& u = *s.e.update;
+  const auto time_of = [&](const std::string& id) { return s.e.modify->find_fix(id)->run_time; };
+  CHECK(time_of("integr") > 0);
+  CHECK(time_of("gravi") > 0);
+  CHECK(time_of("floor") > 0);
+  CHECK(time_of("m1") == 0);  // property/global: no hook
+  const double fixes = time_of("integr") + time_of("gravi") + time_of("floor");
+  // the hooks run inside the Modify and Neigh sections, with the loop's own overhead around them
+  CHECK(fixes <= u.timers[granary::Update::kModify] + u.timers[granary::Update::kNeigh]);
+  CHECK(fixes > 0.5 * u.timers[granary::Update::kModify]);
+  const double long_run = time_of("integr");
+  s.cmd("run 20");
+  CHECK(time_of("integr") < long_run);  // this run's time only
+  const std::string text = log.close_and_read(s);
+  CHECK(lines_starting(text, "Fix (ID style)").size() == 2);
+  CHECK(lines_starting(text, "fix integr nve/sphere ").size() == 2);
+  CHECK(lines_starting(text, "fix floor wall/gran ").size() == 2);
+  CHECK(lines_starting(text, "fix m1 property/global").empty());  // (the log also echoes "fix m1 all ...")
+}
+
 TEST_CASE("thermo N controls the number of output lines in the log", "[run][thermo]") {
   struct Case {
     int every, steps;

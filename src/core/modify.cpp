@@ -1,5 +1,7 @@
 #include "core/modify.h"
 
+#include <mpi.h>
+
 #include "compute/compute.h"
 #include "core/engine.h"
 #include "core/error.h"
@@ -163,40 +165,68 @@ void Modify::setup() {
     f->setup();
 }
 void Modify::initial_integrate() {
-  for (Fix* f : initial_integrate_)
+  for (Fix* f : initial_integrate_) {
+    const double t0 = MPI_Wtime();
     f->initial_integrate();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::post_integrate() {
-  for (Fix* f : post_integrate_)
+  for (Fix* f : post_integrate_) {
+    const double t0 = MPI_Wtime();
     f->post_integrate();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::pre_exchange() {
-  for (Fix* f : pre_exchange_)
+  for (Fix* f : pre_exchange_) {
+    const double t0 = MPI_Wtime();
     f->pre_exchange();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::pre_neighbor() {
-  for (Fix* f : pre_neighbor_)
+  for (Fix* f : pre_neighbor_) {
+    const double t0 = MPI_Wtime();
     f->pre_neighbor();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::post_neighbor() {
-  for (Fix* f : post_neighbor_)
+  for (Fix* f : post_neighbor_) {
+    const double t0 = MPI_Wtime();
     f->post_neighbor();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::pre_force() {
-  for (Fix* f : pre_force_)
+  for (Fix* f : pre_force_) {
+    const double t0 = MPI_Wtime();
     f->pre_force();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::post_force() {
-  for (Fix* f : post_force_)
+  for (Fix* f : post_force_) {
+    const double t0 = MPI_Wtime();
     f->post_force();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::final_integrate() {
-  for (Fix* f : final_integrate_)
+  for (Fix* f : final_integrate_) {
+    const double t0 = MPI_Wtime();
     f->final_integrate();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 void Modify::end_of_step(std::int64_t step) {
-  for (Fix* f : end_of_step_)
-    if (step % f->nevery == 0) f->end_of_step();
+  for (Fix* f : end_of_step_) {
+    if (step % f->nevery != 0) continue;
+    const double t0 = MPI_Wtime();
+    f->end_of_step();
+    f->run_time += MPI_Wtime() - t0;
+  }
 }
 bool Modify::end_of_step_due(std::int64_t step) const {
   for (const Fix* f : end_of_step_)

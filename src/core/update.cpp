@@ -17,6 +17,7 @@
 #include "core/registry.h"
 #include "core/stop_signal.h"
 #include "domain/domain.h"
+#include "fix/fix.h"
 #include "core/modify.h"
 #include "neighbor/contact_history.h"
 #include "neighbor/neighbor.h"
@@ -349,6 +350,8 @@ void Update::run(std::int64_t n, bool pre, bool post) {
   forces_current = true;
   // the time split covers the loop only, not setup
   std::fill(std::begin(timers), std::end(timers), 0.0);
+  for (auto& f : e.modify->fixes)
+    f->run_time = 0.0;
   if (!e.modify->has_integrator() && n > 0) {
     e.logger->warning("no fix integrates the particles' motion (e.g. fix nve/sphere); they will not move");
   }
@@ -422,10 +425,44 @@ void Update::report() {
                   run_wall_time > 0 ? 100.0 * avg / run_wall_time : 0.0);
     e.logger->print(line);
   }
+  report_fixes();
   std::snprintf(line, sizeof line, "Neighbor list builds = %lld\n\n",
                 static_cast<long long>(e.neighbor->nbuilds));
   e.logger->print(line);
   e.logger->flush();
+}
+
+// Each fix's share, in the same columns: the time in its timestep hooks.
+// Hooks called while reneighbouring (pre_neighbor, post_neighbor) are counted
+// under Neigh in the section table, the others under Modify. Every rank has
+// the same fixes in the same order (fix commands run on all ranks).
+void Update::report_fixes() {
+  Engine& e = engine_;
+  const auto& fixes = e.modify->fixes;
+  const int n = static_cast<int>(fixes.size());
+  if (n == 0 || run_wall_time <= 0) return;
+  std::vector<double> mine(n), tmin(n), tsum(n), tmax(n);
+  for (int k = 0; k < n; ++k)
+    mine[k] = fixes[k]->run_time;
+  MPI_Allreduce(mine.data(), tmin.data(), n, MPI_DOUBLE, MPI_MIN, e.world);
+  MPI_Allreduce(mine.data(), tsum.data(), n, MPI_DOUBLE, MPI_SUM, e.world);
+  MPI_Allreduce(mine.data(), tmax.data(), n, MPI_DOUBLE, MPI_MAX, e.world);
+  std::string text;
+  char line[512];
+  for (int k = 0; k < n; ++k) {
+    if (tmax[k] <= 0) continue;  // no timestep hook (property/global, mesh/surface, ...)
+    const double avg = tsum[k] / e.nprocs;
+    const std::string name = "fix " + fixes[k]->id + " " + fixes[k]->style;
+    std::snprintf(line, sizeof line, "%-31s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", name.c_str(),
+                  tmin[k], avg, tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
+                  100.0 * avg / run_wall_time);
+    text += line;
+  }
+  if (text.empty()) return;
+  e.logger->print(
+      "\nFix (ID style)                  |  min time  |  avg time  |  max time  |%varavg| %total\n"
+      "-----------------------------------------------------------------------------------------\n" +
+      text);
 }
 
 // run N [upto] [start S] [stop S] [pre yes|no] [post yes|no] [every M "commands"]

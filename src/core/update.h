@@ -81,6 +81,7 @@ class Update {
   void compute_forces();
   void check_lost();
   void report();
+  void report_fixes();  // per-fix lines of the timing report
   void use_restart_forces();
   [[noreturn]] void stop_after_signal();
   Engine& engine_;

@@ -80,6 +80,9 @@ class Fix {
   int groupbit = 1;             // group bit mask
   int nevery = 1;               // end_of_step period
   bool time_integrate = false;  // integrates positions (nve/sphere, multisphere, ...)
+  /// Seconds this rank spent in the fix's timestep hooks since the setup of
+  /// the current run (kept by Modify, printed by the run's timing report).
+  double run_time = 0.0;
 
  protected:
   /// The number of particles of the group that are spheres of clumps (collective).

@@ -29,6 +29,13 @@ Comm    |        0.1 |        0.1 |        0.1 |   0.0 |   4.0
 Modify  |        0.7 |        0.8 |        0.9 |  25.0 |  32.0
 Output  |          0 |          0 |          0 |   0.0 |   0.0
 Other   |        0.1 |        0.1 |        0.1 |   0.0 |   4.0
+
+Fix (ID style)                  |  min time  |  avg time  |  max time  |%varavg| %total
+-----------------------------------------------------------------------------------------
+fix ms multisphere              |        0.3 |        0.4 |        0.5 |  50.0 |  16.0
+fix wall wall/gran              |        0.1 |        0.2 |        0.3 | 100.0 |   8.0
+fix walls mesh/surface          |       0.01 |       0.02 |       0.03 | 100.0 |   0.8
+fix integr nve/sphere           |        0.1 |        0.1 |        0.1 |   0.0 |   4.0
 Neighbor list builds = 12
 
 Loop time of 1.5 on 2 procs for 500 steps with 90 atoms
@@ -41,6 +48,10 @@ Comm    |        0.1 |        0.1 |        0.1 |   0.0 |   6.7
 Modify  |        0.6 |        0.6 |        0.6 |   0.0 |  40.0
 Output  |          0 |          0 |          0 |   0.0 |   0.0
 Other   |        0.1 |        0.1 |        0.1 |   0.0 |   6.7
+
+Fix (ID style)                  |  min time  |  avg time  |  max time  |%varavg| %total
+-----------------------------------------------------------------------------------------
+fix ms multisphere              |        0.3 |        0.3 |        0.3 |   0.0 |  20.0
 """
 
 # LIGGGHTS 3.8 (old LAMMPS lines, means over the ranks; fixes under Other)
@@ -80,6 +91,10 @@ class ParseReports(unittest.TestCase):
         self.assertAlmostEqual(split["other"], 0.2)
         self.assertAlmostEqual(most["pair"], 1.6)
         self.assertAlmostEqual(most["fixes"], 1.5)
+        # the per-fix lines: fix multisphere apart, the wall fixes together, others left out
+        self.assertEqual(set(info["fix_split_s"]), {"multisphere", "walls"})
+        self.assertAlmostEqual(info["fix_split_s"]["multisphere"], 0.7)
+        self.assertAlmostEqual(info["fix_split_s"]["walls"], 0.22)
 
     def test_liggghts_sections(self):
         info = bench.parse_output(LIGGGHTS)
@@ -91,6 +106,7 @@ class ParseReports(unittest.TestCase):
         self.assertAlmostEqual(split["other"], 2.93881)
         self.assertNotIn("fixes", split)
         self.assertNotIn("time_split_max_s", info)
+        self.assertNotIn("fix_split_s", info)
 
     def test_split_table_reports_imbalance_on_several_ranks(self):
         rows = [dict(program="granary", ranks=2, **bench.parse_output(GRANARY))]
@@ -100,8 +116,13 @@ class ParseReports(unittest.TestCase):
         self.assertEqual(len(lines), 3)  # heading, rule, one row
         cells = [c.strip() for c in lines[2].strip("|").split("|")]
         self.assertEqual(cells[:4], ["granary", "2", "1.50", "0.70"])
-        # (1.6 + 0.8 + 1.5) / (1.5 + 0.7 + 1.4)
-        self.assertEqual(cells[-1], "%.2f" % (3.9 / 3.6))
+        # (1.6 + 0.8 + 1.5) / (1.5 + 0.7 + 1.4), then fix multisphere and the walls
+        self.assertEqual(cells[-3:], ["%.2f" % (3.9 / 3.6), "0.70", "0.22"])
+        rows = [dict(program="liggghts", ranks=1, **bench.parse_output(LIGGGHTS))]
+        out = io.StringIO()
+        bench.print_split(rows, out)
+        cells = [c.strip() for c in out.getvalue().splitlines()[2].strip("|").split("|")]
+        self.assertEqual(cells[-3:], ["-", "-", "-"])
 
 
 @unittest.skipUnless(os.path.exists(os.environ.get("GRANARY_BINARY", "")), "GRANARY_BINARY not set")
