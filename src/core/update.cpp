@@ -72,15 +72,25 @@ void Update::reneighbor(bool save_history) {
     Timer t(timers[kModify]);
     e.modify->pre_exchange();
   }
+  {
+    // migration and the lost-particle count: communication, as in LAMMPS
+    Timer t(timers[kComm]);
+    e.domain->reset_box();
+    e.comm->setup(e.neighbor->cutneighmax);
+    e.comm->exchange(history);
+    check_lost();
+  }
+  {
+    Timer t(timers[kNeigh]);
+    timestep_guard_.check();
+    e.neighbor->sort_particles(ntimestep);
+    e.particles->map_clear();
+  }
+  {
+    Timer t(timers[kComm]);
+    e.comm->borders();
+  }
   Timer t(timers[kNeigh]);
-  e.domain->reset_box();
-  e.comm->setup(e.neighbor->cutneighmax);
-  e.comm->exchange(history);
-  check_lost();
-  timestep_guard_.check();
-  e.neighbor->sort_particles(ntimestep);
-  e.particles->map_clear();
-  e.comm->borders();
   e.modify->pre_neighbor();
   e.neighbor->build();
   if (history) history->restore(*e.neighbor, *e.particles);
