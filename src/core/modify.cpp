@@ -164,68 +164,50 @@ void Modify::setup() {
   for (auto& f : fixes)
     f->setup();
 }
+namespace {
+// Calls one hook of a fix and adds its wall time to the fix's run_time.
+void timed(Fix* f, void (Fix::*hook)()) {
+  const double t0 = MPI_Wtime();
+  (f->*hook)();
+  f->run_time += MPI_Wtime() - t0;
+}
+}  // namespace
+
 void Modify::initial_integrate() {
-  for (Fix* f : initial_integrate_) {
-    const double t0 = MPI_Wtime();
-    f->initial_integrate();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : initial_integrate_)
+    timed(f, &Fix::initial_integrate);
 }
 void Modify::post_integrate() {
-  for (Fix* f : post_integrate_) {
-    const double t0 = MPI_Wtime();
-    f->post_integrate();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : post_integrate_)
+    timed(f, &Fix::post_integrate);
 }
 void Modify::pre_exchange() {
-  for (Fix* f : pre_exchange_) {
-    const double t0 = MPI_Wtime();
-    f->pre_exchange();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : pre_exchange_)
+    timed(f, &Fix::pre_exchange);
 }
 void Modify::pre_neighbor() {
-  for (Fix* f : pre_neighbor_) {
-    const double t0 = MPI_Wtime();
-    f->pre_neighbor();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : pre_neighbor_)
+    timed(f, &Fix::pre_neighbor);
 }
 void Modify::post_neighbor() {
-  for (Fix* f : post_neighbor_) {
-    const double t0 = MPI_Wtime();
-    f->post_neighbor();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : post_neighbor_)
+    timed(f, &Fix::post_neighbor);
 }
 void Modify::pre_force() {
-  for (Fix* f : pre_force_) {
-    const double t0 = MPI_Wtime();
-    f->pre_force();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : pre_force_)
+    timed(f, &Fix::pre_force);
 }
 void Modify::post_force() {
-  for (Fix* f : post_force_) {
-    const double t0 = MPI_Wtime();
-    f->post_force();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : post_force_)
+    timed(f, &Fix::post_force);
 }
 void Modify::final_integrate() {
-  for (Fix* f : final_integrate_) {
-    const double t0 = MPI_Wtime();
-    f->final_integrate();
-    f->run_time += MPI_Wtime() - t0;
-  }
+  for (Fix* f : final_integrate_)
+    timed(f, &Fix::final_integrate);
 }
 void Modify::end_of_step(std::int64_t step) {
   for (Fix* f : end_of_step_) {
-    if (step % f->nevery != 0) continue;
-    const double t0 = MPI_Wtime();
-    f->end_of_step();
-    f->run_time += MPI_Wtime() - t0;
+    if (step % f->nevery == 0) timed(f, &Fix::end_of_step);
   }
 }
 bool Modify::end_of_step_due(std::int64_t step) const {
