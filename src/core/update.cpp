@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 #include <unordered_set>
+#include <vector>
 
 #include "comm/collectives.h"
 #include "comm/comm.h"
@@ -397,6 +399,32 @@ void Update::stop_after_signal() {
   throw StopRequested(msg);
 }
 
+namespace {
+// Rows of LAMMPS' timing table, one per value: its minimum, mean and maximum
+// over the ranks; %varavg is the spread (max - min) relative to the mean, so a
+// large value marks a load imbalance; %total is the mean's share of the loop
+// time. With skip_zero, rows whose maximum is 0 are left out.
+std::string timing_rows(MPI_Comm world, int nprocs, double wall, const std::vector<std::string>& names,
+                        const std::vector<double>& mine, int width, bool skip_zero) {
+  const int n = static_cast<int>(mine.size());
+  std::vector<double> tmin(n), tsum(n), tmax(n);
+  MPI_Allreduce(mine.data(), tmin.data(), n, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(mine.data(), tsum.data(), n, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(mine.data(), tmax.data(), n, MPI_DOUBLE, MPI_MAX, world);
+  std::string text;
+  char line[512];
+  for (int k = 0; k < n; ++k) {
+    if (skip_zero && tmax[k] <= 0) continue;
+    const double avg = tsum[k] / nprocs;
+    std::snprintf(line, sizeof line, "%-*s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", width,
+                  names[k].c_str(), tmin[k], avg, tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
+                  wall > 0 ? 100.0 * avg / wall : 0.0);
+    text += line;
+  }
+  return text;
+}
+}  // namespace
+
 void Update::report() {
   Engine& e = engine_;
   const std::int64_t steps = ntimestep - firststep;
@@ -410,31 +438,18 @@ void Update::report() {
                   static_cast<double>(e.particles->natoms) * steps / run_wall_time, steps / run_wall_time);
     e.logger->print(line);
   }
-  // LAMMPS' MPI task timing breakdown: each section's time on the ranks
-  // (minimum, mean, maximum); %varavg is the spread (max - min) relative to the
-  // mean, so a large value marks a load imbalance. "Other" is the loop time not
-  // in any section on the rank where it is largest.
-  static const char* names[kNumTimers + 1] = {"Pair", "Neigh", "Comm", "Modify", "Output", "Other"};
-  double mine[kNumTimers + 1], tmin[kNumTimers + 1], tsum[kNumTimers + 1], tmax[kNumTimers + 1];
+  // LAMMPS' MPI task timing breakdown: each section's time on the ranks.
+  // "Other" is the loop time not in any section on the rank where it is largest.
+  std::vector<double> mine(timers, timers + kNumTimers);
   double other = run_wall_time;
-  for (int k = 0; k < kNumTimers; ++k) {
-    mine[k] = timers[k];
-    other -= timers[k];
-  }
-  mine[kNumTimers] = std::max(0.0, other);
-  MPI_Allreduce(mine, tmin, kNumTimers + 1, MPI_DOUBLE, MPI_MIN, e.world);
-  MPI_Allreduce(mine, tsum, kNumTimers + 1, MPI_DOUBLE, MPI_SUM, e.world);
-  MPI_Allreduce(mine, tmax, kNumTimers + 1, MPI_DOUBLE, MPI_MAX, e.world);
+  for (double t : mine)
+    other -= t;
+  mine.push_back(std::max(0.0, other));
   e.logger->print(
       "Section |  min time  |  avg time  |  max time  |%varavg| %total\n"
-      "---------------------------------------------------------------\n");
-  for (int k = 0; k <= kNumTimers; ++k) {
-    const double avg = tsum[k] / e.nprocs;
-    std::snprintf(line, sizeof line, "%-7s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", names[k], tmin[k],
-                  avg, tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
-                  run_wall_time > 0 ? 100.0 * avg / run_wall_time : 0.0);
-    e.logger->print(line);
-  }
+      "---------------------------------------------------------------\n" +
+      timing_rows(e.world, e.nprocs, run_wall_time, {"Pair", "Neigh", "Comm", "Modify", "Output", "Other"},
+                  mine, 7, false));
   report_fixes();
   std::snprintf(line, sizeof line, "Neighbor list builds = %lld\n\n",
                 static_cast<long long>(e.neighbor->nbuilds));
@@ -445,29 +460,18 @@ void Update::report() {
 // Each fix's share, in the same columns: the time in its timestep hooks.
 // Hooks called while reneighbouring (pre_neighbor, post_neighbor) are counted
 // under Neigh in the section table, the others under Modify. Every rank has
-// the same fixes in the same order (fix commands run on all ranks).
+// the same fixes in the same order (fix commands run on all ranks); fixes
+// that took no time (no timestep hook: property/global, ...) are left out.
 void Update::report_fixes() {
   Engine& e = engine_;
-  const auto& fixes = e.modify->fixes;
-  const int n = static_cast<int>(fixes.size());
-  if (n == 0 || run_wall_time <= 0) return;
-  std::vector<double> mine(n), tmin(n), tsum(n), tmax(n);
-  for (int k = 0; k < n; ++k)
-    mine[k] = fixes[k]->run_time;
-  MPI_Allreduce(mine.data(), tmin.data(), n, MPI_DOUBLE, MPI_MIN, e.world);
-  MPI_Allreduce(mine.data(), tsum.data(), n, MPI_DOUBLE, MPI_SUM, e.world);
-  MPI_Allreduce(mine.data(), tmax.data(), n, MPI_DOUBLE, MPI_MAX, e.world);
-  std::string text;
-  char line[512];
-  for (int k = 0; k < n; ++k) {
-    if (tmax[k] <= 0) continue;  // no timestep hook (property/global, mesh/surface, ...)
-    const double avg = tsum[k] / e.nprocs;
-    const std::string name = "fix " + fixes[k]->id + " " + fixes[k]->style;
-    std::snprintf(line, sizeof line, "%-31s | %10.4g | %10.4g | %10.4g | %5.1f | %5.1f\n", name.c_str(),
-                  tmin[k], avg, tmax[k], avg > 0 ? 100.0 * (tmax[k] - tmin[k]) / avg : 0.0,
-                  100.0 * avg / run_wall_time);
-    text += line;
+  if (e.modify->fixes.empty() || run_wall_time <= 0) return;
+  std::vector<std::string> names;
+  std::vector<double> mine;
+  for (const auto& f : e.modify->fixes) {
+    names.push_back("fix " + f->id + " " + f->style);
+    mine.push_back(f->run_time);
   }
+  const std::string text = timing_rows(e.world, e.nprocs, run_wall_time, names, mine, 31, true);
   if (text.empty()) return;
   e.logger->print(
       "\nFix (ID style)                  |  min time  |  avg time  |  max time  |%varavg| %total\n"
