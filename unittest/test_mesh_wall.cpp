@@ -17,6 +17,7 @@
 
 #include "core/error.h"
 #include "fix/fix_mesh_surface.h"
+#include "fix/fix_wall_gran.h"
 #include "core/modify.h"
 #include "mesh_files.h"
 #include "script_engine.h"
@@ -139,7 +140,8 @@ TEST_CASE("unfix of a mesh wall frees its per-particle contact history", "[mesh]
           "fix floor all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere",
           "run 200"});
   const auto& p = s.p();
-  const std::string slots = "mesh_wall_history/floor/2/3";
+  const std::string slots =
+      "mesh_wall_history/floor/" + std::to_string(granary::FixWallGran::kInlineSlots) + "/3";
   REQUIRE(p.find_field(slots) >= 0);
   CHECK(p.extras[p.find_field(slots)].data[4] != 0.0);  // a sliding contact holds shear history
   const std::size_t nfields = p.extras.size();
@@ -589,73 +591,116 @@ TEST_CASE("mesh contact history and a moved mesh survive write_restart and read_
   }
 }
 
+// Spheres wedged in a channel narrower than they are (side walls at
+// y = +-2^-10 m, 1 um inside the radius) touch the floor and both walls:
+// three contacts, the ones beyond the inline slot kept in the wall fix's table
+// of extra slots, which goes into the restart file.
+std::string channel_file() {
+  static const std::string f = [] {
+    std::vector<Triangle> t;
+    const double w = 0.0009765625, l = 0.04, h = 0.004;
+    mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 2 * w, 0), 8, 1);
+    mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
+    mesh_files::add_rectangle(t, Vec3(0, w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
+    mesh_files::write_ascii(path("channel.stl"), t);
+    return path("channel.stl");
+  }();
+  return f;
+}
+void channel_setup(ScriptEngine& s) {
+  // friction 0.1: the wedged spheres keep sliding on all three faces
+  s.cmds({"fix m4 all property/global coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
+          "fix gravi all gravity 9.81 vector 1.0 0.0 -1.0",
+          "fix cad all mesh/surface file " + channel_file() + " type 2",
+          "fix walls all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere"});
+}
+void channel_fresh(ScriptEngine& s) {
+  s.cmds(scene(0.1));
+  s.cmds({"create_atoms 1 single 0.002 0.0 0.0009774625 units box",
+          "create_atoms 1 single 0.006 0.0 0.0009774625 units box",
+          "set group all diameter 0.001955125 density 2500", "velocity all set 0.4 0.0 0.0 units box"});
+  channel_setup(s);
+}
+// the fewest mesh contacts of a particle
+int channel_contacts(const ScriptEngine& s) {
+  const auto& p = s.p();
+  const int f = p.find_field("mesh_wall_contacts/walls");
+  REQUIRE(f >= 0);
+  int least = 100;
+  for (int i = 0; i < p.nlocal; ++i)
+    least = std::min(least, static_cast<int>(p.extras[f].data[i]));
+  return least;
+}
+// read_restart of `file` and the channel's settings
+void channel_read(ScriptEngine& s, const std::string& file) {
+  s.cmds({"atom_style granular", "read_restart " + file});
+  for (const auto& l : scene(0.1))
+    if (l.rfind("fix m", 0) == 0 || l.rfind("pair", 0) == 0 || l.rfind("timestep", 0) == 0 ||
+        l.rfind("neigh", 0) == 0)
+      s.cmd(l);
+  channel_setup(s);
+}
+
 TEST_CASE("mesh contacts beyond the per-particle slots survive write_restart and read_restart",
           "[mesh][restart]") {
-  // Spheres wedged in a channel narrower than they are (side walls at
-  // y = +-2^-10 m, 1 um inside the radius) touch the floor and both walls:
-  // three contacts, the third kept in the wall fix's table of extra slots,
-  // which goes into the restart file. The run split by a restart continues
-  // bit for bit.
-  std::vector<Triangle> t;
-  const double w = 0.0009765625, l = 0.04, h = 0.004;
-  mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 2 * w, 0), 8, 1);
-  mesh_files::add_rectangle(t, Vec3(0, -w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
-  mesh_files::add_rectangle(t, Vec3(0, w, 0), Vec3(l, 0, 0), Vec3(0, 0, h), 8, 1);
-  mesh_files::write_ascii(path("channel.stl"), t);
-  auto setup = [&](ScriptEngine& s) {
-    // friction 0.1: the wedged spheres keep sliding on all three faces
-    s.cmds({"fix m4 all property/global coefficientFriction peratomtypepair 2 0.1 0.1 0.1 0.1",
-            "fix gravi all gravity 9.81 vector 1.0 0.0 -1.0",
-            "fix cad all mesh/surface file " + path("channel.stl") + " type 2",
-            "fix walls all " + kWallModel + "mesh n_meshes 1 meshes cad", "fix integr all nve/sphere"});
-  };
-  auto fresh = [&](ScriptEngine& s) {
-    s.cmds(scene(0.1));
-    s.cmds({"create_atoms 1 single 0.002 0.0 0.0009774625 units box",
-            "create_atoms 1 single 0.006 0.0 0.0009774625 units box",
-            "set group all diameter 0.001955125 density 2500", "velocity all set 0.4 0.0 0.0 units box"});
-    setup(s);
-  };
-  auto contacts = [](const ScriptEngine& s) {
-    const auto& p = s.p();
-    const int f = p.find_field("mesh_wall_contacts/walls");
-    REQUIRE(f >= 0);
-    int least = 100;
-    for (int i = 0; i < p.nlocal; ++i)
-      least = std::min(least, static_cast<int>(p.extras[f].data[i]));
-    return least;
-  };
+  // The run split by a restart continues bit for bit.
   Body straight[2], restarted[2];
   {
     ScriptEngine s;
-    fresh(s);
+    channel_fresh(s);
     s.cmd("run 1600");
-    CHECK(contacts(s) == 3);
+    CHECK(channel_contacts(s) == 3);
     for (int i = 0; i < 2; ++i)
       straight[s.p().id[i] - 1] = body(s, i);
   }
   const std::string file = path("channel.restart");
   {
     ScriptEngine s;
-    fresh(s);
+    channel_fresh(s);
     s.cmd("run 800");
-    CHECK(contacts(s) == 3);
+    CHECK(channel_contacts(s) == 3);
     s.cmd("write_restart " + file);
   }
   {
     ScriptEngine s;
-    s.cmds({"atom_style granular", "read_restart " + file});
-    for (const auto& l : scene(0.1))
-      if (l.rfind("fix m", 0) == 0 || l.rfind("pair", 0) == 0 || l.rfind("timestep", 0) == 0 ||
-          l.rfind("neigh", 0) == 0)
-        s.cmd(l);
-    setup(s);
+    channel_read(s, file);
     s.cmd("run 800");
-    CHECK(contacts(s) == 3);
+    CHECK(channel_contacts(s) == 3);
     for (int i = 0; i < 2; ++i)
       restarted[s.p().id[i] - 1] = body(s, i);
   }
   CHECK(straight[0].x[0] > 0.004);  // slid along the channel
+  for (int i = 0; i < 2; ++i) {
+    CHECK(restarted[i].x == straight[i].x);
+    CHECK(restarted[i].v == straight[i].v);
+    CHECK(restarted[i].w == straight[i].w);
+  }
+}
+
+TEST_CASE("a restart file with two mesh contact slots per particle continues bit for bit",
+          "[mesh][restart]") {
+  // unittest/reference/restart/channel_2slots.restart was written after 800
+  // steps of the channel scene by a build that kept two contact slots per
+  // particle inline (one now): read_restart moves the second into the table
+  // of extra slots, and the run continues as the uninterrupted one.
+  Body straight[2], restarted[2];
+  {
+    ScriptEngine s;
+    channel_fresh(s);
+    s.cmd("run 1600");
+    for (int i = 0; i < 2; ++i)
+      straight[s.p().id[i] - 1] = body(s, i);
+  }
+  {
+    ScriptEngine s;
+    channel_read(s, std::string(GRANARY_SOURCE_DIR) + "/unittest/reference/restart/channel_2slots.restart");
+    REQUIRE(s.p().find_field("mesh_wall_history/walls/2/3") >= 0);  // as read
+    s.cmd("run 800");
+    CHECK(s.p().find_field("mesh_wall_history/walls/2/3") < 0);  // converted
+    CHECK(channel_contacts(s) == 3);
+    for (int i = 0; i < 2; ++i)
+      restarted[s.p().id[i] - 1] = body(s, i);
+  }
   for (int i = 0; i < 2; ++i) {
     CHECK(restarted[i].x == straight[i].x);
     CHECK(restarted[i].v == straight[i].v);

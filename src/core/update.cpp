@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
-#include <unordered_set>
 #include <vector>
 
 #include "comm/collectives.h"
@@ -215,10 +214,8 @@ void Update::setup() {
                   field.data.begin() + saved.rows[m] * nc);
     }
   }
-  // collective: a rank may hold none of the particles of the restart file
-  long long stored = static_cast<long long>(restart_forces.size()), any = 0;
-  MPI_Allreduce(&stored, &any, 1, MPI_LONG_LONG, MPI_MAX, e.world);
-  if (any > 0) use_restart_forces();
+  // the same on every rank: read_restart registers the field on all of them
+  if (FieldRef(*e.particles, kRestartForcesField).data(*e.particles)) use_restart_forces();
   e.modify->setup();
   // dumps before thermo, as in LIGGGHTS and LAMMPS: a compute with a side
   // effect (nparticles/tracer/region unmarking what it counted) shows the
@@ -237,51 +234,26 @@ void Update::setup() {
 void Update::use_restart_forces() {
   Engine& e = engine_;
   Particles& p = *e.particles;
-  // The stored forces stay on the rank that read the particle; particles that
-  // migrated since (a shrink-wrapped box changed, fix balance moved the
-  // cuts at setup) get theirs handed over here.
-  {
-    std::unordered_set<std::int64_t> own;
-    for (int i = 0; i < p.nlocal; ++i)
-      own.insert(p.id[i]);
-    std::vector<double> away;
-    for (auto it = restart_forces.begin(); it != restart_forces.end();) {
-      if (own.count(it->first)) {
-        ++it;
-        continue;
-      }
-      away.push_back(static_cast<double>(it->first));
-      away.insert(away.end(), it->second.begin(), it->second.end());
-      it = restart_forces.erase(it);
-    }
-    long long nlocal_away = static_cast<long long>(away.size()), any = 0;
-    MPI_Allreduce(&nlocal_away, &any, 1, MPI_LONG_LONG, MPI_MAX, e.world);
-    if (any > 0) {
-      const std::vector<double> all = allgather(e.world, away);
-      for (std::size_t k = 0; k + 7 <= all.size(); k += 7) {
-        const auto id = static_cast<std::int64_t>(all[k]);
-        if (own.count(id))
-          restart_forces[id] = {all[k + 1], all[k + 2], all[k + 3], all[k + 4], all[k + 5], all[k + 6]};
-      }
-    }
-  }
-  long long local[2] = {0, p.nlocal}, all[2];
+  // the stored forces travelled with their particles (a shrink-wrapped box
+  // changed, fix balance moved the cuts at setup); a particle created since
+  // has none, one deleted since leaves fewer than the file held
+  const double* const s = FieldRef(p, kRestartForcesField).data(p);
+  long long local = 0, all = 0;
   for (int i = 0; i < p.nlocal; ++i)
-    local[0] += restart_forces.count(p.id[i]) ? 1 : 0;
-  local[1] = static_cast<long long>(restart_forces.size());
-  MPI_Allreduce(local, all, 2, MPI_LONG_LONG, MPI_SUM, e.world);
+    local += s[static_cast<std::size_t>(i) * kRestartForceValues + 6] == 1.0 ? 1 : 0;
+  MPI_Allreduce(&local, &all, 1, MPI_LONG_LONG, MPI_SUM, e.world);
   const long long natoms = count_global();
-  const bool same = all[0] == natoms && all[1] == natoms;
+  const bool same = all == natoms && natoms == restart_forces_natoms;
   if (same) {
     for (int i = 0; i < p.nlocal; ++i) {
-      const auto& s = restart_forces[p.id[i]];
-      p.f[i] = Vec3(s[0], s[1], s[2]);
-      p.torque[i] = Vec3(s[3], s[4], s[5]);
+      const double* si = s + static_cast<std::size_t>(i) * kRestartForceValues;
+      p.f[i] = Vec3(si[0], si[1], si[2]);
+      p.torque[i] = Vec3(si[3], si[4], si[5]);
     }
   }
   e.logger->print(same ? "Starting from the forces stored in the restart file\n"
                        : "Particles changed since read_restart: forces recomputed\n");
-  restart_forces.clear();
+  p.release_field(kRestartForcesField);
 }
 
 std::int64_t Update::count_global() const {

@@ -1,9 +1,7 @@
 // Timestep, step counter, simulated time and the run loop (velocity Verlet).
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <string>
 
 #include "core/timestep_guard.h"
@@ -47,10 +45,15 @@ class Update {
   double run_wall_time = 0.0;    // seconds of the last run's loop
   double loop_start_wall = 0.0;  // MPI_Wtime() when the current run's loop started
 
-  /// Forces and torques read from a restart file, by particle id. The first
-  /// run after read_restart uses them in place of the recomputed ones when the
-  /// two agree to round-off, so a restarted run continues bit for bit.
-  std::unordered_map<std::int64_t, std::array<double, 6>> restart_forces;
+  /// Forces and torques read from a restart file: a per-particle field of
+  /// kRestartForceValues values (force, torque, 1 = read from the file) that
+  /// migrates with its particle and is released by the first run, which uses
+  /// them in place of the recomputed ones when every particle of the file and
+  /// no other is still there, so a restarted run continues bit for bit.
+  static constexpr const char* kRestartForcesField = "restart_forces";
+  static constexpr int kRestartForceValues = 7;
+  /// Particles the restart file held (when the field exists).
+  std::int64_t restart_forces_natoms = 0;
   /// True while the stored forces belong to the current particle state: set at
   /// the end of a run (and by read_restart from the file), cleared by commands
   /// that change particles between runs (create_atoms, set, velocity,

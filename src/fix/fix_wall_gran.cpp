@@ -14,6 +14,7 @@
 #include "pair/multicontact.h"
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/logger.h"
 #include "core/registry.h"
 #include "core/update.h"
 #include "fix/fix_mesh_surface.h"
@@ -244,6 +245,46 @@ void FixWallGran::adopt_extra() {
   incoming_.clear();
 }
 
+void FixWallGran::convert_inline_slots() {
+  Particles& p = *engine_.particles;
+  const std::string prefix = "mesh_wall_history/" + id + "/", suffix = "/" + std::to_string(nhist_);
+  const int stride = kSlotHeader + nhist_;
+  for (std::size_t f = 0; f < p.extras.size(); ++f) {
+    const std::string name = p.extras[f].name;
+    if (name == field_name_ || name.size() <= prefix.size() + suffix.size() || name.rfind(prefix, 0) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string k_text = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (k_text.empty() || k_text.find_first_not_of("0123456789") != std::string::npos) continue;
+    const int k = std::stoi(k_text);
+    if (k < 1 || p.extras[f].ncomp != k * stride) continue;
+    // every particle's slots in order: the old inline ones, then its extra
+    // record (the slots after them); the first kInlineSlots stay inline
+    const std::vector<double> old = p.extras[f].data;
+    p.release_field(name);
+    double* const h = p.extras[field_].data.data();
+    std::vector<double> slots;
+    for (int i = 0; i < p.nlocal; ++i) {
+      const double* o = &old[static_cast<std::size_t>(i) * k * stride];
+      slots.clear();
+      for (int q = 0; q < k && o[static_cast<std::size_t>(q) * stride] != 0.0; ++q)
+        slots.insert(slots.end(), o + q * stride, o + (q + 1) * stride);
+      if (auto it = extra_.find(p.id[i]); it != extra_.end()) {
+        slots.insert(slots.end(), it->second.begin(), it->second.end());
+        extra_.erase(it);
+      }
+      const std::size_t inline_values = static_cast<std::size_t>(kInlineSlots) * stride;
+      double* const hi = h + static_cast<std::size_t>(i) * inline_values;
+      std::fill_n(hi, inline_values, 0.0);
+      std::copy_n(slots.begin(), std::min(slots.size(), inline_values), hi);
+      if (slots.size() > inline_values) extra_[p.id[i]].assign(slots.begin() + inline_values, slots.end());
+    }
+    engine_.logger->print("fix " + id + " wall/gran: mesh contact history of the restart file (" +
+                          std::to_string(k) + " slot(s) per particle) moved to " +
+                          std::to_string(kInlineSlots) + "\n");
+  }
+}
+
 void FixWallGran::clear_slots(int i, double* hist, double* count) {
   const int stride = kSlotHeader + nhist_;
   if (count[i] > kInlineSlots) extra_.erase(engine_.particles->id[i]);
@@ -299,6 +340,7 @@ void FixWallGran::init() {
     count_field_ = p.find_field(count_name_);
     const int stride = kSlotHeader + nhist_;
     adopt_extra();  // records read from a restart file
+    convert_inline_slots();
     const double* h = p.extras[field_].data.data();
     double* count = p.extras[count_field_].data.data();
     for (int i = 0; i < p.nlocal; ++i) {

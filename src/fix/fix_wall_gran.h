@@ -57,7 +57,7 @@ class FixWallGran : public Fix {
   /// Mesh walls: contact slots per particle in the per-particle field, most
   /// contacts one particle may have, and doubles per slot before the contact
   /// history (triangle key, contact point x y z).
-  static constexpr int kInlineSlots = 2;
+  static constexpr int kInlineSlots = 1;
   static constexpr int kMeshSlots = 32;
   static constexpr int kSlotHeader = 4;
 
@@ -125,6 +125,9 @@ class FixWallGran : public Fix {
   std::vector<double> incoming_;
   std::vector<double> restart_extra_;  // all ranks' records, for pack_restart
   void adopt_extra();
+  /// A restart file written with another number of inline slots: its field
+  /// is moved into this layout (slots beyond kInlineSlots into extra_).
+  void convert_inline_slots();
   void pack_extra(std::vector<double>& out) const;
   /// Clear all slots of particle i (inline and extra).
   void clear_slots(int i, double* hist, double* count);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <map>
 
+#include "core/growth.h"
 #include "neighbor/neighbor.h"
 
 namespace granary {
@@ -88,8 +89,8 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
 // migration) in the second particle's row with the swap signs.
 void ContactHistory::restore(const Neighbor& list, const Particles& p) {
   const std::size_t npairs = list.neigh.size();
-  touch_.assign(npairs, 0);
-  values_.assign(npairs * nvalues_, 0.0);
+  assign_fresh(touch_, npairs, std::uint8_t{0});
+  assign_fresh(values_, npairs * nvalues_, 0.0);
   auto find = [&](const Row* row, tagint partner) -> const double* {
     if (!row) return nullptr;
     for (int e = 0; e < row->count; ++e)
@@ -156,12 +157,29 @@ int ContactHistory::unpack_particle(tagint tag, const double* buf) {
 }
 
 void ContactHistory::hold() {
-  held_values_ = values_;
   held_touch_ = touch_;
+  std::size_t touched = 0;
+  for (const std::uint8_t t : touch_)
+    touched += t != 0;
+  held_values_.clear();
+  held_values_.reserve(touched * nvalues_);
+  for (std::size_t k = 0; k < touch_.size(); ++k)
+    if (touch_[k])
+      held_values_.insert(held_values_.end(), &values_[k * nvalues_], &values_[(k + 1) * nvalues_]);
 }
 
 void ContactHistory::put_back() {
-  values_.swap(held_values_);
+  const std::size_t n = std::min(held_touch_.size(), touch_.size());
+  std::size_t h = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    double* v = &values_[k * nvalues_];
+    if (held_touch_[k]) {
+      std::copy_n(&held_values_[h], nvalues_, v);
+      h += nvalues_;
+    } else {
+      std::fill_n(v, nvalues_, 0.0);
+    }
+  }
   touch_.swap(held_touch_);
   // free the set-aside copy (clear() would keep its memory for the whole run)
   std::vector<double>().swap(held_values_);

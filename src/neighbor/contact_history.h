@@ -35,8 +35,10 @@ class ContactHistory {
   std::vector<std::uint8_t> touch_;
 
   /// At run setup the forces are computed once without advancing the history:
-  /// hold() sets a copy of the list-aligned values and flags aside, put_back()
-  /// makes it current again.
+  /// hold() sets the flags and the values of the touched entries aside,
+  /// put_back() makes them current again. (An entry not touched holds zeros:
+  /// the pair loop clears a contact's values when it ends, and restore()
+  /// starts every entry at zero; so the touched ones are all there is to keep.)
   void hold();
   void put_back();
 
@@ -76,7 +78,7 @@ class ContactHistory {
   void clear_store();
 
   int nvalues_ = 0;
-  std::vector<double> held_values_;  // hold() .. put_back()
+  std::vector<double> held_values_;  // hold() .. put_back(): the touched entries' values, in list order
   std::vector<std::uint8_t> held_touch_;
   std::vector<double> swap_signs_;
   std::vector<Row> rows_;

@@ -9,6 +9,7 @@
 #include "comm/comm.h"
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/growth.h"
 #include "core/registry.h"
 #include "core/update.h"
 #include "domain/domain.h"
@@ -310,7 +311,9 @@ void Neighbor::build() {
   // exclusions, possible only with ghosts or neigh_modify exclude, are
   // filtered afterwards.
   const bool filter = nall > nlocal || other_exclusions;
-  if (neigh.size() < static_cast<std::size_t>(nlocal) * 8) neigh.resize(static_cast<std::size_t>(nlocal) * 8);
+  // room for 8 partners per particle to start with (the old list is not kept)
+  if (neigh.size() < static_cast<std::size_t>(nlocal) * 8)
+    assign_fresh(neigh, static_cast<std::size_t>(nlocal) * 8, 0);
   std::size_t end = 0;
   for (int i = 0; i < nlocal; ++i) {
     offset[i] = static_cast<int>(end);
@@ -321,7 +324,8 @@ void Neighbor::build() {
     // the candidates k of [kbeg, kend) within the cutoff (and of another body)
     auto scan = [&](int kbeg, int kend) __attribute__((always_inline)) {
       if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
-        neigh.resize(std::max(2 * neigh.size(), end + static_cast<std::size_t>(kend - kbeg)));
+        grow_keep(neigh,
+                  std::max(neigh.size() + neigh.size() / 4, end + static_cast<std::size_t>(kend - kbeg)));
       int* const out = neigh.data();
       if (bkey) {
         for (int k = kbeg; k < kend; ++k) {

@@ -831,8 +831,10 @@ void read_restart(Engine& e, const std::string& file) {
   std::vector<int> field(nextra);
   for (std::uint32_t k = 0; k < nextra; ++k)
     field[k] = p.add_field(fnames[k], fncomp[k], false, true);
-  auto& stored = e.update->restart_forces;
-  stored.clear();
+  // the stored forces (Update::kRestartForcesField), each particle's with it
+  p.release_field(Update::kRestartForcesField);
+  const int stored = p.add_field(Update::kRestartForcesField, Update::kRestartForceValues, false, true);
+  p.extras[stored].restart = false;
   // the records in chunks of about 8 MB from rank 0; each rank keeps its own
   const std::size_t chunk = std::max<std::size_t>(1, (std::size_t{8} << 20) / (per * sizeof(double)));
   std::vector<double> chunk_records;
@@ -864,13 +866,16 @@ void read_restart(Engine& e, const std::string& file) {
         std::copy_n(rec + m, fncomp[k], dst);
         m += fncomp[k];
       }
-      stored[p.id[i]] = {rec[12], rec[13], rec[14], rec[15], rec[16], rec[17]};
+      double* const s = &p.extras[stored].data[static_cast<std::size_t>(i) * Update::kRestartForceValues];
+      std::copy_n(rec + 12, 6, s);
+      s[6] = 1.0;
     }
   }
   p.natoms = u.count_global();
   // forces stored after particles were changed between runs are not those of
   // the stored state: the next run recomputes them
-  if (!forces_current) stored.clear();
+  if (!forces_current) p.release_field(Update::kRestartForcesField);
+  e.update->restart_forces_natoms = p.natoms;
   u.forces_current = forces_current;
   // contact history: each rank keeps the contacts of its own particles, as
   // rows (a row travels with its particle when that moves before the pair

@@ -10,6 +10,7 @@
 #include "contact/contact_kernels.h"
 #include "core/engine.h"
 #include "core/error.h"
+#include "core/growth.h"
 #include "core/logger.h"
 #include "core/registry.h"
 #include "core/update.h"
@@ -166,8 +167,8 @@ void PairGranular::loop() {
   const int nh = Kernel::history_size(kernel_spec_);
   const std::size_t nlist = list.neigh.size();
   if (nh > 0 && history_.touch_.size() != nlist) {
-    history_.touch_.assign(nlist, 0);
-    history_.values_.assign(nlist * nh, 0.0);
+    assign_fresh(history_.touch_, nlist, std::uint8_t{0});
+    assign_fresh(history_.values_, nlist * nh, 0.0);
   }
   PairLoopData L;
   L.nlocal = p.nlocal;
@@ -194,7 +195,7 @@ void PairGranular::loop() {
   }
   // the particle of each list entry, for stage 1's single stream
   if (owner_build_ != list.nbuilds || owner_.size() != list.neigh.size()) {
-    owner_.resize(list.neigh.size());
+    assign_fresh(owner_, list.neigh.size(), 0);
     for (int i = 0; i < p.nlocal; ++i)
       std::fill(owner_.begin() + L.offset[i], owner_.begin() + L.offset[i + 1], i);
     owner_build_ = list.nbuilds;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/growth.h"
+
 namespace granary {
 
 namespace {
@@ -32,21 +34,22 @@ double Particles::sphere_mass(double r, double rho) {
 }
 
 void Particles::resize(int n) {
-  id.resize(n);
-  type.resize(n);
-  mask.resize(n);
-  x.resize(n);
-  v.resize(n);
-  f.resize(n);
-  omega.resize(n);
-  torque.resize(n);
-  radius.resize(n);
-  density.resize(n);
-  rmass.resize(n);
-  body.resize(n);
-  image.resize(n);
+  const auto m = static_cast<std::size_t>(n);
+  grow_keep(id, m);
+  grow_keep(type, m);
+  grow_keep(mask, m);
+  grow_keep(x, m);
+  grow_keep(v, m);
+  grow_keep(f, m);
+  grow_keep(omega, m);
+  grow_keep(torque, m);
+  grow_keep(radius, m);
+  grow_keep(density, m);
+  grow_keep(rmass, m);
+  grow_keep(body, m);
+  grow_keep(image, m);
   for (auto& e : extras)
-    e.data.resize(static_cast<std::size_t>(n) * e.ncomp);
+    grow_keep(e.data, m * e.ncomp);
 }
 
 int Particles::add_local(tagint id_, int type_, const Vec3& x_, double radius_, double density_) {
