@@ -215,7 +215,8 @@ void Update::setup() {
     }
   }
   // the same on every rank: read_restart registers the field on all of them
-  if (FieldRef(*e.particles, kRestartForcesField).data(*e.particles)) use_restart_forces();
+  // (a rank without particles has it too, with no values)
+  if (e.particles->find_field(kRestartForcesField) >= 0) use_restart_forces();
   e.modify->setup();
   // dumps before thermo, as in LIGGGHTS and LAMMPS: a compute with a side
   // effect (nparticles/tracer/region unmarking what it counted) shows the
