@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "comm/collectives.h"
 #include "comm/comm.h"
 #include "core/engine.h"
 #include "core/error.h"

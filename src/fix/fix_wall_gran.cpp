@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "comm/collectives.h"
 #include "contact/contact_block.h"
@@ -260,7 +261,7 @@ void FixWallGran::convert_inline_slots() {
     if (k < 1 || p.extras[f].ncomp != k * stride) continue;
     // every particle's slots in order: the old inline ones, then its extra
     // record (the slots after them); the first kInlineSlots stay inline
-    const std::vector<double> old = p.extras[f].data;
+    const std::vector<double> old = std::move(p.extras[f].data);
     p.release_field(name);
     double* const h = p.extras[field_].data.data();
     std::vector<double> slots;
