@@ -124,9 +124,7 @@ Snapshot run_pour(MPI_Comm comm, const std::string& newton) {
     for (int o : owners)
       s.split_bodies += o > 1;
     long long touching = 0, all = 0;
-    if (auto* h = e.force->pair->history())
-      for (auto t : h->touch_)
-        touching += t;
+    if (auto* h = e.force->pair->history()) touching = static_cast<long long>(h->contacts());
     MPI_Allreduce(&touching, &all, 1, MPI_LONG_LONG, MPI_SUM, comm);
     s.contacts += all;
   }

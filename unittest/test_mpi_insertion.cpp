@@ -104,7 +104,7 @@ Result run_scene(MPI_Comm comm) {
     const auto& nb = *e.neighbor;
     for (int i = 0; i < e.particles->nlocal; ++i) {
       for (int k = nb.offset[i]; k < nb.offset[i + 1]; ++k) {
-        if (!h->touch_[k]) continue;
+        if (!h->touched(k)) continue;
         ++local[0];
         if (nb.neigh[k] >= e.particles->nlocal) ++local[1];
       }

@@ -107,8 +107,7 @@ Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps, bool tiled
   s.rke = e.compute_value("rke", 0);
   long long local_contacts = 0;
   if (auto* h = e.force->pair->history()) {
-    for (auto t : h->touch_)
-      local_contacts += t;
+    local_contacts = static_cast<long long>(h->contacts());
   }
   MPI_Allreduce(&local_contacts, &s.contacts, 1, MPI_LONG_LONG, MPI_SUM, comm);
   MPI_Allreduce(&e.comm->migrated_particles, &s.migrated_particles, 1, MPI_LONG_LONG, MPI_SUM, comm);

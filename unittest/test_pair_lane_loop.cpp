@@ -8,7 +8,9 @@
 // remade) gives the trajectories of a scan of every list entry, to the last bit.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -78,6 +80,25 @@ struct Snapshot {
   int sliding = 0;  // contacts at the Coulomb limit (pair by pair only)
 };
 
+// The history of every list entry in list order (zeros without a contact), and
+// which entries hold a contact.
+std::vector<double> dense_history(granary::PairGranular& pair) {
+  const granary::ContactHistory& h = *pair.history();
+  const int nh = pair.history_size();
+  std::vector<double> out(h.entries() * nh, 0.0);
+  for (std::size_t k = 0; k < h.entries(); ++k)
+    if (const double* v = h.find(k)) std::copy_n(v, nh, &out[k * nh]);
+  return out;
+}
+
+std::vector<std::uint8_t> touched_entries(granary::PairGranular& pair) {
+  const granary::ContactHistory& h = *pair.history();
+  std::vector<std::uint8_t> out(h.entries());
+  for (std::size_t k = 0; k < h.entries(); ++k)
+    out[k] = h.touched(k);
+  return out;
+}
+
 Snapshot compute_with_style(ScriptEngine& s) {
   granary::Particles& p = *s.e.particles;
   for (int i = 0; i < p.size(); ++i) {
@@ -86,7 +107,7 @@ Snapshot compute_with_style(ScriptEngine& s) {
   }
   s.e.force->pair->compute();
   auto* pair = dynamic_cast<granary::PairGranular*>(s.e.force->pair.get());
-  return {p.f, p.torque, pair->history()->values_, pair->history()->touch_, 0};
+  return {p.f, p.torque, dense_history(*pair), touched_entries(*pair), 0};
 }
 
 // The same with contact::evaluate, pair by pair in the list's order.
@@ -95,8 +116,7 @@ Snapshot compute_pair_by_pair(ScriptEngine& s) {
   granary::Particles& p = *e.particles;
   auto* pair = dynamic_cast<granary::PairGranular*>(e.force->pair.get());
   const granary::Neighbor& list = *e.neighbor;
-  std::vector<double>& hist = pair->history()->values_;
-  std::vector<std::uint8_t>& touch = pair->history()->touch_;
+  granary::ContactHistory& hist = *pair->history();
   const int nh = pair->history_size();
   const bool newton = e.force->newton_pair;
   for (int i = 0; i < p.size(); ++i) {
@@ -111,16 +131,11 @@ Snapshot compute_pair_by_pair(ScriptEngine& s) {
     Vec3 fi = p.f[i], ti = p.torque[i];
     for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
       const int j = list.neigh[k];
-      double* h = hist.data() + static_cast<std::size_t>(k) * nh;
       const Vec3 d = p.x[i] - p.x[j];
       const double rsum = p.radius[i] + p.radius[j];
       const double r2 = d.squaredNorm();
       if (!(r2 < rsum * rsum && r2 != 0.0)) {
-        if (touch[k]) {
-          touch[k] = 0;
-          for (int q = 0; q < nh; ++q)
-            h[q] = 0.0;
-        }
+        if (hist.touched(k)) hist.forget(k);
         continue;
       }
       const double r = std::sqrt(r2);
@@ -135,9 +150,8 @@ Snapshot compute_pair_by_pair(ScriptEngine& s) {
       c.omega_i = p.omega[i];
       c.omega_j = p.omega[j];
       const granary::contact::PairMaterial& mat = pair->materials()(p.type[i], p.type[j]);
-      granary::contact::evaluate(pair->spec(), c, mat, h, res);
+      granary::contact::evaluate(pair->spec(), c, mat, hist.values(k), res);
       sliding += res.ft.norm() >= (1.0 - 1e-9) * mat.friction * std::abs(res.fn);
-      touch[k] = 1;
       fi += res.force;
       ti += res.torque_i;
       if (newton || j < p.nlocal) {
@@ -148,7 +162,7 @@ Snapshot compute_pair_by_pair(ScriptEngine& s) {
     p.f[i] = fi;
     p.torque[i] = ti;
   }
-  return {p.f, p.torque, hist, touch, sliding};
+  return {p.f, p.torque, dense_history(*pair), touched_entries(*pair), sliding};
 }
 
 void compare_loops(const std::string& pair_words, const std::string& newton) {
@@ -157,11 +171,9 @@ void compare_loops(const std::string& pair_words, const std::string& newton) {
   auto* pair = dynamic_cast<granary::PairGranular*>(s.e.force->pair.get());
   REQUIRE(pair != nullptr);
   // both start from the history of the last step
-  const std::vector<double> hist0 = pair->history()->values_;
-  const std::vector<std::uint8_t> touch0 = pair->history()->touch_;
+  const granary::ContactHistory hist0 = *pair->history();
   const Snapshot lanes = compute_with_style(s);
-  pair->history()->values_ = hist0;
-  pair->history()->touch_ = touch0;
+  *pair->history() = hist0;
   const Snapshot plain = compute_pair_by_pair(s);
 
   const granary::Particles& p = s.p();

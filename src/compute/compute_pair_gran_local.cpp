@@ -56,7 +56,7 @@ void ComputePairGranLocal::compute_local() {
   ContactHistory* hist = pg.history();
   const int nh = pg.history_size();
   if (nb.offset.size() != static_cast<std::size_t>(p.nlocal) + 1 || pg.materials().ntypes() < p.ntypes ||
-      (hist && hist->touch_.size() != nlist && nlist > 0))
+      (hist && hist->entries() != nlist && nlist > 0))
     throw InputError(where +
                      " reports the contacts of the neighbour lists and contact history of a run: use it "
                      "during a run, or after `run 0` when particles were added or deleted or the pair style "
@@ -126,8 +126,9 @@ void ComputePairGranLocal::compute_local() {
       c.omega_i = p.omega[i];
       c.omega_j = p.omega[j];
       c.dt = 0.0;  // the history as stored, not advanced
+      const double* kept = hist ? hist->find(k) : nullptr;
       for (int q = 0; q < nh; ++q)
-        stored[q] = hist && hist->touch_[k] ? hist->values_[static_cast<std::size_t>(k) * nh + q] : 0.0;
+        stored[q] = kept ? kept[q] : 0.0;
       std::copy(stored.begin(), stored.end(), h.begin());
       contact::ContactResult res;
       contact::evaluate(spec, c, materials(p.type[i], p.type[j]), h.data(), res);

@@ -16,6 +16,12 @@ void ContactHistory::configure(int nvalues, const std::vector<double>& swap_sign
   swap_signs_.resize(nvalues, -1.0);
 }
 
+void ContactHistory::reset(std::size_t n) {
+  assign_fresh(slot_, n, kNone);
+  pool_.clear();
+  free_.clear();
+}
+
 void ContactHistory::clear_store() {
   rows_.clear();
   partner_.clear();
@@ -42,11 +48,11 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
   clear_store();
   if (nvalues_ == 0 || list.offset.empty()) return;
   const int nlocal = p.nlocal;
-  const std::size_t nlist = std::min(touch_.size(), list.neigh.size());
+  const std::size_t nlist = std::min(slot_.size(), list.neigh.size());
   std::vector<int> count(nlocal, 0);
   for (int i = 0; i < nlocal; ++i) {
     for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= nlist || !touch_[k]) continue;
+      if (static_cast<std::size_t>(k) >= nlist || slot_[k] == kNone) continue;
       ++count[i];
       const int j = list.neigh[k];
       if (j < nlocal) ++count[j];
@@ -62,9 +68,9 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
   std::vector<int> fill(start.begin(), start.end() - 1);
   for (int i = 0; i < nlocal; ++i) {
     for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= nlist || !touch_[k]) continue;
+      if (static_cast<std::size_t>(k) >= nlist || slot_[k] == kNone) continue;
       const int j = list.neigh[k];
-      const double* h = &values_[static_cast<std::size_t>(k) * nvalues_];
+      const double* h = find(k);
       int e = fill[i]++;
       partner_[e] = p.id[j];
       std::copy_n(h, nvalues_, &vals_[static_cast<std::size_t>(e) * nvalues_]);
@@ -88,10 +94,8 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
 // contacts stored only with the other one, e.g. with newton on after a
 // migration) in the second particle's row with the swap signs.
 void ContactHistory::restore(const Neighbor& list, const Particles& p) {
-  const std::size_t npairs = list.neigh.size();
-  assign_fresh(touch_, npairs, std::uint8_t{0});
-  assign_fresh(values_, npairs * nvalues_, 0.0);
-  auto find = [&](const Row* row, tagint partner) -> const double* {
+  reset(list.neigh.size());
+  auto lookup = [&](const Row* row, tagint partner) -> const double* {
     if (!row) return nullptr;
     for (int e = 0; e < row->count; ++e)
       if (partner_[row->start + e] == partner)
@@ -113,14 +117,12 @@ void ContactHistory::restore(const Neighbor& list, const Particles& p) {
         const double r2 = (x[i] - x[j]).squaredNorm();
         if (!((r2 < rsum * rsum) & (r2 != 0.0))) continue;
         const tagint idj = p.id[j];
-        double* out = &values_[k * static_cast<std::size_t>(nvalues_)];
-        if (const double* v = find(row, idj)) {
-          std::copy_n(v, nvalues_, out);
-          touch_[k] = 1;
-        } else if (const double* w = find(find_row(idj), idi)) {
+        if (const double* v = lookup(row, idj)) {
+          std::copy_n(v, nvalues_, values(k));
+        } else if (const double* w = lookup(find_row(idj), idi)) {
+          double* out = values(k);
           for (int c = 0; c < nvalues_; ++c)
             out[c] = swap_signs_[c] * w[c];
-          touch_[k] = 1;
         }
       }
     }
@@ -157,33 +159,28 @@ int ContactHistory::unpack_particle(tagint tag, const double* buf) {
 }
 
 void ContactHistory::hold() {
-  held_touch_ = touch_;
-  std::size_t touched = 0;
-  for (const std::uint8_t t : touch_)
-    touched += t != 0;
+  held_entry_.clear();
   held_values_.clear();
-  held_values_.reserve(touched * nvalues_);
-  for (std::size_t k = 0; k < touch_.size(); ++k)
-    if (touch_[k])
-      held_values_.insert(held_values_.end(), &values_[k * nvalues_], &values_[(k + 1) * nvalues_]);
+  held_entry_.reserve(contacts());
+  held_values_.reserve(contacts() * nvalues_);
+  for (std::size_t k = 0; k < slot_.size(); ++k)
+    if (const double* v = find(k)) {
+      held_entry_.push_back(k);
+      held_values_.insert(held_values_.end(), v, v + nvalues_);
+    }
 }
 
 void ContactHistory::put_back() {
-  const std::size_t n = std::min(held_touch_.size(), touch_.size());
-  std::size_t h = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    double* v = &values_[k * nvalues_];
-    if (held_touch_[k]) {
-      std::copy_n(&held_values_[h], nvalues_, v);
-      h += nvalues_;
-    } else {
-      std::fill_n(v, nvalues_, 0.0);
-    }
-  }
-  touch_.swap(held_touch_);
+  // the contacts of the set-aside state, in list order; the setup's own go
+  std::fill(slot_.begin(), slot_.end(), kNone);
+  pool_.clear();
+  free_.clear();
+  for (std::size_t h = 0; h < held_entry_.size(); ++h)
+    if (held_entry_[h] < slot_.size())
+      std::copy_n(&held_values_[h * nvalues_], nvalues_, values(held_entry_[h]));
   // free the set-aside copy (clear() would keep its memory for the whole run)
   std::vector<double>().swap(held_values_);
-  std::vector<std::uint8_t>().swap(held_touch_);
+  std::vector<std::size_t>().swap(held_entry_);
 }
 
 void ContactHistory::forget_particle(tagint tag) {

@@ -1,7 +1,10 @@
 // Contact history (e.g. the tangential spring) of particle pairs.
 //
-// During a run the values live in an array aligned with the neighbour list, so
-// the pair loop reads them by position. Before a rebuild they are saved into a
+// During a run every neighbour-list entry has a slot number (4 bytes): none
+// while its two particles do not touch, else the place of its values in a
+// compact pool that holds the contacts only (a few percent of the entries in a
+// dense bed). The pair loop takes a slot when a pair begins to touch and
+// returns it when the contact ends. Before a rebuild the values are saved into a
 // store with one row per particle, listing the contacts it takes part in as
 // (partner id, values seen from this particle); rows travel with migrating
 // particles, and after the rebuild each list entry finds its values in the row
@@ -12,6 +15,8 @@
 // reading it).
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <unordered_map>
@@ -29,16 +34,52 @@ class ContactHistory {
   void configure(int nvalues, const std::vector<double>& swap_signs);
   int nvalues() const { return nvalues_; }
 
-  /// Values of list entry p (nvalues doubles), and the "in contact" flag.
-  double* at(std::size_t p) { return &values_[p * nvalues_]; }
-  std::vector<double> values_;
-  std::vector<std::uint8_t> touch_;
+  /// Slot number of a list entry without a contact.
+  static constexpr std::int32_t kNone = -1;
+
+  /// Number of list entries the slots are sized for.
+  std::size_t entries() const { return slot_.size(); }
+  /// Whether list entry k touched at the last evaluation (holds a contact).
+  bool touched(std::size_t k) const { return slot_[k] != kNone; }
+  /// The values of list entry k (nvalues doubles), or nullptr without a contact.
+  const double* find(std::size_t k) const {
+    return slot_[k] == kNone ? nullptr : &pool_[static_cast<std::size_t>(slot_[k]) * nvalues_];
+  }
+  /// The values of list entry k; a contact without one gets a slot of zeros.
+  double* values(std::size_t k) {
+    if (slot_[k] == kNone) take(k);
+    return &pool_[static_cast<std::size_t>(slot_[k]) * nvalues_];
+  }
+  /// Number of list entries that hold a contact.
+  std::size_t contacts() const { return pool_.size() / std::max(nvalues_, 1) - free_.size(); }
+  /// Size the slots to a list of n entries, none holding a contact.
+  void reset(std::size_t n);
+  /// Give list entry k (without a contact) a slot of zeros.
+  void take(std::size_t k) {
+    std::int32_t s;
+    if (!free_.empty()) {
+      s = free_.back();
+      free_.pop_back();
+      std::fill_n(&pool_[static_cast<std::size_t>(s) * nvalues_], nvalues_, 0.0);
+    } else {
+      s = static_cast<std::int32_t>(pool_.size() / nvalues_);
+      pool_.resize(pool_.size() + nvalues_, 0.0);
+    }
+    slot_[k] = s;
+  }
+  /// The contact of list entry k ended: its slot is returned.
+  void forget(std::size_t k) {
+    free_.push_back(slot_[k]);
+    slot_[k] = kNone;
+  }
+  /// For the pair loop: the slots (one per entry) and the pool's first value
+  /// (valid until the next take()).
+  std::int32_t* slots() { return slot_.data(); }
+  double* pool() { return pool_.data(); }
 
   /// At run setup the forces are computed once without advancing the history:
-  /// hold() sets the flags and the values of the touched entries aside,
-  /// put_back() makes them current again. (An entry not touched holds zeros:
-  /// the pair loop clears a contact's values when it ends, and restore()
-  /// starts every entry at zero; so the touched ones are all there is to keep.)
+  /// hold() sets the contacts (list entries and values) aside, put_back()
+  /// makes them current again.
   void hold();
   void put_back();
 
@@ -78,8 +119,11 @@ class ContactHistory {
   void clear_store();
 
   int nvalues_ = 0;
-  std::vector<double> held_values_;  // hold() .. put_back(): the touched entries' values, in list order
-  std::vector<std::uint8_t> held_touch_;
+  std::vector<std::int32_t> slot_;       // per list entry: kNone or the slot of its values in pool_
+  std::vector<double> pool_;             // nvalues_ per slot
+  std::vector<std::int32_t> free_;       // slots of ended contacts, taken again first
+  std::vector<std::size_t> held_entry_;  // hold() .. put_back(): the contacts' list entries, in list order
+  std::vector<double> held_values_;      // and their values
   std::vector<double> swap_signs_;
   std::vector<Row> rows_;
   std::vector<tagint> partner_;

@@ -163,13 +163,10 @@ template <class Kernel>
 void PairGranular::loop() {
   Particles& p = *engine_.particles;
   const Neighbor& list = *engine_.neighbor;
-  // contact history: one slot per neighbour-list entry
+  // contact history: a slot number per neighbour-list entry, values per contact
   const int nh = Kernel::history_size(kernel_spec_);
   const std::size_t nlist = list.neigh.size();
-  if (nh > 0 && history_.touch_.size() != nlist) {
-    assign_fresh(history_.touch_, nlist, std::uint8_t{0});
-    assign_fresh(history_.values_, nlist * nh, 0.0);
-  }
+  if (nh > 0 && history_.entries() != nlist) history_.reset(nlist);
   PairLoopData L;
   L.nlocal = p.nlocal;
   L.newton = engine_.force->newton_pair;
@@ -184,8 +181,7 @@ void PairGranular::loop() {
   L.rmass = p.rmass.data();
   L.body_mass = body_mass_.data(p);
   L.type = p.type.data();
-  L.touch = nh > 0 ? history_.touch_.data() : nullptr;
-  L.hist = nh > 0 ? history_.values_.data() : nullptr;
+  L.history = nh > 0 ? &history_ : nullptr;
   L.materials = &materials_;
   L.spec = &kernel_spec_;
   L.dt = {engine_.update->history_dt(), engine_.update->dt};
@@ -241,10 +237,9 @@ void PairGranular::update_near_list(const Particles& p, const std::vector<int>& 
     const double reach = radius[i] + radius[j] + margin;
     if ((x[i] - x[j]).squaredNorm() < reach * reach) {
       near_.push_back(k);
-    } else if (nh > 0 && history_.touch_[k] != 0) {
+    } else if (nh > 0 && history_.touched(k)) {
       // a contact that ended: forget its history, as the full scan would
-      history_.touch_[k] = 0;
-      std::fill_n(history_.values_.begin() + static_cast<std::ptrdiff_t>(k) * nh, nh, 0.0);
+      history_.forget(k);
     }
   }
   near_x_.assign(x, x + nall);

@@ -8,7 +8,8 @@
 //     can touch before it is rebuilt) as one stream, W at a time: which touch, without a
 //     branch per entry (whether a listed pair touches is close to a coin toss
 //     in a dense bed, and a mispredicted branch per entry costs more than the
-//     distance test itself); the history of contacts that ended is cleared;
+//     distance test itself); a contact that began takes a history slot, one
+//     that ended returns its slot;
 //     the contacts are appended to the block with their particle;
 //  2. for all contacts of the block, W at a time (lanes may hold contacts of
 //     different particles): geometry and contact::prepare() (the square roots
@@ -32,6 +33,7 @@
 #include "contact/contact_kernels.h"
 #include "contact/lane.h"
 #include "core/vec3.h"
+#include "neighbor/contact_history.h"
 #include "pair/multicontact.h"
 #include "pair/materials.h"
 #include "particles/particles.h"
@@ -54,8 +56,9 @@ struct PairLoopData {
   const double* rmass = nullptr;
   const double* body_mass = nullptr;  ///< null without clumps
   const int* type = nullptr;
-  std::uint8_t* touch = nullptr;  ///< per list entry: touched at the last evaluation (models with history)
-  double* hist = nullptr;         ///< per list entry: history_size doubles
+  /// models with history: a slot per list entry, taken when the pair begins
+  /// to touch and returned when the contact ends
+  ContactHistory* history = nullptr;
   const MaterialTable* materials = nullptr;
   const contact::ModelSpec* spec = nullptr;
   contact::HistoryDt dt;  ///< timesteps of the history integration
@@ -89,8 +92,9 @@ void pair_loop(const PairLoopData& L) {
   const double* const rmass = L.rmass;
   const double* const body_mass = L.body_mass;
   const int* const type = L.type;
-  std::uint8_t* const touch = L.touch;
-  double* const hist = L.hist;
+  ContactHistory* const history = L.history;
+  std::int32_t* const slot = nh > 0 ? history->slots() : nullptr;
+  constexpr std::int32_t kNone = ContactHistory::kNone;
   const MaterialTable& materials = *L.materials;
   const contact::HistoryDt dt = L.dt;
   const bool newton = L.newton;
@@ -106,6 +110,8 @@ void pair_loop(const PairLoopData& L) {
 
   // stages 2 and 3 for the n contacts of the block (contact/contact_block.h)
   auto flush = [&](int n) {
+    // (stage 1 took the slots of this block's new contacts: the pool stays put until the next block)
+    double* const pool = nh > 0 ? history->pool() : nullptr;
     // R* and m* again only for pairs unlike the last group's (exact
     // comparisons: the same operands give the same quotients); radii are
     // positive, so nothing matches at first
@@ -188,17 +194,15 @@ void pair_loop(const PairLoopData& L) {
       }
       v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
       for (int l = 0; l < W; ++l)
-        load_history<K>(spec, l, hist + static_cast<std::size_t>(blk_k[c[l]]) * nh, shear, slip, roll);
+        load_history<K>(spec, l, pool + static_cast<std::size_t>(slot[blk_k[c[l]]]) * nh, shear, slip, roll);
       omega_i = lane::gather<S>(omega, ii);
     };
     auto store = [&](const int(&c)[W], int nvalid, const ResultT<S>& out, const V3<S>& shear,
                      const SlipT<S>& slip, const V3<S>& roll) __attribute__((always_inline)) {
       for (int l = 0; l < nvalid; ++l) {
         const int kk = blk_k[c[l]], i = blk_i[c[l]], j = neigh[kk];
-        if (nh > 0) {
-          store_history<K>(spec, l, shear, slip, roll, hist + static_cast<std::size_t>(kk) * nh);
-          touch[kk] = 1;
-        }
+        if (nh > 0)
+          store_history<K>(spec, l, shear, slip, roll, pool + static_cast<std::size_t>(slot[kk]) * nh);
         // i's sums in memory, contact after contact: the same additions in
         // the same order as a running sum (no partner of i's row is i)
         const Vec3 force = lane::get(out.force, l);
@@ -225,12 +229,13 @@ void pair_loop(const PairLoopData& L) {
     evaluate_block<K, S>(spec, n, dt, prep, geometry, load, store);
   };
 
-  // a contact that ended: forget its history (rare)
-  auto forget = [&](int k) {
-    touch[k] = 0;
-    double* h = hist + static_cast<std::size_t>(k) * nh;
-    for (int q = 0; q < nh; ++q)
-      h[q] = 0.0;
+  // a contact that began gets a slot of zeros, one that ended returns its
+  // slot (rare, both)
+  auto begin_or_end = [&](int k, bool touching) {
+    if (touching && slot[k] == kNone)
+      history->take(k);
+    else if (!touching && slot[k] != kNone)
+      history->forget(k);
   };
 
   // Stage 1 over the list entries as one stream, W at a time (entries of
@@ -252,17 +257,17 @@ void pair_loop(const PairLoopData& L) {
       const S rsum = lane::gather<S>(radius, ii) + lane::gather<S>(radius, jj);
       const S r2 = dot(d, d);
       const auto t = lane::mask_and(r2 < rsum * rsum, r2 != 0.0);
-      bool ended = false;
+      bool changed = false;
       for (int l = 0; l < W; ++l) {
         const int tl = lane::on(t, l);
         blk_k[nblock] = kk[l];
         blk_i[nblock] = ii[l];
         nblock += tl;
-        if (nh > 0) ended |= !tl & (touch[kk[l]] != 0);
+        if (nh > 0) changed |= (tl != 0) != (slot[kk[l]] != kNone);
       }
-      if (ended)
+      if (changed)
         for (int l = 0; l < W; ++l)
-          if (!lane::on(t, l) && touch[kk[l]] != 0) forget(kk[l]);
+          begin_or_end(kk[l], lane::on(t, l));
       if (nblock >= kPairBlock) {
         flush(nblock);
         nblock = 0;
@@ -279,7 +284,7 @@ void pair_loop(const PairLoopData& L) {
       blk_k[nblock] = k;
       blk_i[nblock] = i;
       nblock += touching;
-      if (nh > 0 && !touching && touch[k] != 0) forget(k);
+      if (nh > 0) begin_or_end(k, touching);
     }
     if (nblock > 0) flush(nblock);
   };
