@@ -172,9 +172,7 @@ void ContactHistory::hold() {
 
 void ContactHistory::put_back() {
   // the contacts of the set-aside state, in list order; the setup's own go
-  std::fill(slot_.begin(), slot_.end(), kNone);
-  pool_.clear();
-  free_.clear();
+  reset(slot_.size());
   for (std::size_t h = 0; h < held_entry_.size(); ++h)
     if (held_entry_[h] < slot_.size())
       std::copy_n(&held_values_[h * nvalues_], nvalues_, values(held_entry_[h]));
