@@ -268,15 +268,26 @@ void Neighbor::build() {
   bin_of_.resize(nall);
   binstart_.assign(nbins + 1, 0);
   bool bodies = false;  // any sub-sphere of a clump, whose own body is left out
+  double rbin = 0.0;    // the largest radius in the bins
   for (int i = 0; i < nall; ++i) {
     const int b = (coord(x[i], 2) * nbin[1] + coord(x[i], 1)) * nbin[0] + coord(x[i], 0);
     bin_of_[i] = b;
     ++binstart_[b + 1];
     bodies |= body[i] >= 0;
+    rbin = std::max(rbin, radius[i]);
   }
   bodies = bodies && exclude_body_;
-  for (std::size_t b = 0; b < nbins; ++b)
+  std::size_t occupied = 0;
+  for (std::size_t b = 0; b < nbins; ++b) {
+    occupied += binstart_[b + 1] > 0;
     binstart_[b + 1] += binstart_[b];
+  }
+  // bins left out by distance (below) from the next build on where the bins
+  // are crowded (clumps of many overlapping sub-spheres): with a few
+  // particles per bin the test costs about what it saves
+  const bool prune = prune_bins_;
+  pruned_bins_ = prune;
+  prune_bins_ = occupied > 0 && static_cast<double>(nall) / static_cast<double>(occupied) > kCrowdedBin;
   binpart_.resize(nall);
   binx_.resize(nall);
   binr_.resize(nall);
@@ -315,12 +326,30 @@ void Neighbor::build() {
   if (neigh.size() < static_cast<std::size_t>(nlocal) * 8)
     assign_fresh(neigh, static_cast<std::size_t>(nlocal) * 8, 0);
   std::size_t end = 0;
+  // a margin for the rounding of the bin edges and of a particle's bin
+  const double margin = 1e-9 * cut;
   for (int i = 0; i < nlocal; ++i) {
     offset[i] = static_cast<int>(end);
     const int cx = coord(x[i], 0), cy = coord(x[i], 1), cz = coord(x[i], 2);
     const double ri = radius[i];
     const Vec3 xi = x[i];
     const tagint ki = bodies ? key(i) : 0;
+    // No partner of i is further than reach; a neighbouring bin no point of
+    // which is within reach is left out (when pruning). gap[d][0] and
+    // gap[d][1]: the squared distances from x_i to the bins below and above
+    // its own in direction d (lower bounds: less the margin; 0 outside the
+    // bins, and 0 when not pruning).
+    const double reach = (ri + rbin) * rf + sk, reach2 = reach * reach;
+    const int cell[3] = {cx, cy, cz};
+    double gap[3][2] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
+    for (int d = 0; d < 3 && prune; ++d) {
+      const double edge = lo[d] + cell[d] * binsize[d];
+      const double below = std::max(xi[d] - edge - margin, 0.0);
+      const double above = std::max(edge + binsize[d] - xi[d] - margin, 0.0);
+      gap[d][0] = below * below;
+      gap[d][1] = above * above;
+    }
+    auto gap2 = [&](int d, int delta) { return delta == 0 ? 0.0 : gap[d][delta > 0]; };
     // the candidates k of [kbeg, kend) within the cutoff (and of another body)
     auto scan = [&](int kbeg, int kend) __attribute__((always_inline)) {
       if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
@@ -344,11 +373,16 @@ void Neighbor::build() {
     for (int dz = -1; dz <= 1; ++dz) {
       const int z = cz + dz;
       if (z < 0 || z >= nbin[2]) continue;
+      const double gz = gap2(2, dz);
+      if (gz > reach2) continue;
       for (int dy = -1; dy <= 1; ++dy) {
         const int y = cy + dy;
         if (y < 0 || y >= nbin[1]) continue;
+        const double gyz = gz + gap2(1, dy);
+        if (gyz > reach2) continue;
         const int row = (z * nbin[1] + y) * nbin[0];
-        const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, nbin[0] - 1);
+        const int x0 = std::max(gyz + gap[0][0] <= reach2 ? cx - 1 : cx, 0);
+        const int x1 = std::min(gyz + gap[0][1] <= reach2 ? cx + 1 : cx, nbin[0] - 1);
         // Each pair once: only partners of higher index (every ghost's index
         // is above every owned one). A bin holds its particles in ascending
         // index order, so its partners are a tail of it, which starts at or

@@ -84,6 +84,9 @@ class Neighbor {
   void watch(double limit2) { watch_limit2_ = limit2; }
   std::int64_t watch_epoch() const { return watch_epoch_; }
   bool watch_checked() const { return watch_checked_; }
+  /// Whether the last build left out the neighbouring bins beyond each
+  /// particle's reach (done where the build before found the bins crowded).
+  bool pruned_bins() const { return pruned_bins_; }
   /// Called after a step's forces: until the next decide(), nothing vouches
   /// for the positions (forces computed outside a step check for themselves).
   void watch_step_done() { watch_checked_ = false; }
@@ -111,6 +114,11 @@ class Neighbor {
   // body and unique otherwise (binkey_), so that pairs within a body are
   // left out as they are found
   std::vector<int> binstart_, binpart_, bin_of_, bincursor_;
+  // Whether the next build leaves out neighbouring bins beyond a particle's
+  // reach: set when the last build's occupied bins held more than
+  // kCrowdedBin particles each (the lists are the same either way).
+  bool prune_bins_ = false, pruned_bins_ = false;
+  static constexpr double kCrowdedBin = 4.0;
   std::vector<Vec3> binx_;
   std::vector<double> binr_;
   std::vector<std::int64_t> binkey_;  // (tagint)
