@@ -282,6 +282,47 @@ def load_partial(cdir, k):
     return state
 
 
+def renumber_own_state(work, k):
+    """A merge (merge_case) numbers another chain's cycles on from the case's last completed
+    cycle, also over the number of a cycle of the case's own chain that was stopped in its
+    discharge, or after the cycle whose restart file its next cycle starts from. The work folder
+    holds that chain's state only: its latest stopped cycle j < k (cycle_j with partial.json) or,
+    without one, its latest restart_j.restart (j < k - 1), become cycle k's (the partial cycle
+    continues as cycle k, the restart file starts cycle k), so that the chain goes on where it
+    stopped instead of filling a new silo. Nothing of the results changes. Returns a message, or
+    None when there was nothing to renumber."""
+    if k == 0 or load_partial(os.path.join(work, f"cycle_{k}"), k) is not None or \
+            os.path.exists(os.path.join(work, f"restart_{k - 1}.restart")):
+        return None
+    stopped = []
+    for name in os.listdir(work):
+        m = re.fullmatch(r"cycle_(\d+)", name)
+        if m and int(m.group(1)) < k and load_partial(os.path.join(work, name), int(m.group(1))) is not None:
+            stopped.append(int(m.group(1)))
+    if stopped:
+        j = max(stopped)
+        src, dst = os.path.join(work, f"cycle_{j}"), os.path.join(work, f"cycle_{k}")
+        if os.path.isdir(dst):
+            shutil.rmtree(dst)
+        os.rename(src, dst)
+        state = load_partial(dst, j)
+        state["cycle"] = k
+        state["renumbered_from"] = j
+        write_atomic(os.path.join(dst, "partial.json"), json.dumps(state, indent=1) + "\n")
+        before = os.path.join(work, f"restart_{j - 1}.restart")
+        if os.path.exists(before):
+            os.replace(before, os.path.join(work, f"restart_{k - 1}.restart"))
+        return f"the chain's cycle {j}, stopped in its discharge, was numbered over by a merge; it continues " \
+               f"as cycle {k}"
+    done = [int(m.group(1)) for m in (re.fullmatch(r"restart_(\d+)\.restart", n) for n in os.listdir(work))
+            if m and int(m.group(1)) < k - 1]
+    if not done:
+        return None
+    j = max(done)
+    os.replace(os.path.join(work, f"restart_{j}.restart"), os.path.join(work, f"restart_{k - 1}.restart"))
+    return f"the chain's last cycle is {j} (a merge numbered other cycles after it); cycle {k} continues from it"
+
+
 def private_script(folder):
     """A copy of in.cycle in `folder` for one run to read. granary reads its input script as it
     goes (as LAMMPS does), and `jump` reads it again: an in.cycle edited in the source tree while a
@@ -449,6 +490,9 @@ def run_case(a, case, variables):
         if deadline_passed(a):
             messages.append(f"{case}: STOPPED at the deadline with {n} non-empty avalanches in {k} cycles")
             break
+        moved = renumber_own_state(work, k)
+        if moved:
+            print(f"  {case} cycle {k}: {moved}", flush=True)
         fresh = k == 0 or not os.path.exists(os.path.join(work, f"restart_{k - 1}.restart"))
         if fresh and k > 0 and load_partial(os.path.join(work, f"cycle_{k}"), k) is None:
             # the chain's restart file stayed on another machine (it is not part of the results):

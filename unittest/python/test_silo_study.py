@@ -229,6 +229,54 @@ class SiloStudyDriver(unittest.TestCase):
         _, _, av = st.read_rows(os.path.join(case, "avalanches.csv"))
         self.assertTrue(any(int(r[0]) == n for r in av))
 
+    def test_the_chain_goes_on_after_a_merge_numbered_cycles_after_it(self):
+        # another chain's cycles merged after this chain's last one: this chain's next cycle
+        # continues from its own restart file (renumbered), it does not fill a new silo
+        self.assertEqual(self.ref_rc, 0, self.ref_out)
+        base = os.path.join(self.tmp, "goes_on")
+        data, work = os.path.join(base, "data"), os.path.join(base, "work")
+        shutil.copytree(os.path.join(self.ref, "data", CASES[0]), os.path.join(data, CASES[0]))
+        shutil.copytree(os.path.join(self.ref, "work", CASES[0]), os.path.join(work, CASES[0]))
+        case = os.path.join(data, CASES[0])
+        n = len(st.read_rows(os.path.join(case, "cycles.csv"))[2])
+        self.assertTrue(os.path.exists(os.path.join(work, CASES[0], f"restart_{n - 1}.restart")))
+        other = os.path.join(base, "other", CASES[0])  # "another chain": the same rows under another seed
+        shutil.copytree(case, other)
+        info = st.json.load(open(os.path.join(other, "case.json")))
+        info["variables"] = dict(info.get("variables", {}), seed="17485869")
+        st.write_atomic(os.path.join(other, "case.json"), st.json.dumps(info))
+        self.assertIn("merged as", st.merge_case(other, case))
+        m = len(st.read_rows(os.path.join(case, "cycles.csv"))[2])
+        self.assertEqual(m, 2 * n)
+        cmd = driver(data, work)
+        cmd[cmd.index("--max-cycles") + 1] = str(m + 1)
+        cmd[cmd.index("--min-avalanches") + 1] = "1000"
+        cmd = cmd[:cmd.index("--case")] + ["--case", CASES[0]] + cmd[cmd.index("--case") + 4:]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn(f"cycle {m}: the chain's last cycle is {n - 1}", r.stdout)
+        self.assertNotIn("fills a new silo", r.stdout)
+        _, h, rows = st.read_rows(os.path.join(case, "cycles.csv"))
+        self.assertEqual(len(rows), m + 1)
+        self.assertEqual(rows[-1][h.index("new_fill")], "0")
+
+    def test_a_stopped_cycle_numbered_over_by_a_merge_continues_as_the_next(self):
+        work = os.path.join(self.tmp, "renumber")
+        os.makedirs(os.path.join(work, "cycle_22"))
+        for name, text in (("cycle_22/stop.restart", "state"), ("restart_21.restart", "start of 22"),
+                           ("cycle_22/partial.json", st.json.dumps({"cycle": 22, "fresh": False, "n0": 9000,
+                                                                    "parts": [], "restart": "stop.restart"}))):
+            with open(os.path.join(work, name), "w") as f:
+                f.write(text)
+        self.assertIsNone(st.renumber_own_state(work, 22))  # its own number: nothing to do
+        msg = st.renumber_own_state(work, 25)
+        self.assertIn("cycle 22, stopped in its discharge", msg)
+        self.assertEqual(sorted(os.listdir(work)), ["cycle_25", "restart_24.restart"])
+        state = st.load_partial(os.path.join(work, "cycle_25"), 25)
+        self.assertEqual((state["n0"], state["renumbered_from"], state["fresh"]), (9000, 22, False))
+        self.assertEqual(read(os.path.join(work, "cycle_25", "stop.restart")), "state")
+        self.assertIsNone(st.renumber_own_state(work, 25))  # done once
+
     def test_other_variables_are_refused(self):
         self.assertEqual(self.ref_rc, 0, self.ref_out)
         data = os.path.join(self.ref, "data")
