@@ -282,23 +282,33 @@ def load_partial(cdir, k):
     return state
 
 
-def renumber_own_state(work, k):
+def renumber_own_state(work, data, k):
     """A merge (merge_case) numbers another chain's cycles on from the case's last completed
     cycle, also over the number of a cycle of the case's own chain that was stopped in its
     discharge, or after the cycle whose restart file its next cycle starts from. The work folder
     holds that chain's state only: its latest stopped cycle j < k (cycle_j with partial.json) or,
     without one, its latest restart_j.restart (j < k - 1), become cycle k's (the partial cycle
     continues as cycle k, the restart file starts cycle k), so that the chain goes on where it
-    stopped instead of filling a new silo. Nothing of the results changes. Returns a message, or
-    None when there was nothing to renumber."""
+    stopped instead of filling a new silo; only when every cycle from j (from j + 1 after a
+    restart file) to k - 1 is a merged one (the '# merged:' lines of data's cycles.csv), so that
+    nothing of the chain's own completed cycles runs again (a hand-over cut between the
+    cycles.csv line and the restart file leaves such files behind: that chain fills a new
+    silo). Nothing of the results changes. Returns a message, or None when there was nothing to
+    renumber."""
     if k == 0 or load_partial(os.path.join(work, f"cycle_{k}"), k) is not None or \
             os.path.exists(os.path.join(work, f"restart_{k - 1}.restart")):
         return None
+    merged = set()
+    for c in read_rows(os.path.join(data, "cycles.csv"))[0]:
+        mm = MERGED.match(c)
+        if mm:
+            merged.update(range(int(mm.group(4)), int(mm.group(5)) + 1))
     stopped = []
     for name in os.listdir(work):
         m = re.fullmatch(r"cycle_(\d+)", name)
-        if m and int(m.group(1)) < k and load_partial(os.path.join(work, name), int(m.group(1))) is not None:
-            stopped.append(int(m.group(1)))
+        j = int(m.group(1)) if m else k
+        if j < k and load_partial(os.path.join(work, name), j) is not None and merged >= set(range(j, k)):
+            stopped.append(j)
     if stopped:
         j = max(stopped)
         src, dst = os.path.join(work, f"cycle_{j}"), os.path.join(work, f"cycle_{k}")
@@ -315,7 +325,7 @@ def renumber_own_state(work, k):
         return f"the chain's cycle {j}, stopped in its discharge, was numbered over by a merge; it continues " \
                f"as cycle {k}"
     done = [int(m.group(1)) for m in (re.fullmatch(r"restart_(\d+)\.restart", n) for n in os.listdir(work))
-            if m and int(m.group(1)) < k - 1]
+            if m and int(m.group(1)) < k - 1 and merged >= set(range(int(m.group(1)) + 1, k))]
     if not done:
         return None
     j = max(done)
@@ -490,7 +500,7 @@ def run_case(a, case, variables):
         if deadline_passed(a):
             messages.append(f"{case}: STOPPED at the deadline with {n} non-empty avalanches in {k} cycles")
             break
-        moved = renumber_own_state(work, k)
+        moved = renumber_own_state(work, data, k)
         if moved:
             print(f"  {case} cycle {k}: {moved}", flush=True)
         fresh = k == 0 or not os.path.exists(os.path.join(work, f"restart_{k - 1}.restart"))

@@ -268,14 +268,25 @@ class SiloStudyDriver(unittest.TestCase):
                                                                     "parts": [], "restart": "stop.restart"}))):
             with open(os.path.join(work, name), "w") as f:
                 f.write(text)
-        self.assertIsNone(st.renumber_own_state(work, 22))  # its own number: nothing to do
-        msg = st.renumber_own_state(work, 25)
+        data = os.path.join(self.tmp, "renumber_data")
+        os.makedirs(data)
+        rows = [[str(c), "0"] for c in range(25)]
+        st.write_rows(os.path.join(data, "cycles.csv"), ["# cycles"], ["cycle", "new_fill"], rows)
+        self.assertIsNone(st.renumber_own_state(work, data, 22))  # its own number: nothing to do
+        # cycles 22-24 are not merged ones (a hand-over cut after the cycles.csv line): left alone,
+        # the chain fills a new silo rather than run completed cycles again
+        self.assertIsNone(st.renumber_own_state(work, data, 25))
+        self.assertEqual(sorted(os.listdir(work)), ["cycle_22", "restart_21.restart"])
+        st.write_rows(os.path.join(data, "cycles.csv"),
+                      ["# cycles", "# merged: chain seed 16485866, its cycles 3-5 as cycles 22-24 (new_fill 0)"],
+                      ["cycle", "new_fill"], rows)
+        msg = st.renumber_own_state(work, data, 25)
         self.assertIn("cycle 22, stopped in its discharge", msg)
         self.assertEqual(sorted(os.listdir(work)), ["cycle_25", "restart_24.restart"])
         state = st.load_partial(os.path.join(work, "cycle_25"), 25)
         self.assertEqual((state["n0"], state["renumbered_from"], state["fresh"]), (9000, 22, False))
         self.assertEqual(read(os.path.join(work, "cycle_25", "stop.restart")), "state")
-        self.assertIsNone(st.renumber_own_state(work, 25))  # done once
+        self.assertIsNone(st.renumber_own_state(work, data, 25))  # done once
 
     def test_other_variables_are_refused(self):
         self.assertEqual(self.ref_rc, 0, self.ref_out)
