@@ -147,6 +147,36 @@ class RealRun(unittest.TestCase):
         self.assertAlmostEqual(sum(split.values()), row["loop_s"], delta=0.02 * row["loop_s"] + 1e-3)
         self.assertIn("time split", r.stdout)
 
+    def test_scaling_script_measures_each_rank_count_and_reuses_the_bed(self):
+        # tools/scaling.sh at a tiny size: a bed of about 13,000 particles, 1 and 2 ranks
+        script = os.path.join(TOOLS, "scaling.sh")
+        with tempfile.TemporaryDirectory() as tmp:
+            cmd = ["bash", script, "--ranks", "2,1", "--vf", "0.02", "--settle", "50", "--nsteps", "50",
+                   "--balance", "4", "--granary", os.environ["GRANARY_BINARY"], "--out", tmp]
+            r = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            self.assertIn("granary_insert:", r.stdout)
+            with open(os.path.join(tmp, "granary.json")) as f:
+                rows = json.load(f)["results"]
+            self.assertEqual(sorted(row["ranks"] for row in rows), [1, 2])
+            for row in rows:
+                self.assertGreater(row["particles"], 10000)
+                self.assertEqual(row["steps"], 50)
+                self.assertIn("multisphere", row["fix_split_s"])
+            with open(os.path.join(tmp, "granary_balance.json")) as f:
+                rows = json.load(f)["results"]
+            self.assertEqual([row["ranks"] for row in rows], [2])
+            # a second call starts from the settled bed of the first
+            r = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            self.assertNotIn("granary_insert:", r.stdout)
+            self.assertNotIn("granary_settle:", r.stdout)
+            self.assertIn("granary_discharge:", r.stdout)
+            # an unknown option: a clear error, exit status 2
+            r = subprocess.run(["bash", script, "--rank", "4"], capture_output=True, text=True, cwd=ROOT)
+            self.assertEqual(r.returncode, 2)
+            self.assertIn("unknown option '--rank'", r.stderr)
+
     @unittest.skipUnless(shutil.which("liggghts"), "liggghts not on PATH")
     def test_repeated_runs_take_turns_and_keep_the_fastest(self):
         with tempfile.TemporaryDirectory() as tmp:
