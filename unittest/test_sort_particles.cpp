@@ -122,8 +122,8 @@ TEST_CASE("atom_modify sort: sub-spheres body by body, then free spheres, each p
 
 TEST_CASE("atom_modify sort: the pour with and without sorting agrees to round-off", "[sort]") {
   // Sorting only changes the order in which the contact forces on a particle
-  // are added; over 1500 steps (15 sorts; the spheres land on the floor and
-  // on each other) the paths differ by round-off grown by the collisions:
+  // are added; over 1500 steps (15 sorts; the lowest particles reach the floor,
+  // falling ones collide) the paths differ by round-off grown by the collisions:
   // 2.4e-12 m and 1.3e-8 m/s at most, checked against 1e-9 m and 1e-6 m/s. A
   // sort that broke the particles' records (a body's sub-spheres, the
   // contact history) would move them by their size.
