@@ -198,16 +198,14 @@ void Neighbor::sort_particles(std::int64_t step) {
   // The sub-spheres of a clump stay together, in id order, in the bin of the
   // first of them in the current order: fix multisphere places them and sums
   // their forces body by body, reading each body's state once.
-  std::unordered_map<tagint, std::int64_t> body_key;
-  for (int i = 0; i < n; ++i)
-    if (p.body[i] >= 0) key[i] = body_key.emplace(p.body[i], key[i]).first->second;
   // Free spheres after all sub-spheres, each part in bin order: the fixes that
   // integrate only one kind (nve/sphere the free spheres, multisphere the
   // sub-spheres) then stream through their own particles instead of picking
   // them out of lines shared with the other kind.
   const std::int64_t nbins = static_cast<std::int64_t>(nb[0]) * nb[1] * nb[2];
+  std::unordered_map<tagint, std::int64_t> body_key;
   for (int i = 0; i < n; ++i)
-    if (p.body[i] < 0) key[i] += nbins;
+    key[i] = p.body[i] >= 0 ? body_key.emplace(p.body[i], key[i]).first->second : key[i] + nbins;
   std::vector<int> order(n);
   for (int i = 0; i < n; ++i)
     order[i] = i;
