@@ -484,6 +484,8 @@ def run_case(a, case, variables):
             return f"{case}: REFUSED: its results were made with other variables {old.get('variables')}; " \
                    f"use another --data folder"
         info["granary_versions"] = sorted(set(old.get("granary_versions", [old.get("granary")]) + [info["granary"]]))
+        if "merged_chains" in old:  # the record of the merges (cycles.csv's '# merged:' lines decide)
+            info["merged_chains"] = old["merged_chains"]
     else:
         info["granary_versions"] = [info["granary"]]
     write_atomic(case_json, json.dumps(info, indent=1) + "\n")

@@ -256,6 +256,9 @@ class SiloStudyDriver(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         self.assertIn(f"cycle {m}: the chain's last cycle is {n - 1}", r.stdout)
         self.assertNotIn("fills a new silo", r.stdout)
+        # the run rewrote case.json and kept the record of the merge
+        info = st.json.load(open(os.path.join(case, "case.json")))
+        self.assertEqual(info["merged_chains"]["17485869"]["cycles"], n)
         _, h, rows = st.read_rows(os.path.join(case, "cycles.csv"))
         self.assertEqual(len(rows), m + 1)
         self.assertEqual(rows[-1][h.index("new_fill")], "0")
