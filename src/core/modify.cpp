@@ -212,7 +212,7 @@ void Modify::end_of_step(std::int64_t step) {
 }
 bool Modify::end_of_step_due(std::int64_t step) const {
   for (const Fix* f : end_of_step_)
-    if (step % f->nevery == 0) return true;
+    if (f->end_of_step_due(step)) return true;
   return false;
 }
 

@@ -5,6 +5,7 @@
 // order of one timestep is written down in doc/architecture.md.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,13 @@ class Fix {
   virtual void pack_restart(std::string& /*out*/) const {}
   virtual void unpack_restart(const std::string& /*in*/) {}
   bool restart_global = false;  // set by fixes that implement the two above
+
+  /// Whether end_of_step() at this step reads the state (collective answer,
+  /// the same on every rank): by default every nevery steps; a fix that
+  /// keeps its own sampling steps (ave/time, ave/atom, ...) names those. A
+  /// step that no fix, output or run end reads may leave work for the next
+  /// one (Update::step_observed).
+  virtual bool end_of_step_due(std::int64_t step) const { return step % nevery == 0; }
 
   std::string id, style;
   /// Other IDs f_ID finds this fix by (LIGGGHTS' names of per-atom

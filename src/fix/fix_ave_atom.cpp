@@ -54,6 +54,7 @@ class FixAveAtom : public Fix {
   }
 
   unsigned hooks() const override { return END_OF_STEP; }
+  bool end_of_step_due(std::int64_t step) const override { return schedule_.due(step); }
 
   void init() override {
     const std::string what = "fix " + id + " (ave/atom)";

@@ -134,6 +134,7 @@ class FixAveCorrelate : public Fix {
   }
 
   unsigned hooks() const override { return END_OF_STEP; }
+  bool end_of_step_due(std::int64_t step) const override { return step == next_; }
 
   void init() override {
     for (const SampledValue& v : values_)

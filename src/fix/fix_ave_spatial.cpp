@@ -184,6 +184,7 @@ class FixAveSpatial : public Fix {
   }
 
   unsigned hooks() const override { return END_OF_STEP; }
+  bool end_of_step_due(std::int64_t step) const override { return schedule_.due(step); }
 
   void init() override {
     for (const Value& v : values_)

@@ -163,6 +163,7 @@ class FixAveTime : public Fix {
   }
 
   unsigned hooks() const override { return END_OF_STEP; }
+  bool end_of_step_due(std::int64_t step) const override { return schedule_.due(step); }
 
   void init() override {
     for (const SampledValue& v : values_) {

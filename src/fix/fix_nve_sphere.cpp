@@ -9,6 +9,7 @@
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/logger.h"
+#include "core/modify.h"
 #include "core/registry.h"
 #include "core/update.h"
 #include "fix/fix.h"
@@ -24,6 +25,26 @@ class FixNveSphere : public Fix {
     time_integrate = true;
   }
   unsigned hooks() const override { return INITIAL_INTEGRATE | FINAL_INTEGRATE; }
+
+  // The second half kick may wait for the next step's first one (the same
+  // forces: none are computed in between) when nothing reads the velocities
+  // in between (Update::step_observed) and no other fix acts in the
+  // integration hooks on particles (another integrator of the same spheres
+  // would see, or add to, velocities missing a kick); both kicks and the
+  // drift are then one pass over the particles, with the same operations in
+  // the same order.
+  void init() override {
+    if (pending_) {  // (a run left at an unobserved step: not in a normal run)
+      pending_ = false;
+      integrate<Pass::kSecond>(pending_dt_);
+    }
+    defer_ok_ = true;
+    for (const auto& f : engine_.modify->fixes) {
+      if (f.get() == this) continue;
+      if ((f->hooks() & (INITIAL_INTEGRATE | FINAL_INTEGRATE)) && !kicks_commute_with(f->style))
+        defer_ok_ = false;
+    }
+  }
 
   // Says once when the group holds spheres of clumps: they are left to fix
   // multisphere here, while LIGGGHTS 3.8 integrates them a second time.
@@ -41,22 +62,57 @@ class FixNveSphere : public Fix {
 
   // Operations in LIGGGHTS' order (dtf / m, then (dtf / 0.4) / (r^2 m)), so
   // that both programs round alike.
-  void initial_integrate() override { integrate<true>(); }
+  void initial_integrate() override {
+    const double dt = engine_.update->dt;
+    if (pending_) {
+      pending_ = false;
+      if (pending_dt_ == dt) {
+        integrate<Pass::kBoth>(dt);
+        return;
+      }
+      integrate<Pass::kSecond>(pending_dt_);
+    }
+    integrate<Pass::kFirst>(dt);
+  }
 
-  void final_integrate() override { integrate<false>(); }
+  void final_integrate() override {
+    if (defer_ok_ && !engine_.update->step_observed()) {
+      pending_ = true;
+      pending_dt_ = engine_.update->dt;
+      return;
+    }
+    integrate<Pass::kSecond>(engine_.update->dt);
+  }
 
  private:
   static constexpr double kInertia = 0.4;  // solid sphere: I = 2/5 m r^2
   bool noted_ = false;
+  bool defer_ok_ = false;    // init(): the second half kick may be deferred
+  bool pending_ = false;     // the last step's second half kick is still to be made
+  double pending_dt_ = 0.0;  // its timestep
+
+  // Fixes whose integration hooks leave the free spheres' velocities alone:
+  // the clumps' integrator, the mesh fixes and the heat conduction.
+  static bool kicks_commute_with(const std::string& style) {
+    return style == "multisphere" || style == "multisphere/break" || style == "move/mesh" ||
+           style == "mesh/surface/stress" || style == "mesh/surface/stress/servo" || style == "heat/gran" ||
+           style == "heat/gran/conduction";
+  }
+
+  // kFirst: kick and drift (start of a step); kSecond: kick (end of a step);
+  // kBoth: the deferred kick of the last step (of the same timestep), then
+  // this step's kick and drift.
+  enum class Pass { kFirst, kSecond, kBoth };
 
   // Half-step kick of v and omega (and, in the first half, the drift of x).
   // The two divisions per particle are made for two particles at once in the
   // lanes of packed operations (the same IEEE result per lane); the lanes of
   // particles outside the group or in clumps are computed and not used.
-  template <bool First>
-  void integrate() {
+  template <Pass kPass>
+  void integrate(double dt) {
+    constexpr bool First = kPass != Pass::kSecond;
+    constexpr int kKicks = kPass == Pass::kBoth ? 2 : 1;
     Particles& p = *engine_.particles;
-    const double dt = engine_.update->dt;
     const double dtf = 0.5 * dt;
     const double dtfrot = dtf / kInertia;
     Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
@@ -67,9 +123,11 @@ class FixNveSphere : public Fix {
     const int bit = groupbit, n = p.nlocal;
     auto update = [&](int i, double dtfm, double dtirotate) {
       if (!(mask[i] & bit) || body[i] >= 0) return;
-      v[i] += dtfm * f[i];
+      for (int k = 0; k < kKicks; ++k)
+        v[i] += dtfm * f[i];
       if constexpr (First) x[i] += dt * v[i];
-      omega[i] += dtirotate * torque[i];
+      for (int k = 0; k < kKicks; ++k)
+        omega[i] += dtirotate * torque[i];
     };
     // Two particles' 3-vectors are six consecutive doubles: three packed
     // operations with the factors (a, a), (a, b), (b, b).
@@ -94,9 +152,11 @@ class FixNveSphere : public Fix {
       const Eigen::Array2d dtirotate = dtfrot / (r * r * m);
       const bool both = free0 && free1;
       if (both) {
-        kick(v[i].data(), f[i].data(), dtfm[0], dtfm[1]);
+        for (int k = 0; k < kKicks; ++k)
+          kick(v[i].data(), f[i].data(), dtfm[0], dtfm[1]);
         if constexpr (First) kick(x[i].data(), v[i].data(), dt, dt);
-        kick(omega[i].data(), torque[i].data(), dtirotate[0], dtirotate[1]);
+        for (int k = 0; k < kKicks; ++k)
+          kick(omega[i].data(), torque[i].data(), dtirotate[0], dtirotate[1]);
       } else {
         update(i, dtfm[0], dtirotate[0]);
         update(i + 1, dtfm[1], dtirotate[1]);
