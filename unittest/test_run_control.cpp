@@ -310,6 +310,23 @@ long long builds(Sim& s, const std::string& modify, int steps) {
 }
 }  // namespace
 
+// The end-of-run report counts the builds of that run (its set-up included),
+// as LAMMPS and LIGGGHTS do, not those since the start.
+TEST_CASE("the run report counts the list builds of its own run", "[run][neighbor]") {
+  Sim s;
+  one_bead(s, 0.0);
+  s.cmd("atom_modify sort 0 0.0");
+  s.cmd("neigh_modify every 10 delay 0 check no");
+  LogFile log("builds");
+  s.cmd("log " + log.path);
+  s.cmd("run 100");
+  s.cmd("run 50");
+  const auto rows = lines_starting(log.close_and_read(s), "Neighbor list builds");
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0] == "Neighbor list builds = 11");  // set-up, steps 10, 20, ..., 100
+  CHECK(rows[1] == "Neighbor list builds = 6");   // set-up, steps 110, ..., 150
+}
+
 // A build happens when at least `delay` steps have passed since the last one,
 // the step count since then is a multiple of `every`, and (check yes) some
 // particle has moved more than half the skin. Spatial sorting is switched off

@@ -16,8 +16,9 @@
 //
 // D2 uses the GCC/Clang vector extensions; elsewhere than x86-64 the compiler
 // splits the operations. Apart from sqrt, any and all, the two-lane code is
-// written for any width; four lanes (AVX2) were measured no faster on the
-// benchmarks (doc/performance.md).
+// written for any width; four lanes (AVX2) gave the same bits but at most
+// 4.5 % less pair time on the benchmarks (doc/performance.md), too little for
+// a second build of the kernels chosen at run time.
 #pragma once
 
 #include <cmath>

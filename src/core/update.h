@@ -90,9 +90,10 @@ class Update {
   Engine& engine_;
   TimestepGuard timestep_guard_{engine_};
   bool bounds_set_ = false;
-  bool loss_explained_ = false;   // this run's lost particles were explained (thermo_modify lost ignore)
-  std::string stop_restart_;      // restart file written when a signal stopped the run
-  std::int64_t command_end_ = 0;  // last step of the current run command
+  bool loss_explained_ = false;     // this run's lost particles were explained (thermo_modify lost ignore)
+  std::string stop_restart_;        // restart file written when a signal stopped the run
+  std::int64_t command_end_ = 0;    // last step of the current run command
+  std::int64_t builds_before_ = 0;  // Neighbor::nbuilds when the current run began
 };
 
 }  // namespace granary

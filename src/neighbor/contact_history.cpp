@@ -22,14 +22,15 @@ void ContactHistory::reset(std::size_t n) {
   free_.clear();
 }
 
-void ContactHistory::clear_store() {
+void ContactHistory::clear_store() const {
   rows_.clear();
   partner_.clear();
   vals_.clear();
   row_of_.clear();
+  in_place_ = false;
 }
 
-void ContactHistory::add_row(tagint tag, int count, const tagint* partners, const double* vals) {
+void ContactHistory::add_row(tagint tag, int count, const tagint* partners, const double* vals) const {
   const int start = static_cast<int>(partner_.size());
   partner_.insert(partner_.end(), partners, partners + count);
   vals_.insert(vals_.end(), vals, vals + static_cast<std::size_t>(count) * nvalues_);
@@ -38,23 +39,53 @@ void ContactHistory::add_row(tagint tag, int count, const tagint* partners, cons
 }
 
 const ContactHistory::Row* ContactHistory::find_row(tagint tag) const {
+  make_store();
   auto it = row_of_.find(tag);
   return it == row_of_.end() ? nullptr : &rows_[it->second];
 }
 
-// Two passes over the list: count each owned particle's touched contacts (as
-// first particle, and as second when that one is owned too), then write them.
-void ContactHistory::save(const Neighbor& list, const Particles& p) {
+void ContactHistory::save(const Neighbor& list, const Particles& p, bool in_place) {
   clear_store();
   if (nvalues_ == 0 || list.offset.empty()) return;
-  const int nlocal = p.nlocal;
+  if (in_place && in_place_allowed && p.size() == p.nlocal &&
+      list.offset.size() == static_cast<std::size_t>(p.nlocal) + 1) {
+    // set the list-aligned state aside (the pool as it is, free slots included)
+    saved_offset_.assign(list.offset.begin(), list.offset.begin() + p.nlocal + 1);
+    saved_neigh_.assign(list.neigh.begin(), list.neigh.end());
+    saved_id_.assign(p.id.begin(), p.id.begin() + p.nlocal);
+    saved_slot_.swap(slot_);
+    saved_pool_.swap(pool_);
+    slot_.clear();
+    pool_.clear();
+    free_.clear();
+    in_place_ = true;
+    return;
+  }
   const std::size_t nlist = std::min(slot_.size(), list.neigh.size());
+  build_store(p.nlocal, list.offset.data(), list.neigh.data(), p.id.data(), slot_.data(), nlist,
+              pool_.data());
+}
+
+void ContactHistory::make_store() const {
+  if (!in_place_) return;
+  in_place_ = false;
+  const int nlocal = static_cast<int>(saved_id_.size());
+  const std::size_t nslot = std::min(saved_slot_.size(), saved_neigh_.size());
+  build_store(nlocal, saved_offset_.data(), saved_neigh_.data(), saved_id_.data(), saved_slot_.data(), nslot,
+              saved_pool_.data());
+}
+
+// Two passes over the list: count each owned particle's touched contacts (as
+// first particle, and as second when that one is owned too), then write them.
+void ContactHistory::build_store(int nlocal, const int* offset, const int* neigh, const tagint* id,
+                                 const std::int32_t* slot, std::size_t nslot, const double* pool) const {
+  auto values_of = [&](int k) { return pool + static_cast<std::size_t>(slot[k]) * nvalues_; };
   std::vector<int> count(nlocal, 0);
   for (int i = 0; i < nlocal; ++i) {
-    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= nlist || slot_[k] == kNone) continue;
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      if (static_cast<std::size_t>(k) >= nslot || slot[k] == kNone) continue;
       ++count[i];
-      const int j = list.neigh[k];
+      const int j = neigh[k];
       if (j < nlocal) ++count[j];
     }
   }
@@ -67,16 +98,16 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
   row_of_.reserve(nlocal);
   std::vector<int> fill(start.begin(), start.end() - 1);
   for (int i = 0; i < nlocal; ++i) {
-    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= nlist || slot_[k] == kNone) continue;
-      const int j = list.neigh[k];
-      const double* h = find(k);
+    for (int k = offset[i]; k < offset[i + 1]; ++k) {
+      if (static_cast<std::size_t>(k) >= nslot || slot[k] == kNone) continue;
+      const int j = neigh[k];
+      const double* h = values_of(k);
       int e = fill[i]++;
-      partner_[e] = p.id[j];
+      partner_[e] = id[j];
       std::copy_n(h, nvalues_, &vals_[static_cast<std::size_t>(e) * nvalues_]);
       if (j < nlocal) {
         e = fill[j]++;
-        partner_[e] = p.id[i];
+        partner_[e] = id[i];
         double* out = &vals_[static_cast<std::size_t>(e) * nvalues_];
         for (int c = 0; c < nvalues_; ++c)
           out[c] = swap_signs_[c] * h[c];
@@ -85,8 +116,40 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
   }
   for (int i = 0; i < nlocal; ++i) {
     if (count[i] == 0) continue;
-    row_of_[p.id[i]] = static_cast<int>(rows_.size());
-    rows_.push_back({p.id[i], start[i], count[i]});
+    row_of_[id[i]] = static_cast<int>(rows_.size());
+    rows_.push_back({id[i], start[i], count[i]});
+  }
+}
+
+// The particles kept their indices since an in-place save and there are no
+// ghosts: a pair (i, j), i < j, is in i's row of both lists, and both rows
+// are in (id, index) order, so one walk along the two rows pairs each entry
+// of the new list with its entry of the old one. As restore() does, only
+// pairs that overlap now get their values (the same values, given slots in
+// the same list order).
+void ContactHistory::hand_over(const Neighbor& list, const Particles& p) {
+  reset(list.neigh.size());
+  in_place_ = false;
+  const Vec3* const x = p.x.data();
+  const double* const radius = p.radius.data();
+  const tagint* const id = p.id.data();
+  const int* const oneigh = saved_neigh_.data();
+  const std::size_t nslot = std::min(saved_slot_.size(), saved_neigh_.size());
+  for (int i = 0; i < p.nlocal; ++i) {
+    int ko = saved_offset_[i];
+    const int ke = saved_offset_[i + 1];
+    for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
+      const int j = list.neigh[k];
+      const double rsum = radius[i] + radius[j];
+      const double r2 = (x[i] - x[j]).squaredNorm();
+      if (!((r2 < rsum * rsum) & (r2 != 0.0))) continue;
+      const tagint idj = id[j];
+      while (ko < ke && (id[oneigh[ko]] < idj || (id[oneigh[ko]] == idj && oneigh[ko] < j)))
+        ++ko;
+      if (ko == ke) break;
+      if (oneigh[ko] != j || static_cast<std::size_t>(ko) >= nslot || saved_slot_[ko] == kNone) continue;
+      std::copy_n(&saved_pool_[static_cast<std::size_t>(saved_slot_[ko]) * nvalues_], nvalues_, values(k));
+    }
   }
 }
 
@@ -94,6 +157,14 @@ void ContactHistory::save(const Neighbor& list, const Particles& p) {
 // contacts stored only with the other one, e.g. with newton on after a
 // migration) in the second particle's row with the swap signs.
 void ContactHistory::restore(const Neighbor& list, const Particles& p) {
+  if (in_place_ && p.size() == p.nlocal && saved_id_.size() == static_cast<std::size_t>(p.nlocal) &&
+      std::equal(saved_id_.begin(), saved_id_.end(), p.id.begin())) {
+    hand_over(list, p);
+    clear_store();
+    ++hand_overs_;
+    return;
+  }
+  make_store();
   reset(list.neigh.size());
   auto lookup = [&](const Row* row, tagint partner) -> const double* {
     if (!row) return nullptr;
@@ -143,6 +214,7 @@ void ContactHistory::pack_particle(tagint tag, std::vector<double>& buf) const {
 }
 
 int ContactHistory::unpack_particle(tagint tag, const double* buf) {
+  make_store();
   const int count = static_cast<int>(buf[0]);
   int m = 1;
   if (count > 0) {
@@ -182,10 +254,12 @@ void ContactHistory::put_back() {
 }
 
 void ContactHistory::forget_particle(tagint tag) {
+  make_store();
   row_of_.erase(tag);
 }
 
 void ContactHistory::retain(const std::vector<long long>& sorted_ids, bool renumber) {
+  make_store();
   auto index = [&](tagint id) -> long long {
     auto it = std::lower_bound(sorted_ids.begin(), sorted_ids.end(), static_cast<long long>(id));
     return (it != sorted_ids.end() && *it == id) ? it - sorted_ids.begin() : -1;
@@ -223,6 +297,7 @@ void ContactHistory::retain(const std::vector<long long>& sorted_ids, bool renum
 // values seen from the smaller id). A contact stored in both of its rows is
 // written twice; the reader keeps one.
 void ContactHistory::pack_all(std::vector<double>& buf) const {
+  make_store();
   std::size_t count = 0;
   for (const auto& kv : row_of_)
     count += rows_[kv.second].count;
@@ -243,6 +318,8 @@ void ContactHistory::pack_all(std::vector<double>& buf) const {
 }
 
 void ContactHistory::adopt(const ContactHistory& pending) {
+  make_store();
+  pending.make_store();
   std::vector<double> vals;
   for (const Row& row : pending.rows_) {
     vals.assign(pending.vals_.begin() + static_cast<std::ptrdiff_t>(row.start) * nvalues_,
@@ -256,6 +333,7 @@ void ContactHistory::adopt(const ContactHistory& pending) {
 }
 
 void ContactHistory::unpack_all(const std::vector<double>& buf, const std::function<bool(tagint)>& keep) {
+  make_store();
   if (buf.size() < 2) return;
   const auto count = static_cast<std::size_t>(buf[0]);
   const int nv = static_cast<int>(buf[1]);

@@ -12,7 +12,11 @@
 // other particle get the swap signs applied. Saving and restoring are linear
 // passes over the list; restoring looks up only the pairs of spheres that
 // overlap (the granular pair loop clears the history of the others before
-// reading it).
+// reading it). On one rank without ghosts the list-aligned state is only set
+// aside at a rebuild, and when no particle changed its index (no spatial sort,
+// insertion or deletion since) each contact goes straight to its entry of the
+// new list: the two lists' rows are walked side by side. The store is made
+// from the set-aside state whenever it is needed.
 #pragma once
 
 #include <algorithm>
@@ -83,8 +87,18 @@ class ContactHistory {
   void hold();
   void put_back();
 
-  /// Save touched entries of the current list into the keyed store.
-  void save(const Neighbor& list, const Particles& particles);
+  /// Save touched entries of the current list into the keyed store. With
+  /// `in_place` (one rank, so that no particle migrates) and no ghosts, the
+  /// list-aligned state is only set aside: if the particles keep their
+  /// indices until restore() (no sort, insertion or deletion in between), each
+  /// contact is handed to its entry of the new list directly, row against row;
+  /// otherwise, and whenever the store is read before, the store is made from
+  /// it as without `in_place`.
+  void save(const Neighbor& list, const Particles& particles, bool in_place = false);
+  /// Whether save() may set the state aside in place (tests compare both ways).
+  bool in_place_allowed = true;
+  /// restore() calls that handed the contacts over in place.
+  std::int64_t hand_overs() const { return hand_overs_; }
   /// Size the aligned arrays to the new list and fill them from the store.
   void restore(const Neighbor& list, const Particles& particles);
 
@@ -106,7 +120,10 @@ class ContactHistory {
   /// values seen from its larger id get this history's swap signs.
   void adopt(const ContactHistory& pending);
   /// Number of stored (row, partner) entries; a contact between two owned particles counts twice.
-  std::size_t stored() const { return partner_.size(); }
+  std::size_t stored() const {
+    make_store();
+    return partner_.size();
+  }
 
  private:
   struct Row {
@@ -114,9 +131,18 @@ class ContactHistory {
     int start, count;  // entries [start, start + count) of partner_ / vals_
   };
   /// Append a row (entries copied) and index it by its particle id.
-  void add_row(tagint tag, int count, const tagint* partners, const double* vals);
+  void add_row(tagint tag, int count, const tagint* partners, const double* vals) const;
   const Row* find_row(tagint tag) const;
-  void clear_store();
+  void clear_store() const;
+  /// The keyed store from a list's touched entries: nlocal owned particles
+  /// (ids id[0 .. ), ghosts after them), entries offset[i] .. offset[i+1] with
+  /// partners neigh[k], slots slot[k] (nslot of them) into pool.
+  void build_store(int nlocal, const int* offset, const int* neigh, const tagint* id,
+                   const std::int32_t* slot, std::size_t nslot, const double* pool) const;
+  /// An in-place save made into the keyed store (nothing when there is none).
+  void make_store() const;
+  /// restore() when the particles kept their indices since an in-place save.
+  void hand_over(const Neighbor& list, const Particles& particles);
 
   int nvalues_ = 0;
   std::vector<std::int32_t> slot_;       // per list entry: kNone or the slot of its values in pool_
@@ -125,10 +151,18 @@ class ContactHistory {
   std::vector<std::size_t> held_entry_;  // hold() .. put_back(): the contacts' list entries, in list order
   std::vector<double> held_values_;      // and their values
   std::vector<double> swap_signs_;
-  std::vector<Row> rows_;
-  std::vector<tagint> partner_;
-  std::vector<double> vals_;  // nvalues_ per entry
-  std::unordered_map<tagint, int> row_of_;
+  // the keyed store; made on demand from an in-place save, hence mutable
+  mutable std::vector<Row> rows_;
+  mutable std::vector<tagint> partner_;
+  mutable std::vector<double> vals_;  // nvalues_ per entry
+  mutable std::unordered_map<tagint, int> row_of_;
+  // an in-place save: the list, the owned particles' ids, the slots and the pool
+  mutable bool in_place_ = false;
+  mutable std::vector<int> saved_offset_, saved_neigh_;
+  mutable std::vector<tagint> saved_id_;
+  mutable std::vector<std::int32_t> saved_slot_;
+  mutable std::vector<double> saved_pool_;
+  std::int64_t hand_overs_ = 0;
 };
 
 }  // namespace granary
