@@ -10,6 +10,16 @@
 
 namespace granary {
 
+namespace {
+/// Whether spheres i and j overlap now: the pair loop's test, whose history
+/// survives a rebuild (the pair loop clears the others' before reading any).
+inline bool overlapping(const Vec3* x, const double* radius, int i, int j) {
+  const double rsum = radius[i] + radius[j];
+  const double r2 = (x[i] - x[j]).squaredNorm();
+  return (r2 < rsum * rsum) & (r2 != 0.0);
+}
+}  // namespace
+
 void ContactHistory::configure(int nvalues, const std::vector<double>& swap_signs) {
   nvalues_ = nvalues;
   swap_signs_ = swap_signs;
@@ -50,7 +60,7 @@ void ContactHistory::save(const Neighbor& list, const Particles& p, bool in_plac
   if (in_place && in_place_allowed && p.size() == p.nlocal &&
       list.offset.size() == static_cast<std::size_t>(p.nlocal) + 1) {
     // set the list-aligned state aside (the pool as it is, free slots included)
-    saved_offset_.assign(list.offset.begin(), list.offset.begin() + p.nlocal + 1);
+    saved_offset_.assign(list.offset.begin(), list.offset.end());
     saved_neigh_.assign(list.neigh.begin(), list.neigh.end());
     saved_id_.assign(p.id.begin(), p.id.begin() + p.nlocal);
     saved_slot_.swap(slot_);
@@ -129,7 +139,7 @@ void ContactHistory::build_store(int nlocal, const int* offset, const int* neigh
 // the same list order).
 void ContactHistory::hand_over(const Neighbor& list, const Particles& p) {
   reset(list.neigh.size());
-  in_place_ = false;
+  ++hand_overs_;
   const Vec3* const x = p.x.data();
   const double* const radius = p.radius.data();
   const tagint* const id = p.id.data();
@@ -140,9 +150,7 @@ void ContactHistory::hand_over(const Neighbor& list, const Particles& p) {
     const int ke = saved_offset_[i + 1];
     for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
       const int j = list.neigh[k];
-      const double rsum = radius[i] + radius[j];
-      const double r2 = (x[i] - x[j]).squaredNorm();
-      if (!((r2 < rsum * rsum) & (r2 != 0.0))) continue;
+      if (!overlapping(x, radius, i, j)) continue;
       const tagint idj = id[j];
       while (ko < ke && (id[oneigh[ko]] < idj || (id[oneigh[ko]] == idj && oneigh[ko] < j)))
         ++ko;
@@ -160,8 +168,7 @@ void ContactHistory::restore(const Neighbor& list, const Particles& p) {
   if (in_place_ && p.size() == p.nlocal && saved_id_.size() == static_cast<std::size_t>(p.nlocal) &&
       std::equal(saved_id_.begin(), saved_id_.end(), p.id.begin())) {
     hand_over(list, p);
-    clear_store();
-    ++hand_overs_;
+    clear_store();  // (the set-aside state is spent)
     return;
   }
   make_store();
@@ -184,9 +191,7 @@ void ContactHistory::restore(const Neighbor& list, const Particles& p) {
       const Row* row = find_row(idi);
       for (int k = list.offset[i]; k < list.offset[i + 1]; ++k) {
         const int j = list.neigh[k];
-        const double rsum = radius[i] + radius[j];
-        const double r2 = (x[i] - x[j]).squaredNorm();
-        if (!((r2 < rsum * rsum) & (r2 != 0.0))) continue;
+        if (!overlapping(x, radius, i, j)) continue;
         const tagint idj = p.id[j];
         if (const double* v = lookup(row, idj)) {
           std::copy_n(v, nvalues_, values(k));
