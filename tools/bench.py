@@ -51,6 +51,13 @@ under "other"), on several ranks the load imbalance max/avg of Granary's
 compute sections, and for Granary the time of fix multisphere and of the wall
 fixes (wall/gran, mesh/surface) from its per-fix report.
 
+With --mpi-times (runs on more than one rank; Open MPI's mpirun and mpicc)
+each rank of each run also records the wall time it spends inside blocking
+MPI calls (tools/mpi_times.c, loaded with LD_PRELOAD: the transfers and the
+waits for the other ranks, in the whole run, set-up included); a third table
+gives per program and rank count the mean over the ranks and the slowest
+rank of the calls that took the most time, and their total.
+
 1-rank runs start the program directly, runs on more ranks go through mpirun
 (Open MPI: --allow-run-as-root is added when running as root and
 --oversubscribe when there are more ranks than cores).  Each run happens in
@@ -62,6 +69,7 @@ Exit status: 0 if every run succeeded, 1 if a run failed, 2 for usage errors
 """
 
 import argparse
+import atexit
 import datetime
 import json
 import os
@@ -393,7 +401,10 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
     for name, value in args.var:
         cmd += ["-var", name, value]
     if ranks > 1:
-        cmd = mpirun_prefix(args.mpirun_exe, ranks, shlex.split(args.mpirun_args)) + cmd
+        extra = shlex.split(args.mpirun_args)
+        if getattr(args, "mpi_times_lib", None):
+            extra = ["-x", "LD_PRELOAD=" + args.mpi_times_lib] + extra
+        cmd = mpirun_prefix(args.mpirun_exe, ranks, extra) + cmd
     load_before = loadavg()
     keep = None
     if outdir:
@@ -410,6 +421,9 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
         return row
     info = parse_output(text)
     row.update(info)
+    mpi = parse_mpi_times(text)
+    if mpi:
+        row["mpi_times"] = mpi
     row["wall_s"] = res["wall_s"]
     row["cpu_user_s"] = res["user_s"]
     row["cpu_sys_s"] = res["sys_s"]
@@ -498,6 +512,84 @@ def print_split(rows, out=sys.stdout):
     write_markdown(heads, lines, out)
 
 
+MPI_TIMES_RE = re.compile(r"^mpi_times rank (\d+):(.*)$")
+
+
+def build_mpi_times():
+    """Compile tools/mpi_times.c into a temporary folder (removed at exit);
+    returns (path of the library, None) or (None, the reason)."""
+    mpicc = shutil.which("mpicc")
+    if not mpicc:
+        return None, "mpicc not found (Debian: package libopenmpi-dev)"
+    out = tempfile.mkdtemp(prefix="bench_mpi_times_")
+    atexit.register(shutil.rmtree, out, True)
+    lib = os.path.join(out, "libmpi_times.so")
+    res = subprocess.run([mpicc, "-O2", "-shared", "-fPIC", os.path.join(ROOT, "tools", "mpi_times.c"), "-o", lib],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+    if res.returncode != 0:
+        return None, "mpicc failed:\n" + res.stdout
+    return lib, None
+
+
+def parse_mpi_times(text):
+    """The lines of tools/mpi_times.c: {"ranks": n, "calls": {name: count summed
+    over the ranks}, "mean_s": {name: mean over the ranks}, "max_s": {name:
+    slowest rank}, "total_mean_s", "total_max_s"}; None without such lines."""
+    per_rank = {}
+    for line in text.splitlines():
+        m = MPI_TIMES_RE.match(line.strip())
+        if not m:
+            continue
+        calls = {}
+        for item in m.group(2).split(";"):
+            parts = item.split()
+            if len(parts) == 3:
+                calls[parts[0]] = (int(parts[1]), float(parts[2]))
+        per_rank[int(m.group(1))] = calls
+    if not per_rank:
+        return None
+    n = len(per_rank)
+    names = sorted({k for c in per_rank.values() for k in c})
+    out = {"ranks": n, "calls": {}, "mean_s": {}, "max_s": {}}
+    for k in names:
+        secs = [c.get(k, (0, 0.0))[1] for c in per_rank.values()]
+        out["calls"][k] = sum(c.get(k, (0, 0.0))[0] for c in per_rank.values())
+        out["mean_s"][k] = sum(secs) / n
+        out["max_s"][k] = max(secs)
+    totals = [sum(s for _, s in c.values()) for c in per_rank.values()]
+    out["total_mean_s"] = sum(totals) / n
+    out["total_max_s"] = max(totals)
+    return out
+
+
+def print_mpi_times(rows, out=sys.stdout, ncalls=4):
+    """Per run: the calls that took the most time (mean over the ranks / slowest rank, s)."""
+    have = [r for r in rows if "error" not in r and r.get("mpi_times")]
+    if not have:
+        return
+    total = {}
+    for r in have:
+        for k, v in r["mpi_times"]["mean_s"].items():
+            total[k] = total.get(k, 0.0) + v
+    names = sorted(total, key=lambda k: -total[k])[:ncalls]
+    heads = (["program", "ranks", "loop s"] + ["MPI_%s s (calls)" % k for k in names] +
+             ["all MPI s", "all MPI / loop"])
+    lines = []
+    for r in have:
+        m = r["mpi_times"]
+        cells = [r["program"], str(r["ranks"]), fmt(r.get("loop_s"), ".2f")]
+        for k in names:
+            if k in m["mean_s"]:
+                cells.append("%.3f / %.3f (%d)" % (m["mean_s"][k], m["max_s"][k], m["calls"][k]))
+            else:
+                cells.append("-")
+        cells.append("%.3f / %.3f" % (m["total_mean_s"], m["total_max_s"]))
+        loop = r.get("loop_s")
+        cells.append(fmt(m["total_mean_s"] / loop if loop else None, ".3f"))
+        lines.append(cells)
+    write_markdown(heads, lines, out)
+
+
 def main(argv):
     if argv and argv[0] == "--_measure":
         return measure_main(argv[1:])
@@ -527,6 +619,9 @@ def main(argv):
     ap.add_argument("--timeout", type=float, default=None, help="time limit per run in seconds")
     ap.add_argument("--mpirun", default="mpirun", help="MPI launcher (default: mpirun on PATH)")
     ap.add_argument("--mpirun-args", default="", help="extra launcher arguments, e.g. '--bind-to none'")
+    ap.add_argument("--mpi-times", action="store_true",
+                    help="record each rank's time inside blocking MPI calls (runs on more than 1 rank; "
+                         "needs Open MPI's mpirun and mpicc; see tools/mpi_times.c)")
     ap.add_argument("--keep-output", metavar="DIR",
                     help="save each run's screen output in DIR as PROGRAM_npRANKS.out")
     args = ap.parse_args(argv)
@@ -566,6 +661,14 @@ def main(argv):
         if not args.mpirun_exe:
             sys.stderr.write("error: MPI launcher '%s' not found (needed for more than 1 rank); "
                              "pass --mpirun or use --ranks 1\n" % args.mpirun)
+            return 2
+    args.mpi_times_lib = None
+    if args.mpi_times:
+        if max(ranks_list) < 2:
+            ap.error("--mpi-times needs a rank count above 1 in --ranks")
+        args.mpi_times_lib, err = build_mpi_times()
+        if not args.mpi_times_lib:
+            sys.stderr.write("error: --mpi-times: %s\n" % err)
             return 2
     if args.keep_output:
         os.makedirs(args.keep_output, exist_ok=True)
@@ -646,6 +749,12 @@ def main(argv):
         print("walls = Granary's own per-fix times, the means over the ranks of fix multisphere and of the")
         print("wall/gran and mesh/surface fixes, in all their hooks, also those counted under neigh):")
         print_split(rows)
+    if any(r.get("mpi_times") for r in ok):
+        print()
+        print("time inside blocking MPI calls (tools/mpi_times.c; the whole run, set-up included; mean over")
+        print("the ranks / slowest rank, s; calls summed over the ranks; all MPI / loop = the mean's share of")
+        print("the loop time):")
+        print_mpi_times(rows)
 
     if args.json:
         doc = {

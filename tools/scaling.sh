@@ -14,6 +14,9 @@
 #    `-var balance B` (0: none);
 # 4. with --liggghts, the same for LIGGGHTS on the largest count and one rank
 #    (its own insertion and settling; LIGGGHTS must be on PATH).
+# With mpicc on PATH the discharges also record each rank's time inside
+# blocking MPI calls (tools/bench.py --mpi-times: the transfers and the
+# waits, per call, in a third table).
 # Everything goes to DIR (default scaling_out): the restart files, the
 # screen output of each step (NAME.screen: the bench.py tables are in
 # *_discharge.screen and granary_balance.screen), bench.py's JSON and the
@@ -68,6 +71,8 @@ step() {  # step NAME COMMAND...: run it in $out (screen output to NAME.screen),
   }
   echo "$name: $(( ($(date +%s%N) - t0) / 1000000 )) ms"
 }
+mpitimes=()
+[ "$nmax" -gt 1 ] && command -v mpicc > /dev/null && mpitimes=(--mpi-times)
 echo "scaling.sh: $(nproc) cores, ranks $ranks, vf $vf, settle $settle, nsteps $nsteps; output in $out"
 for prog in granary liggghts; do
   [ "$prog" = liggghts ] && [ "$liggghts" = 0 ] && continue
@@ -87,12 +92,13 @@ for prog in granary liggghts; do
   [ "$prog" = liggghts ] && r=$nmax,1
   step "${prog}_discharge" /usr/bin/python3 "$root/tools/bench.py" "$bench/in.bench_silo_large_run" --only "$prog" \
     --"$prog" "$exe" --ranks "$r" --nsteps "$nsteps" --var in "$out/$p.settled.restart" \
-    --mpirun-args "--bind-to core --map-by core" --json "$out/$prog.json" --keep-output "$out/${prog}_logs"
+    --mpirun-args "--bind-to core --map-by core" --json "$out/$prog.json" --keep-output "$out/${prog}_logs" \
+    "${mpitimes[@]}"
   if [ "$prog" = granary ] && [ "$balance" != 0 ]; then
     step granary_balance /usr/bin/python3 "$root/tools/bench.py" "$bench/in.bench_silo_large_run" \
       --only granary --granary "$exe" --ranks "$nmax" --nsteps "$nsteps" \
       --var in "$out/$p.settled.restart" --var balance "$balance" --mpirun-args "--bind-to core --map-by core" \
-      --json "$out/granary_balance.json" --keep-output "$out/granary_balance_logs"
+      --json "$out/granary_balance.json" --keep-output "$out/granary_balance_logs" "${mpitimes[@]}"
   fi
 done
 cat "$out"/*_discharge.screen "$out"/granary_balance.screen 2> /dev/null || true

@@ -463,6 +463,9 @@ void FixMultisphere::index_spheres() {
   slotted_.clear();
   for (int b : active_)
     if (!in_run[b]) slotted_.push_back(b);
+  slotted_spheres_.clear();
+  for (int i = 0; i < n; ++i)
+    if (pslot_[i] >= 0) slotted_spheres_.push_back(i);
 }
 
 Vec3 FixMultisphere::omega_from(int b) const {
@@ -675,13 +678,12 @@ void FixMultisphere::sum_forces() {
   // slots of sub-spheres owned elsewhere read zero
   for (int b : partial_)
     std::fill_n(part + 6 * static_cast<std::size_t>(slot_[b]), 6 * bodies_.nspheres[b], 0.0);
-  const int n = p.nlocal;
   const int* const pslot = pslot_.data();
   const Vec3* const poffset = poffset_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
-  for (int i = 0; i < n; ++i) {
-    if (pslot[i] < 0) continue;  // a free sphere, or summed along its body's run
+  // (free spheres and the sub-spheres summed along their body's run have no slot)
+  for (const int i : slotted_spheres_) {
     const Vec3 t = poffset[i].cross(f[i]) + torque[i];
     double* s = part + 6 * static_cast<std::size_t>(pslot[i]);
     for (int d = 0; d < 3; ++d) {

@@ -144,6 +144,7 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   // step (set by place_spheres(true), read by sum_forces and place_spheres(false)).
   // pslot_: the sub-sphere's slot in part_ (-1: summed along its body's run).
   std::vector<int> pbody_, psphere_, pslot_;
+  std::vector<int> slotted_spheres_;  // the owned particles with a slot (pslot_ >= 0), ascending
   std::vector<Vec3> poffset_;
   // Force and torque of each sub-sphere of the active bodies (6 doubles per
   // slot; body b's sub-sphere k in slot slot_[b] + k, set from one reindex()

@@ -125,8 +125,65 @@ class ParseReports(unittest.TestCase):
         self.assertEqual(cells[-3:], ["-", "-", "-"])
 
 
+# the lines of tools/mpi_times.c, between the program's own output
+MPI_TIMES = """Loop time of 2.5 on 2 procs for 1000 steps with 100 atoms
+mpi_times rank 1: Sendrecv 2000 0.300000; Allreduce 1010 0.100000; Waitall 1000 0.050000;
+mpi_times rank 0: Sendrecv 2000 0.200000; Allreduce 1010 0.150000;
+"""
+
+
+class MpiTimes(unittest.TestCase):
+    def test_lines_give_mean_and_slowest_rank_per_call(self):
+        m = bench.parse_mpi_times(MPI_TIMES)
+        self.assertEqual(m["ranks"], 2)
+        self.assertEqual(m["calls"], {"Sendrecv": 4000, "Allreduce": 2020, "Waitall": 1000})
+        self.assertAlmostEqual(m["mean_s"]["Sendrecv"], 0.25)
+        self.assertAlmostEqual(m["max_s"]["Allreduce"], 0.15)
+        self.assertAlmostEqual(m["mean_s"]["Waitall"], 0.025)  # rank 0 made none
+        self.assertAlmostEqual(m["total_mean_s"], (0.45 + 0.35) / 2)
+        self.assertAlmostEqual(m["total_max_s"], 0.45)
+        self.assertIsNone(bench.parse_mpi_times(GRANARY))
+
+    def test_table_lists_the_costliest_calls(self):
+        row = dict(program="granary", ranks=2, loop_s=2.5, mpi_times=bench.parse_mpi_times(MPI_TIMES))
+        out = io.StringIO()
+        bench.print_mpi_times([row], out, ncalls=2)
+        lines = out.getvalue().splitlines()
+        heads = [c.strip() for c in lines[0].strip("|").split("|")]
+        self.assertEqual(heads[3:5], ["MPI_Sendrecv s (calls)", "MPI_Allreduce s (calls)"])
+        cells = [c.strip() for c in lines[2].strip("|").split("|")]
+        self.assertEqual(cells[3], "0.250 / 0.300 (4000)")
+        self.assertEqual(cells[-2:], ["0.400 / 0.450", "%.3f" % (0.4 / 2.5)])
+
+
 @unittest.skipUnless(os.path.exists(os.environ.get("GRANARY_BINARY", "")), "GRANARY_BINARY not set")
 class RealRun(unittest.TestCase):
+    @unittest.skipUnless(shutil.which("mpicc") and shutil.which("mpirun"), "mpicc or mpirun not on PATH")
+    def test_mpi_times_are_recorded_per_rank(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "bench.json")
+            r = subprocess.run([sys.executable, os.path.join(TOOLS, "bench.py"), "--only", "granary", "--ranks",
+                                "2", "--nsteps", "50", "--granary", os.environ["GRANARY_BINARY"], "--json", out,
+                                "--mpi-times"], capture_output=True, text=True, cwd=ROOT)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with open(out) as f:
+                row = json.load(f)["results"][0]
+        m = row["mpi_times"]
+        self.assertEqual(m["ranks"], 2)
+        # every step each rank takes part in the rebuild decision (one MPI_Allreduce)
+        # and receives its ghosts' positions
+        self.assertGreaterEqual(m["calls"]["Allreduce"], 2 * 50)
+        self.assertGreaterEqual(m["calls"]["Sendrecv"], 2 * 50)
+        self.assertGreater(m["total_mean_s"], 0.0)
+        self.assertLess(m["total_max_s"], row["wall_s"])
+        self.assertIn("time inside blocking MPI calls", r.stdout)
+        # --mpi-times on one rank only: a usage error
+        r = subprocess.run([sys.executable, os.path.join(TOOLS, "bench.py"), "--only", "granary", "--ranks", "1",
+                            "--granary", os.environ["GRANARY_BINARY"], "--mpi-times"],
+                           capture_output=True, text=True, cwd=ROOT)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("--mpi-times needs a rank count above 1", r.stderr)
+
     def test_granary_run_is_measured_and_split(self):
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "bench.json")
@@ -163,6 +220,8 @@ class RealRun(unittest.TestCase):
                 self.assertGreater(row["particles"], 10000)
                 self.assertEqual(row["steps"], 50)
                 self.assertIn("multisphere", row["fix_split_s"])
+                # with mpicc, each rank's time in MPI on more than one rank
+                self.assertEqual("mpi_times" in row, bool(shutil.which("mpicc")) and row["ranks"] > 1)
             with open(os.path.join(tmp, "granary_balance.json")) as f:
                 rows = json.load(f)["results"]
             self.assertEqual([row["ranks"] for row in rows], [2])
