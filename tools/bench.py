@@ -666,6 +666,15 @@ def main(argv):
     if args.mpi_times:
         if max(ranks_list) < 2:
             ap.error("--mpi-times needs a rank count above 1 in --ranks")
+        try:
+            ver = subprocess.run([args.mpirun_exe, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                 universal_newlines=True, timeout=30).stdout
+        except (OSError, subprocess.SubprocessError):
+            ver = ""
+        if "Open MPI" not in ver and "OpenRTE" not in ver:
+            sys.stderr.write("error: --mpi-times passes the library with Open MPI's 'mpirun -x'; "
+                             "'%s' is not Open MPI's\n" % args.mpirun_exe)
+            return 2
         args.mpi_times_lib, err = build_mpi_times()
         if not args.mpi_times_lib:
             sys.stderr.write("error: --mpi-times: %s\n" % err)

@@ -183,6 +183,12 @@ class RealRun(unittest.TestCase):
                            capture_output=True, text=True, cwd=ROOT)
         self.assertEqual(r.returncode, 2)
         self.assertIn("--mpi-times needs a rank count above 1", r.stderr)
+        # a launcher that is not Open MPI's: refused before any run
+        r = subprocess.run([sys.executable, os.path.join(TOOLS, "bench.py"), "--only", "granary", "--ranks", "2",
+                            "--granary", os.environ["GRANARY_BINARY"], "--mpi-times", "--mpirun", shutil.which("echo")],
+                           capture_output=True, text=True, cwd=ROOT)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("is not Open MPI's", r.stderr)
 
     def test_granary_run_is_measured_and_split(self):
         with tempfile.TemporaryDirectory() as tmp:
