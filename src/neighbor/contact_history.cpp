@@ -29,6 +29,7 @@ void ContactHistory::configure(int nvalues, const std::vector<double>& swap_sign
 void ContactHistory::reset(std::size_t n) {
   assign_fresh(slot_, n, kNone);
   pool_.clear();
+  entry_.clear();
   free_.clear();
 }
 
@@ -65,15 +66,17 @@ void ContactHistory::save(const Neighbor& list, const Particles& p, bool in_plac
     saved_id_.assign(p.id.begin(), p.id.begin() + p.nlocal);
     saved_slot_.swap(slot_);
     saved_pool_.swap(pool_);
+    saved_entry_.swap(entry_);
     slot_.clear();
     pool_.clear();
+    entry_.clear();
     free_.clear();
     in_place_ = true;
     return;
   }
   const std::size_t nlist = std::min(slot_.size(), list.neigh.size());
-  build_store(p.nlocal, list.offset.data(), list.neigh.data(), p.id.data(), slot_.data(), nlist,
-              pool_.data());
+  build_store(p.nlocal, list.offset.data(), list.neigh.data(), p.id.data(), slot_.data(), nlist, pool_.data(),
+              entry_);
 }
 
 void ContactHistory::make_store() const {
@@ -82,52 +85,61 @@ void ContactHistory::make_store() const {
   const int nlocal = static_cast<int>(saved_id_.size());
   const std::size_t nslot = std::min(saved_slot_.size(), saved_neigh_.size());
   build_store(nlocal, saved_offset_.data(), saved_neigh_.data(), saved_id_.data(), saved_slot_.data(), nslot,
-              saved_pool_.data());
+              saved_pool_.data(), saved_entry_);
 }
 
-// Two passes over the list: count each owned particle's touched contacts (as
-// first particle, and as second when that one is owned too), then write them.
+// Two passes over the touched entries in list order, found from the pool's
+// slots (a few per particle, against a dozen list entries): count each owned
+// particle's contacts (as first particle, and as second when that one is
+// owned too), then write them; the same rows, in the same order, as two
+// passes over the whole list.
 void ContactHistory::build_store(int nlocal, const int* offset, const int* neigh, const tagint* id,
-                                 const std::int32_t* slot, std::size_t nslot, const double* pool) const {
+                                 const std::int32_t* slot, std::size_t nslot, const double* pool,
+                                 const std::vector<std::int32_t>& entry) const {
   auto values_of = [&](int k) { return pool + static_cast<std::size_t>(slot[k]) * nvalues_; };
+  std::vector<int> touched;
+  touched.reserve(entry.size());
+  for (const std::int32_t k : entry)
+    if (k >= 0 && static_cast<std::size_t>(k) < nslot && slot[k] != kNone) touched.push_back(k);
+  std::sort(touched.begin(), touched.end());
   std::vector<int> count(nlocal, 0);
-  for (int i = 0; i < nlocal; ++i) {
-    for (int k = offset[i]; k < offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= nslot || slot[k] == kNone) continue;
-      ++count[i];
-      const int j = neigh[k];
-      if (j < nlocal) ++count[j];
-    }
+  int i = 0;
+  for (const int k : touched) {
+    while (offset[i + 1] <= k)
+      ++i;
+    ++count[i];
+    const int j = neigh[k];
+    if (j < nlocal) ++count[j];
   }
   std::vector<int> start(nlocal + 1, 0);
-  for (int i = 0; i < nlocal; ++i)
-    start[i + 1] = start[i] + count[i];
+  for (int q = 0; q < nlocal; ++q)
+    start[q + 1] = start[q] + count[q];
   partner_.resize(start[nlocal]);
   vals_.resize(static_cast<std::size_t>(start[nlocal]) * nvalues_);
   rows_.reserve(nlocal);
   row_of_.reserve(nlocal);
   std::vector<int> fill(start.begin(), start.end() - 1);
-  for (int i = 0; i < nlocal; ++i) {
-    for (int k = offset[i]; k < offset[i + 1]; ++k) {
-      if (static_cast<std::size_t>(k) >= nslot || slot[k] == kNone) continue;
-      const int j = neigh[k];
-      const double* h = values_of(k);
-      int e = fill[i]++;
-      partner_[e] = id[j];
-      std::copy_n(h, nvalues_, &vals_[static_cast<std::size_t>(e) * nvalues_]);
-      if (j < nlocal) {
-        e = fill[j]++;
-        partner_[e] = id[i];
-        double* out = &vals_[static_cast<std::size_t>(e) * nvalues_];
-        for (int c = 0; c < nvalues_; ++c)
-          out[c] = swap_signs_[c] * h[c];
-      }
+  i = 0;
+  for (const int k : touched) {
+    while (offset[i + 1] <= k)
+      ++i;
+    const int j = neigh[k];
+    const double* h = values_of(k);
+    int e = fill[i]++;
+    partner_[e] = id[j];
+    std::copy_n(h, nvalues_, &vals_[static_cast<std::size_t>(e) * nvalues_]);
+    if (j < nlocal) {
+      e = fill[j]++;
+      partner_[e] = id[i];
+      double* out = &vals_[static_cast<std::size_t>(e) * nvalues_];
+      for (int c = 0; c < nvalues_; ++c)
+        out[c] = swap_signs_[c] * h[c];
     }
   }
-  for (int i = 0; i < nlocal; ++i) {
-    if (count[i] == 0) continue;
-    row_of_[id[i]] = static_cast<int>(rows_.size());
-    rows_.push_back({id[i], start[i], count[i]});
+  for (int q = 0; q < nlocal; ++q) {
+    if (count[q] == 0) continue;
+    row_of_[id[q]] = static_cast<int>(rows_.size());
+    rows_.push_back({id[q], start[q], count[q]});
   }
 }
 

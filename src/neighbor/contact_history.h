@@ -68,12 +68,15 @@ class ContactHistory {
     } else {
       s = static_cast<std::int32_t>(pool_.size() / nvalues_);
       pool_.resize(pool_.size() + nvalues_, 0.0);
+      entry_.push_back(-1);
     }
     slot_[k] = s;
+    entry_[s] = static_cast<std::int32_t>(k);
   }
   /// The contact of list entry k ended: its slot is returned.
   void forget(std::size_t k) {
     free_.push_back(slot_[k]);
+    entry_[slot_[k]] = -1;
     slot_[k] = kNone;
   }
   /// For the pair loop: the slots (one per entry) and the pool's first value
@@ -138,7 +141,8 @@ class ContactHistory {
   /// (ids id[0 .. ), ghosts after them), entries offset[i] .. offset[i+1] with
   /// partners neigh[k], slots slot[k] (nslot of them) into pool.
   void build_store(int nlocal, const int* offset, const int* neigh, const tagint* id,
-                   const std::int32_t* slot, std::size_t nslot, const double* pool) const;
+                   const std::int32_t* slot, std::size_t nslot, const double* pool,
+                   const std::vector<std::int32_t>& entry) const;
   /// An in-place save made into the keyed store (nothing when there is none).
   void make_store() const;
   /// restore() when the particles kept their indices since an in-place save.
@@ -147,6 +151,7 @@ class ContactHistory {
   int nvalues_ = 0;
   std::vector<std::int32_t> slot_;       // per list entry: kNone or the slot of its values in pool_
   std::vector<double> pool_;             // nvalues_ per slot
+  std::vector<std::int32_t> entry_;      // per slot: the list entry holding it, or -1 when free
   std::vector<std::int32_t> free_;       // slots of ended contacts, taken again first
   std::vector<std::size_t> held_entry_;  // hold() .. put_back(): the contacts' list entries, in list order
   std::vector<double> held_values_;      // and their values
@@ -162,6 +167,7 @@ class ContactHistory {
   mutable std::vector<tagint> saved_id_;
   mutable std::vector<std::int32_t> saved_slot_;
   mutable std::vector<double> saved_pool_;
+  mutable std::vector<std::int32_t> saved_entry_;
   std::int64_t hand_overs_ = 0;
 };
 
