@@ -139,7 +139,8 @@ class ContactHistory {
   void clear_store() const;
   /// The keyed store from a list's touched entries: nlocal owned particles
   /// (ids id[0 .. ), ghosts after them), entries offset[i] .. offset[i+1] with
-  /// partners neigh[k], slots slot[k] (nslot of them) into pool.
+  /// partners neigh[k], slots slot[k] (nslot of them) into pool, and per
+  /// slot of the pool its entry (entry_ of that state: -1 when free).
   void build_store(int nlocal, const int* offset, const int* neigh, const tagint* id,
                    const std::int32_t* slot, std::size_t nslot, const double* pool,
                    const std::vector<std::int32_t>& entry) const;
