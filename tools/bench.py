@@ -71,6 +71,7 @@ Exit status: 0 if every run succeeded, 1 if a run failed, 2 for usage errors
 import argparse
 import atexit
 import datetime
+import functools
 import json
 import os
 import platform
@@ -296,14 +297,20 @@ def resolve_exe(path, name, hint):
     return cand
 
 
-def mpirun_prefix(mpirun, ranks, extra):
-    cmd = [mpirun]
+@functools.lru_cache(maxsize=None)
+def is_open_mpi(mpirun):
+    """Whether the launcher is Open MPI's (from its --version; asked once per launcher)."""
     try:
         ver = subprocess.run([mpirun, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                              universal_newlines=True, timeout=30).stdout
     except (OSError, subprocess.SubprocessError):
         ver = ""
-    if "Open MPI" in ver or "OpenRTE" in ver:
+    return "Open MPI" in ver or "OpenRTE" in ver
+
+
+def mpirun_prefix(mpirun, ranks, extra):
+    cmd = [mpirun]
+    if is_open_mpi(mpirun):
         if hasattr(os, "geteuid") and os.geteuid() == 0:
             cmd.append("--allow-run-as-root")
         if ranks > (os.cpu_count() or 1):
@@ -402,7 +409,7 @@ def run_one(prog, exe, ranks, script, nsteps, args, outdir, rep=0):
         cmd += ["-var", name, value]
     if ranks > 1:
         extra = shlex.split(args.mpirun_args)
-        if getattr(args, "mpi_times_lib", None):
+        if args.mpi_times_lib:
             extra = ["-x", "LD_PRELOAD=" + args.mpi_times_lib] + extra
         cmd = mpirun_prefix(args.mpirun_exe, ranks, extra) + cmd
     load_before = loadavg()
@@ -666,12 +673,7 @@ def main(argv):
     if args.mpi_times:
         if max(ranks_list) < 2:
             ap.error("--mpi-times needs a rank count above 1 in --ranks")
-        try:
-            ver = subprocess.run([args.mpirun_exe, "--version"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                 universal_newlines=True, timeout=30).stdout
-        except (OSError, subprocess.SubprocessError):
-            ver = ""
-        if "Open MPI" not in ver and "OpenRTE" not in ver:
+        if not is_open_mpi(args.mpirun_exe):
             sys.stderr.write("error: --mpi-times passes the library with Open MPI's 'mpirun -x'; "
                              "'%s' is not Open MPI's\n" % args.mpirun_exe)
             return 2
