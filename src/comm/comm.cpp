@@ -417,14 +417,100 @@ void Comm::borders() {
   }
 }
 
-// Message sizes are known from borders(): only the data travel each step, and
-// swaps with no partner on either side are skipped.
-void Comm::exchange_known(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
-                          std::size_t nrecv, int recvproc) {
-  recv.resize(recvproc == MPI_PROC_NULL ? 0 : nrecv);
-  MPI_Sendrecv(send.data(), sendproc == MPI_PROC_NULL ? 0 : static_cast<int>(send.size()), MPI_DOUBLE,
-               sendproc, 3, recv.data(), static_cast<int>(recv.size()), MPI_DOUBLE, recvproc, 3,
-               engine_.world, MPI_STATUS_IGNORE);
+namespace {
+// Room for n doubles: the buffer only ever grows, so that a step does not
+// clear what a smaller message of another swap left shorter (std::vector
+// zero-fills whatever it regains)
+double* room(std::vector<double>& buf, std::size_t n) {
+  if (buf.size() < n) buf.resize(n);
+  return buf.data();
+}
+}  // namespace
+
+// Both swaps of a dimension at once. Their send lists reach only particles
+// that existed before the dimension's ghosts arrived (borders() scans those),
+// so neither swap needs the other's data: each pair of swaps costs one wait
+// instead of two. Message sizes are known from borders(): a swap receives
+// exactly what its partner's send list holds, so both sides skip an empty
+// message alike; each direction has its own tag (with two ranks along a
+// periodic dimension both messages go to the same rank).
+template <class Pack, class Unpack>
+void Comm::brick_forward(int per, Pack pack, Unpack unpack) {
+  for (std::size_t k = 0; k + 1 < swaps_.size(); k += 2) {
+    MPI_Request req[4];
+    int nreq = 0;
+    std::size_t nin[2];
+    for (int h = 0; h < 2; ++h) {
+      const Swap& s = swaps_[k + h];
+      nin[h] = s.recvproc == MPI_PROC_NULL ? 0 : static_cast<std::size_t>(s.nrecv) * per;
+      if (nin[h] > 0)
+        MPI_Irecv(room(pair_recv_[h], nin[h]), static_cast<int>(nin[h]), MPI_DOUBLE, s.recvproc, 30 + h,
+                  engine_.world, &req[nreq++]);
+    }
+    for (int h = 0; h < 2; ++h) {
+      const Swap& s = swaps_[k + h];
+      const std::size_t nout = s.sendproc == MPI_PROC_NULL ? 0 : s.sendlist.size() * per;
+      if (nout == 0) continue;
+      double* const out = room(pair_send_[h], nout);
+      double* o = out;
+      for (int i : s.sendlist) {
+        pack(i, s.shift, o);
+        o += per;
+      }
+      MPI_Isend(out, static_cast<int>(nout), MPI_DOUBLE, s.sendproc, 30 + h, engine_.world, &req[nreq++]);
+    }
+    if (nreq == 0) continue;
+    MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
+    for (int h = 0; h < 2; ++h) {
+      const Swap& s = swaps_[k + h];
+      const double* in = pair_recv_[h].data();
+      const int n = static_cast<int>(nin[h] / per);
+      for (int m = 0; m < n; ++m, in += per)
+        unpack(s.firstrecv + m, in);
+    }
+  }
+}
+
+// The swaps backwards, a dimension's two at once: the ghosts' values go back
+// along each swap and are added to the particles of its send list, the upper
+// direction's before the lower one's as when the swaps ran one by one (the
+// values sent come from ghosts of this dimension, which no send list of it
+// holds, so adding one swap's values cannot change what the other sends).
+template <class Pack, class Unpack>
+void Comm::brick_reverse(int per, Pack pack, Unpack unpack) {
+  for (std::size_t k = swaps_.size(); k >= 2; k -= 2) {
+    MPI_Request req[4];
+    int nreq = 0;
+    std::size_t nin[2];
+    for (int h = 0; h < 2; ++h) {
+      const Swap& s = swaps_[k - 2 + h];
+      nin[h] = s.sendproc == MPI_PROC_NULL ? 0 : s.sendlist.size() * per;
+      if (nin[h] > 0)
+        MPI_Irecv(room(pair_recv_[h], nin[h]), static_cast<int>(nin[h]), MPI_DOUBLE, s.sendproc, 40 + h,
+                  engine_.world, &req[nreq++]);
+    }
+    for (int h = 0; h < 2; ++h) {
+      const Swap& s = swaps_[k - 2 + h];
+      const std::size_t nout = s.recvproc == MPI_PROC_NULL ? 0 : static_cast<std::size_t>(s.nrecv) * per;
+      if (nout == 0) continue;
+      double* const out = room(pair_send_[h], nout);
+      double* o = out;
+      for (int m = 0; m < s.nrecv; ++m, o += per)
+        pack(s.firstrecv + m, o);
+      MPI_Isend(out, static_cast<int>(nout), MPI_DOUBLE, s.recvproc, 40 + h, engine_.world, &req[nreq++]);
+    }
+    if (nreq == 0) continue;
+    MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
+    for (int h = 1; h >= 0; --h) {
+      const Swap& s = swaps_[k - 2 + h];
+      if (nin[h] == 0) continue;
+      const double* in = pair_recv_[h].data();
+      for (int i : s.sendlist) {
+        unpack(i, in);
+        in += per;
+      }
+    }
+  }
 }
 
 void Comm::forward_comm() {
@@ -433,165 +519,87 @@ void Comm::forward_comm() {
   Vec3* const x = p.x.data();
   Vec3* const v = p.v.data();
   Vec3* const w = p.omega.data();
-  if (tiled()) {
-    const bool vel = ghost_velocity;
-    tiled_forward(
-        per,
-        [=](int i, const Vec3& shift, double* out) {
-          for (int d = 0; d < 3; ++d)
-            out[d] = x[i][d] + shift[d];
-          if (vel) {
-            for (int d = 0; d < 3; ++d) {
-              out[3 + d] = v[i][d];
-              out[6 + d] = w[i][d];
-            }
-          }
-        },
-        [=](int j, const double* in) {
-          x[j] = Vec3(in[0], in[1], in[2]);
-          if (vel) {
-            v[j] = Vec3(in[3], in[4], in[5]);
-            w[j] = Vec3(in[6], in[7], in[8]);
-          }
-        });
-    return;
-  }
-  for (const Swap& s : swaps_) {
-    if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
-    sendbuf_.resize(s.sendlist.size() * per);
-    double* out = sendbuf_.data();
-    const Vec3 shift = s.shift;
-    for (int i : s.sendlist) {
-      for (int d = 0; d < 3; ++d)
-        *out++ = x[i][d] + shift[d];
-      if (ghost_velocity) {
-        for (int d = 0; d < 3; ++d)
-          *out++ = v[i][d];
-        for (int d = 0; d < 3; ++d)
-          *out++ = w[i][d];
+  const bool vel = ghost_velocity;
+  const auto pack = [=](int i, const Vec3& shift, double* out) {
+    for (int d = 0; d < 3; ++d)
+      out[d] = x[i][d] + shift[d];
+    if (vel) {
+      for (int d = 0; d < 3; ++d) {
+        out[3 + d] = v[i][d];
+        out[6 + d] = w[i][d];
       }
     }
-    exchange_known(sendbuf_, s.sendproc, recvbuf_, static_cast<std::size_t>(s.nrecv) * per, s.recvproc);
-    const int n = std::min<int>(s.nrecv, static_cast<int>(recvbuf_.size() / per));
-    const double* in = recvbuf_.data();
-    for (int k = 0; k < n; ++k) {
-      const int j = s.firstrecv + k;
-      x[j] = Vec3(in[0], in[1], in[2]);
-      in += 3;
-      if (ghost_velocity) {
-        v[j] = Vec3(in[0], in[1], in[2]);
-        w[j] = Vec3(in[3], in[4], in[5]);
-        in += 6;
-      }
+  };
+  const auto unpack = [=](int j, const double* in) {
+    x[j] = Vec3(in[0], in[1], in[2]);
+    if (vel) {
+      v[j] = Vec3(in[3], in[4], in[5]);
+      w[j] = Vec3(in[6], in[7], in[8]);
     }
-  }
+  };
+  if (tiled())
+    tiled_forward(per, pack, unpack);
+  else
+    brick_forward(per, pack, unpack);
 }
 
 void Comm::reverse_comm() {
   Particles& p = *engine_.particles;
-  if (tiled()) {
-    Vec3* const f = p.f.data();
-    Vec3* const t = p.torque.data();
-    tiled_reverse(
-        6,
-        [=](int j, double* out) {
-          for (int d = 0; d < 3; ++d) {
-            out[d] = f[j][d];
-            out[3 + d] = t[j][d];
-          }
-        },
-        [=](int i, const double* in) {
-          for (int d = 0; d < 3; ++d) {
-            f[i][d] += in[d];
-            t[i][d] += in[3 + d];
-          }
-        });
-    return;
-  }
-  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
-    const Swap& s = *it;
-    if (s.sendproc == MPI_PROC_NULL && s.recvproc == MPI_PROC_NULL) continue;
-    sendbuf_.clear();
-    if (s.recvproc != MPI_PROC_NULL) {
-      for (int k = 0; k < s.nrecv; ++k) {
-        const int j = s.firstrecv + k;
-        for (int d = 0; d < 3; ++d)
-          sendbuf_.push_back(p.f[j][d]);
-        for (int d = 0; d < 3; ++d)
-          sendbuf_.push_back(p.torque[j][d]);
-      }
+  Vec3* const f = p.f.data();
+  Vec3* const t = p.torque.data();
+  const auto pack = [=](int j, double* out) {
+    for (int d = 0; d < 3; ++d) {
+      out[d] = f[j][d];
+      out[3 + d] = t[j][d];
     }
-    // back along the swap: to whom we received from, from whom we sent to
-    exchange_known(sendbuf_, s.recvproc, recvbuf_, s.sendlist.size() * 6, s.sendproc);
-    std::size_t m = 0;
-    for (int i : s.sendlist) {
-      if (m >= recvbuf_.size()) break;
-      for (int d = 0; d < 3; ++d)
-        p.f[i][d] += recvbuf_[m++];
-      for (int d = 0; d < 3; ++d)
-        p.torque[i][d] += recvbuf_[m++];
+  };
+  const auto unpack = [=](int i, const double* in) {
+    for (int d = 0; d < 3; ++d) {
+      f[i][d] += in[d];
+      t[i][d] += in[3 + d];
     }
-  }
+  };
+  if (tiled())
+    tiled_reverse(6, pack, unpack);
+  else
+    brick_reverse(6, pack, unpack);
 }
 
 void Comm::forward_comm_field(std::vector<double>& data, int ncomp) {
-  if (tiled()) {
-    double* const a = data.data();
-    const std::size_t n = static_cast<std::size_t>(ncomp);
-    tiled_forward(
-        ncomp, [=](int i, const Vec3&, double* out) { std::copy(a + i * n, a + (i + 1) * n, out); },
-        [=](int j, const double* in) { std::copy(in, in + n, a + j * n); });
-    return;
-  }
-  for (const Swap& s : swaps_) {
-    sendbuf_.clear();
-    for (int i : s.sendlist)
-      sendbuf_.insert(sendbuf_.end(), data.begin() + static_cast<std::size_t>(i) * ncomp,
-                      data.begin() + static_cast<std::size_t>(i + 1) * ncomp);
-    sendrecv_doubles(sendbuf_, s.sendproc, recvbuf_, s.recvproc, engine_.world);
-    std::copy(recvbuf_.begin(), recvbuf_.end(), data.begin() + static_cast<std::size_t>(s.firstrecv) * ncomp);
-  }
+  double* const a = data.data();
+  const std::size_t n = static_cast<std::size_t>(ncomp);
+  const auto pack = [=](int i, const Vec3&, double* out) { std::copy(a + i * n, a + (i + 1) * n, out); };
+  const auto unpack = [=](int j, const double* in) { std::copy(in, in + n, a + j * n); };
+  if (tiled())
+    tiled_forward(ncomp, pack, unpack);
+  else
+    brick_forward(ncomp, pack, unpack);
 }
 
 void Comm::reverse_comm_field(std::vector<double>& data, int ncomp) {
-  if (tiled()) {
-    double* const a = data.data();
-    const std::size_t n = static_cast<std::size_t>(ncomp);
-    tiled_reverse(
-        ncomp, [=](int j, double* out) { std::copy(a + j * n, a + (j + 1) * n, out); },
-        [=](int i, const double* in) {
-          for (std::size_t c = 0; c < n; ++c)
-            a[i * n + c] += in[c];
-        });
-    return;
-  }
-  for (auto it = swaps_.rbegin(); it != swaps_.rend(); ++it) {
-    const Swap& s = *it;
-    sendbuf_.assign(data.begin() + static_cast<std::size_t>(s.firstrecv) * ncomp,
-                    data.begin() + static_cast<std::size_t>(s.firstrecv + s.nrecv) * ncomp);
-    sendrecv_doubles(sendbuf_, s.recvproc, recvbuf_, s.sendproc, engine_.world);
-    std::size_t m = 0;
-    for (int i : s.sendlist)
-      for (int c = 0; c < ncomp; ++c)
-        data[static_cast<std::size_t>(i) * ncomp + c] += recvbuf_[m++];
-  }
+  double* const a = data.data();
+  const std::size_t n = static_cast<std::size_t>(ncomp);
+  const auto pack = [=](int j, double* out) { std::copy(a + j * n, a + (j + 1) * n, out); };
+  const auto unpack = [=](int i, const double* in) {
+    for (std::size_t c = 0; c < n; ++c)
+      a[i * n + c] += in[c];
+  };
+  if (tiled())
+    tiled_reverse(ncomp, pack, unpack);
+  else
+    brick_reverse(ncomp, pack, unpack);
 }
 
 // ---- comm_style tiled -------------------------------------------------------
 
 void Comm::alltoall_buffers(std::vector<std::vector<double>>& send, std::vector<std::vector<double>>& recv,
-                            const std::vector<std::size_t>* known_counts, int tag) {
+                            int tag) {
   const int n = engine_.nprocs, me = engine_.rank;
   recv.resize(static_cast<std::size_t>(n));
   std::vector<long long> scount(n, 0), rcount(n, 0);
   for (int r = 0; r < n; ++r)
     scount[r] = r == me ? 0 : static_cast<long long>(send[r].size());
-  if (known_counts) {
-    for (int r = 0; r < n; ++r)
-      rcount[r] = r == me ? 0 : static_cast<long long>((*known_counts)[r]);
-  } else {
-    MPI_Alltoall(scount.data(), 1, MPI_LONG_LONG, rcount.data(), 1, MPI_LONG_LONG, engine_.world);
-  }
+  MPI_Alltoall(scount.data(), 1, MPI_LONG_LONG, rcount.data(), 1, MPI_LONG_LONG, engine_.world);
   std::vector<MPI_Request> reqs;
   reqs.reserve(2 * static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) {
@@ -634,7 +642,7 @@ void Comm::exchange_tiled(ContactHistory* history) {
     ++migrated_particles;
     p.remove_local(i);
   }
-  alltoall_buffers(send, recv, nullptr, 21);
+  alltoall_buffers(send, recv, 21);
   for (int r = 0; r < n; ++r) {
     std::size_t m = 0;
     while (m < recv[r].size()) {
@@ -736,7 +744,7 @@ void Comm::borders_tiled() {
   tsend_.erase(std::remove_if(tsend_.begin(), tsend_.end(), [](const SendPeer& s) { return s.list.empty(); }),
                tsend_.end());
   std::vector<std::vector<double>>& recv = tbuf_recv_;
-  alltoall_buffers(send, recv, nullptr, 22);
+  alltoall_buffers(send, recv, 22);
   for (int r = 0; r < n; ++r) {
     if (recv[r].empty()) continue;
     RecvPeer rp;
@@ -750,49 +758,69 @@ void Comm::borders_tiled() {
   }
 }
 
+// The ghosts' values of every step go straight to the ranks of the last
+// ghost build, with the counts of that build; a rank's own periodic images
+// are read from its send buffer. The buffers only grow (room()), so a step
+// does not clear them again.
 template <class Pack, class Unpack>
 void Comm::tiled_forward(int per, Pack pack, Unpack unpack) {
-  const int n = engine_.nprocs;
-  std::vector<std::vector<double>>& send = tbuf_send_;
-  send.resize(static_cast<std::size_t>(n));
-  for (const SendPeer& peer : tsend_) {
-    std::vector<double>& b = send[peer.proc];
-    b.resize(peer.list.size() * static_cast<std::size_t>(per));
-    double* out = b.data();
-    for (const Segment& seg : peer.segs) {
-      for (int k = seg.begin; k < seg.end; ++k, out += per)
-        pack(peer.list[k], seg.shift, out);
-    }
-  }
-  std::vector<std::size_t> counts(static_cast<std::size_t>(n), 0);
-  for (const RecvPeer& rp : trecv_)
-    counts[rp.proc] = static_cast<std::size_t>(rp.count) * per;
-  alltoall_buffers(send, tbuf_recv_, &counts, 23);
+  const int me = engine_.rank;  // (borders_tiled() gave both buffer sets a slot per rank)
+  std::vector<MPI_Request> reqs;
+  reqs.reserve(tsend_.size() + trecv_.size());
   for (const RecvPeer& rp : trecv_) {
-    const double* in = tbuf_recv_[rp.proc].data();
+    if (rp.proc == me) continue;
+    const std::size_t m = static_cast<std::size_t>(rp.count) * per;
+    reqs.emplace_back();
+    MPI_Irecv(room(tbuf_recv_[rp.proc], m), static_cast<int>(m), MPI_DOUBLE, rp.proc, 23, engine_.world,
+              &reqs.back());
+  }
+  for (const SendPeer& peer : tsend_) {
+    const std::size_t m = peer.list.size() * static_cast<std::size_t>(per);
+    double* const out = room(tbuf_send_[peer.proc], m);
+    double* o = out;
+    for (const Segment& seg : peer.segs) {
+      for (int k = seg.begin; k < seg.end; ++k, o += per)
+        pack(peer.list[k], seg.shift, o);
+    }
+    if (peer.proc == me) continue;
+    reqs.emplace_back();
+    MPI_Isend(out, static_cast<int>(m), MPI_DOUBLE, peer.proc, 23, engine_.world, &reqs.back());
+  }
+  MPI_Waitall(static_cast<int>(reqs.size()), reqs.data(), MPI_STATUSES_IGNORE);
+  for (const RecvPeer& rp : trecv_) {
+    const double* in = (rp.proc == me ? tbuf_send_ : tbuf_recv_)[rp.proc].data();
     for (int k = 0; k < rp.count; ++k, in += per)
       unpack(rp.first + k, in);
   }
 }
 
+// Back along the same routes: each rank's ghosts' values to their owners,
+// added in the order of the send lists.
 template <class Pack, class Unpack>
 void Comm::tiled_reverse(int per, Pack pack, Unpack unpack) {
-  const int n = engine_.nprocs;
-  std::vector<std::vector<double>>& send = tbuf_send_;
-  send.resize(static_cast<std::size_t>(n));
-  for (const RecvPeer& rp : trecv_) {
-    std::vector<double>& b = send[rp.proc];
-    b.resize(static_cast<std::size_t>(rp.count) * per);
-    double* out = b.data();
-    for (int k = 0; k < rp.count; ++k, out += per)
-      pack(rp.first + k, out);
-  }
-  std::vector<std::size_t> counts(static_cast<std::size_t>(n), 0);
-  for (const SendPeer& peer : tsend_)
-    counts[peer.proc] = peer.list.size() * static_cast<std::size_t>(per);
-  alltoall_buffers(send, tbuf_recv_, &counts, 24);
+  const int me = engine_.rank;  // (borders_tiled() gave both buffer sets a slot per rank)
+  std::vector<MPI_Request> reqs;
+  reqs.reserve(tsend_.size() + trecv_.size());
   for (const SendPeer& peer : tsend_) {
-    const double* in = tbuf_recv_[peer.proc].data();
+    if (peer.proc == me) continue;
+    const std::size_t m = peer.list.size() * static_cast<std::size_t>(per);
+    reqs.emplace_back();
+    MPI_Irecv(room(tbuf_recv_[peer.proc], m), static_cast<int>(m), MPI_DOUBLE, peer.proc, 24, engine_.world,
+              &reqs.back());
+  }
+  for (const RecvPeer& rp : trecv_) {
+    const std::size_t m = static_cast<std::size_t>(rp.count) * per;
+    double* const out = room(tbuf_send_[rp.proc], m);
+    double* o = out;
+    for (int k = 0; k < rp.count; ++k, o += per)
+      pack(rp.first + k, o);
+    if (rp.proc == me) continue;
+    reqs.emplace_back();
+    MPI_Isend(out, static_cast<int>(m), MPI_DOUBLE, rp.proc, 24, engine_.world, &reqs.back());
+  }
+  MPI_Waitall(static_cast<int>(reqs.size()), reqs.data(), MPI_STATUSES_IGNORE);
+  for (const SendPeer& peer : tsend_) {
+    const double* in = (peer.proc == me ? tbuf_send_ : tbuf_recv_)[peer.proc].data();
     for (int i : peer.list) {
       unpack(i, in);
       in += per;

@@ -5,7 +5,8 @@
 // gathered in six swaps: -x, +x, then -y, +y including the x ghosts, then
 // -z, +z, so corner neighbours arrive without diagonal messages. Each swap
 // remembers what it sent, so every step only positions, velocities and spins
-// travel forward, and forces and torques travel back in reverse order.
+// travel forward, and forces and torques travel back in reverse order; the
+// two swaps of a dimension travel at once (neither sends the other's ghosts).
 // Subdomain boundaries are fractions of the box per dimension (`split`): the
 // grid keeps its topology but its cut planes need not be equally spaced; the
 // `balance` command and `fix balance` move them (src/comm/balance.h). Every
@@ -147,11 +148,11 @@ class Comm {
   void exchange_tiled(ContactHistory* history);
   void borders_tiled();
   /// Send per-proc buffers (doubles) to their procs and receive from every
-  /// proc that sends here; counts exchanged first unless known (recv_counts
-  /// non-empty). The buffer for this rank itself is moved, not sent. All
-  /// send buffers are empty on return (their capacity kept).
+  /// proc that sends here, the counts exchanged first (migration, ghost
+  /// builds). The buffer for this rank itself is moved, not sent. All send
+  /// buffers are empty on return (their capacity kept).
   void alltoall_buffers(std::vector<std::vector<double>>& send, std::vector<std::vector<double>>& recv,
-                        const std::vector<std::size_t>* known_counts, int tag);
+                        int tag);
   template <class Pack, class Unpack>
   void tiled_forward(int per, Pack pack, Unpack unpack);
   template <class Pack, class Unpack>
@@ -161,11 +162,14 @@ class Comm {
   std::vector<SendPeer> tsend_;
   std::vector<std::vector<double>> tbuf_send_, tbuf_recv_;
   std::vector<RecvPeer> trecv_;
-  void exchange_known(const std::vector<double>& send, int sendproc, std::vector<double>& recv,
-                      std::size_t nrecv, int recvproc);
+  template <class Pack, class Unpack>
+  void brick_forward(int per, Pack pack, Unpack unpack);
+  template <class Pack, class Unpack>
+  void brick_reverse(int per, Pack pack, Unpack unpack);
   Engine& engine_;
   std::vector<Swap> swaps_;
-  std::vector<double> sendbuf_, recvbuf_;
+  std::vector<double> sendbuf_;
+  std::array<std::vector<double>, 2> pair_send_, pair_recv_;  // a dimension's two swaps
   bool grid_set_ = false;
 };
 

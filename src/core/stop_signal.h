@@ -1,10 +1,11 @@
 // Stopping a run cleanly when a batch system announces the end of a job's time
 // (SIGTERM or SIGUSR1, e.g. SLURM's --signal). The handler only records the
-// signal; the run loop asks all ranks at the start of every step whether any
-// received one (the signal may reach the ranks at different times), and they
-// all stop together at the end of that step: thermo line, restart file, files
-// flushed, then the program exits with kStopStatus. A second signal ends the
-// program at once (the signal's default action). See doc/clusters.md.
+// signal; the run loop asks all ranks at every step (with the neighbour-list
+// decision's reduction) whether any received one (the signal may reach the
+// ranks at different times), and they all stop together at the end of that
+// step: thermo line, restart file, files flushed, then the program exits with
+// kStopStatus. A second signal ends the program at once (the signal's default
+// action). See doc/clusters.md.
 #pragma once
 
 #include <mpi.h>

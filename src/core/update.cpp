@@ -136,7 +136,10 @@ void Update::check_lost() {
 void Update::compute_forces() {
   Engine& e = engine_;
   Particles& p = *e.particles;
-  const int n = p.size();
+  // With newton off nothing adds to a ghost's force or torque (every pair
+  // style and fix writes owned particles only, or ghosts only with newton on)
+  // and nothing sends or reads them: only the owned particles start from zero.
+  const int n = e.force->newton_pair ? p.size() : p.nlocal;
   // (all bits zero is 0.0: one wide fill per array; an empty array may have no storage at all)
   if (n > 0) {
     std::memset(static_cast<void*>(p.f.data()), 0, sizeof(Vec3) * static_cast<std::size_t>(n));
@@ -276,16 +279,22 @@ void Update::step_loop(std::int64_t n) {
   Modify& modify = *e.modify;
   for (std::int64_t k = 0; k < n; ++k) {
     ++ntimestep;
-    // a batch system's signal (possibly seen by some ranks only): all ranks
-    // agree at the start of the step and stop together at its end
-    if (stop_signal == 0) stop_signal = e.nprocs > 1 ? stop_signal_agreed(e.world) : stop_signal_received();
     {
       Timer t(timers[kModify]);
       modify.initial_integrate();
       modify.post_integrate();
     }
     ++e.neighbor->ago;
-    if (e.neighbor->decide()) {
+    // a batch system's signal (possibly seen by some ranks only): the ranks
+    // agree on it with the neighbour decision's reduction (or with one of
+    // their own when the decision makes none) and stop together at the end of
+    // the step; nothing before this point asks whether the step is observed
+    int signal = stop_signal_received();
+    bool carried = false;
+    const bool rebuild = e.nprocs > 1 ? e.neighbor->decide(&signal, &carried) : e.neighbor->decide();
+    if (e.nprocs > 1 && !carried) signal = stop_signal_agreed(e.world);
+    stop_signal = signal;
+    if (rebuild) {
       reneighbor(true);
     } else {
       Timer t(timers[kComm]);

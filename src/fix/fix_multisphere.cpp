@@ -419,16 +419,16 @@ void FixMultisphere::index_spheres() {
   const Particles& p = *engine_.particles;
   const int n = p.nlocal;
   pbody_.resize(n);
-  psphere_.resize(n);
+  pframe_.resize(n);
   pslot_.resize(n);
   poffset_.resize(n);
   for (int i = 0; i < n; ++i) {
     int k;
     const int b = body_of(i, k);
     pbody_[i] = b;
-    psphere_[i] = b >= 0 ? bodies_.sphere_start[b] + k : -1;
+    pframe_[i] = b >= 0 ? bodies_.offsets[bodies_.sphere_start[b] + k] : Vec3::Zero();
     pslot_[i] = b >= 0 ? slot_[b] + k : -1;
-    poffset_[i] = b >= 0 ? Vec3(rot_[b] * bodies_.offsets[psphere_[i]]) : Vec3::Zero();
+    poffset_[i] = b >= 0 ? Vec3(rot_[b] * pframe_[i]) : Vec3::Zero();
   }
   std::vector<int> owned(bodies_.size(), 0);
   for (int i = 0; i < n; ++i)
@@ -628,9 +628,8 @@ void FixMultisphere::place_spheres(bool positions) {
   const Domain& dom = *engine_.domain;
   const int n = p.nlocal;
   const int* const pbody = pbody_.data();
-  const int* const psphere = psphere_.data();
+  const Vec3* const pframe = pframe_.data();
   Vec3* const poffset = poffset_.data();
-  const Vec3* const offsets = bodies_.offsets.data();
   const Eigen::Matrix3d* const rot = rot_.data();
   const Vec3* const xcm = bodies_.xcm.data();
   const Vec3* const vcm = bodies_.vcm.data();
@@ -647,7 +646,7 @@ void FixMultisphere::place_spheres(bool positions) {
     // stored, it would wait for the store (the loads straddle its two parts)
     Vec3 r;
     if (positions) {
-      r = rot[b] * offsets[psphere[i]];
+      r = rot[b] * pframe[i];
       poffset[i] = r;
       Vec3 xi = xcm[b] + r;
       if (image[i] != image0) {

@@ -139,13 +139,15 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   std::vector<Eigen::Matrix3d> rot_;  // rotation matrix of each body at the current step
   // Per owned particle, valid from one neighbour-list build (pre_neighbor,
   // where particles are reordered) to the next: the body index (-1: free
-  // sphere or not yet taken over), the index of its offset in
-  // Bodies::offsets, and its offset R d in the space frame at the current
-  // step (set by place_spheres(true), read by sum_forces and place_spheres(false)).
+  // sphere or not yet taken over), its offset d in the body's frame (a copy
+  // of its entry in Bodies::offsets, read in particle order: the bodies'
+  // offsets lie in body order, scattered from the particles' order), and its
+  // offset R d in the space frame at the current step (set by
+  // place_spheres(true), read by sum_forces and place_spheres(false)).
   // pslot_: the sub-sphere's slot in part_ (-1: summed along its body's run).
-  std::vector<int> pbody_, psphere_, pslot_;
+  std::vector<int> pbody_, pslot_;
   std::vector<int> slotted_spheres_;  // the owned particles with a slot (pslot_ >= 0), ascending
-  std::vector<Vec3> poffset_;
+  std::vector<Vec3> pframe_, poffset_;
   // Force and torque of each sub-sphere of the active bodies (6 doubles per
   // slot; body b's sub-sphere k in slot slot_[b] + k, set from one reindex()
   // to the next; zero where another rank owns the sub-sphere).

@@ -104,8 +104,9 @@ bool Neighbor::excluded(int i, int j) const {
   return false;
 }
 
-bool Neighbor::decide() {
+bool Neighbor::decide(int* carry, bool* carried) {
   watch_checked_ = false;
+  if (carried) *carried = false;
   if (force_rebuild) {
     force_rebuild = false;
     return true;
@@ -121,7 +122,8 @@ bool Neighbor::decide() {
   // local[0]: moved beyond half the skin since the build; local[1]: beyond
   // the watch's limit since its reference (watch_ready_ is alike on every
   // rank: set by the collective builds)
-  int local[2] = {n != p.nlocal, 0};
+  // local[2]: the caller's value carried along
+  int local[3] = {n != p.nlocal, 0, carry ? *carry : 0};
   if (!local[0]) {
     // |x - xhold| <= |x - watch_x| + |watch_x - xhold|: below half the skin
     // (with room for rounding) no particle can have moved beyond it
@@ -130,8 +132,12 @@ bool Neighbor::decide() {
     if (!watch_ready_ || std::sqrt(w2) + watch_hold_ > 0.5 * skin * (1.0 - 1e-9))
       local[0] = moved_beyond(x, xhold_.data(), n, 0.25 * skin * skin);
   }
-  int any[2] = {0, 0};
-  MPI_Allreduce(local, any, 2, MPI_INT, MPI_MAX, engine_.world);
+  int any[3] = {0, 0, 0};
+  MPI_Allreduce(local, any, 3, MPI_INT, MPI_MAX, engine_.world);
+  if (carry) {
+    *carry = any[2];
+    if (carried) *carried = true;
+  }
   if (any[0]) return true;  // (the build takes the watch's positions anew)
   watch_checked_ = watch_ready_;
   if (any[1]) {

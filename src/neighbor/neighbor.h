@@ -43,8 +43,12 @@ class Neighbor {
 
   /// Set cutoffs before a run from the largest particle radius (collective).
   void init();
-  /// True when the list must be rebuilt this step (collective).
-  bool decide();
+  /// True when the list must be rebuilt this step (collective). With `carry`,
+  /// this rank's *carry travels with the decision's reduction over the ranks
+  /// (the largest value wins) and *carried says whether it did: the decision
+  /// makes no reduction when the step alone decides (a forced or sorting
+  /// rebuild, `delay`, `every`, `check no`).
+  bool decide(int* carry = nullptr, bool* carried = nullptr);
   /// Set on every rank by a fix that adds particles during a run (insertion):
   /// the next decide() returns true and clears it, so that step reneighbours.
   bool force_rebuild = false;

@@ -27,8 +27,9 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
            OMPI_MCA_rmaps_base_oversubscribe="1")
 
 PHYSICS = """
+variable every index 1
 neighbor 0.0005 bin
-neigh_modify delay 0
+neigh_modify delay 0 every ${every}
 fix m1 all property/global youngsModulus peratomtype 5.e6
 fix m2 all property/global poissonsRatio peratomtype 0.45
 fix m3 all property/global coefficientRestitution peratomtypepair 1 0.9
@@ -110,10 +111,11 @@ class StopSignal(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.dir, ignore_errors=True)
 
-    def start(self, nprocs, sub="stopped"):
+    def start(self, nprocs, sub="stopped", variables=None):
         work = os.path.join(self.dir, sub)
         os.makedirs(os.path.join(work, "frames"))
-        proc = subprocess.Popen(command(nprocs, "../in.fresh", {"end": FOREVER}), cwd=work, env=ENV,
+        variables = dict(variables or {}, end=FOREVER)
+        proc = subprocess.Popen(command(nprocs, "../in.fresh", variables), cwd=work, env=ENV,
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         # stepping has begun, and particles touch the floor and each other,
         # once the second periodic restart file is there
@@ -204,6 +206,18 @@ class StopSignal(unittest.TestCase):
         rc, out = self.finish(proc)
         step, restart = self.check_stop(work, rc, out, "SIGTERM")
         self.continue_and_compare(work, step, restart, 2)
+
+    @unittest.skipUnless(MPIRUN, "mpirun not found")
+    def test_sigterm_to_one_of_two_ranks_between_list_checks(self):
+        # the ranks agree on the signal with the reduction of the neighbour
+        # list decision; with the lists checked every 7th step there is none
+        # at the other steps, and they must agree all the same
+        work, proc = self.start(2, variables={"every": 7})
+        ranks = children(proc.pid)
+        self.assertEqual(len(ranks), 2, ranks)
+        os.kill(ranks[0], signal.SIGTERM)
+        rc, out = self.finish(proc)
+        self.check_stop(work, rc, out, "SIGTERM")
 
     @unittest.skipUnless(MPIRUN, "mpirun not found")
     def test_sigusr1_through_mpirun(self):
