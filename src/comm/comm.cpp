@@ -408,10 +408,7 @@ void Comm::borders() {
       }
       sendrecv_doubles(sendbuf_, s.sendproc, recv, s.recvproc, engine_.world);
       s.firstrecv = p.size();
-      std::size_t m = 0;
-      while (m < recv.size())
-        m += p.unpack_border(&recv[m]);
-      s.nrecv = p.size() - s.firstrecv;
+      s.nrecv = p.unpack_borders(recv.data(), recv.size());
       swaps_.push_back(std::move(s));
     }
   }
@@ -750,10 +747,7 @@ void Comm::borders_tiled() {
     RecvPeer rp;
     rp.proc = r;
     rp.first = p.size();
-    std::size_t m = 0;
-    while (m < recv[r].size())
-      m += p.unpack_border(&recv[r][m]);
-    rp.count = p.size() - rp.first;
+    rp.count = p.unpack_borders(recv[r].data(), recv[r].size());
     trecv_.push_back(rp);
   }
 }

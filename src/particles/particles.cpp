@@ -267,14 +267,26 @@ void Particles::pack_border(int i, const Vec3& shift, std::vector<double>& buf) 
   pack_extras(i, &ExtraField::ghost, buf);
 }
 
-int Particles::unpack_border(const double* buf) {
-  const int i = nlocal + nghost;
-  resize(i + 1);
-  int m = unpack_core(i, buf);
-  image[i] = image_pack(0, 0, 0);
-  m += unpack_extras(i, &ExtraField::ghost, buf + m);
-  ++nghost;
-  return m;
+int Particles::unpack_borders(const double* buf, std::size_t n) {
+  std::size_t per = kCoreValues;
+  for (const auto& e : extras)
+    if (e.ghost) per += static_cast<std::size_t>(e.ncomp);
+  if (n % per != 0) {
+    throw std::runtime_error("a ghost message of " + std::to_string(n) + " values is not a whole number of " +
+                             std::to_string(per) + "-value records (the ranks disagree on the ghost fields)");
+  }
+  const int count = static_cast<int>(n / per);
+  const int first = nlocal + nghost;
+  resize(first + count);
+  for (int k = 0; k < count; ++k, buf += per) {
+    const int i = first + k;
+    const int m = unpack_core(i, buf);
+    if (m != kCoreValues) throw std::logic_error("Particles::kCoreValues is not what unpack_core reads");
+    image[i] = image_pack(0, 0, 0);
+    unpack_extras(i, &ExtraField::ghost, buf + m);
+  }
+  nghost += count;
+  return count;
 }
 
 void Particles::map_build(tagint max_id) {

@@ -96,7 +96,10 @@ class Particles {
   /// Ghost record (everything a neighbour rank needs to compute contacts),
   /// with the position shifted by a periodic image.
   void pack_border(int i, const Vec3& shift, std::vector<double>& buf) const;
-  int unpack_border(const double* buf);  // appends a ghost
+  /// Append the ghosts of a buffer of n doubles written by pack_border (all
+  /// records of one length: the core values and the fields marked `ghost`,
+  /// alike on every rank); the arrays grow once. Returns the ghosts appended.
+  int unpack_borders(const double* buf, std::size_t n);
 
   // id -> local index map (owned copies win over ghosts); -1 when absent.
   void map_build(tagint max_id);
@@ -123,6 +126,7 @@ class Particles {
   static void image_unpack(int image, int& ix, int& iy, int& iz);
 
  private:
+  static constexpr int kCoreValues = 16;  // doubles written by pack_core
   void pack_core(int i, const Vec3& shift, std::vector<double>& buf) const;
   int unpack_core(int i, const double* buf);
   void pack_extras(int i, bool ExtraField::*flag, std::vector<double>& buf) const;
