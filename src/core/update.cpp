@@ -290,9 +290,8 @@ void Update::step_loop(std::int64_t n) {
     // their own when the decision makes none) and stop together at the end of
     // the step; nothing before this point asks whether the step is observed
     int signal = stop_signal_received();
-    bool carried = false;
-    const bool rebuild = e.nprocs > 1 ? e.neighbor->decide(&signal, &carried) : e.neighbor->decide();
-    if (e.nprocs > 1 && !carried) signal = stop_signal_agreed(e.world);
+    const bool rebuild = e.neighbor->decide(&signal);
+    if (signal < 0) signal = e.nprocs > 1 ? stop_signal_agreed(e.world) : stop_signal_received();
     stop_signal = signal;
     if (rebuild) {
       reneighbor(true);

@@ -104,9 +104,10 @@ bool Neighbor::excluded(int i, int j) const {
   return false;
 }
 
-bool Neighbor::decide(int* carry, bool* carried) {
+bool Neighbor::decide(int* carry) {
   watch_checked_ = false;
-  if (carried) *carried = false;
+  const int mine = carry ? *carry : 0;
+  if (carry) *carry = -1;
   if (force_rebuild) {
     force_rebuild = false;
     return true;
@@ -123,7 +124,7 @@ bool Neighbor::decide(int* carry, bool* carried) {
   // the watch's limit since its reference (watch_ready_ is alike on every
   // rank: set by the collective builds)
   // local[2]: the caller's value carried along
-  int local[3] = {n != p.nlocal, 0, carry ? *carry : 0};
+  int local[3] = {n != p.nlocal, 0, mine};
   if (!local[0]) {
     // |x - xhold| <= |x - watch_x| + |watch_x - xhold|: below half the skin
     // (with room for rounding) no particle can have moved beyond it
@@ -134,10 +135,7 @@ bool Neighbor::decide(int* carry, bool* carried) {
   }
   int any[3] = {0, 0, 0};
   MPI_Allreduce(local, any, 3, MPI_INT, MPI_MAX, engine_.world);
-  if (carry) {
-    *carry = any[2];
-    if (carried) *carried = true;
-  }
+  if (carry) *carry = any[2];
   if (any[0]) return true;  // (the build takes the watch's positions anew)
   watch_checked_ = watch_ready_;
   if (any[1]) {

@@ -44,11 +44,11 @@ class Neighbor {
   /// Set cutoffs before a run from the largest particle radius (collective).
   void init();
   /// True when the list must be rebuilt this step (collective). With `carry`,
-  /// this rank's *carry travels with the decision's reduction over the ranks
-  /// (the largest value wins) and *carried says whether it did: the decision
-  /// makes no reduction when the step alone decides (a forced or sorting
+  /// this rank's *carry (>= 0) travels with the decision's reduction over the
+  /// ranks and holds the largest value of any rank on return, or -1 when the
+  /// decision made no reduction: the step alone decides (a forced or sorting
   /// rebuild, `delay`, `every`, `check no`).
-  bool decide(int* carry = nullptr, bool* carried = nullptr);
+  bool decide(int* carry = nullptr);
   /// Set on every rank by a fix that adds particles during a run (insertion):
   /// the next decide() returns true and clears it, so that step reneighbours.
   bool force_rebuild = false;
