@@ -1,9 +1,9 @@
-// The contact formulas of contact_kernels.h on two lanes against one lane, and
+// The contact formulas of contact_kernels.h on two and four lanes against one lane, and
 // the compiled hot kernels against the run-time sub-model slots: on random
 // contact models (every field of ModelSpec drawn at random) and random contacts
 // (pairs and walls; sticking and slipping, touching and not, relative spins at
 // round-off level, epsd2 springs below and at their cap, cohesive pulls),
-// every lane of the two-lane evaluation must give the one-lane evaluation's
+// every lane of the two- and four-lane evaluations must give the one-lane evaluation's
 // force, torques, normal and tangential force and updated history to the last
 // bit, and the kernel dispatch_model() picks must give what RuntimeKernel gives.
 // A new field of ModelSpec breaks the compilation of random_spec() below, so
@@ -22,7 +22,6 @@
 #include "same_bits.h"
 
 using namespace granary::contact;
-using lane::D2;
 using lane::V3;
 
 namespace {
@@ -167,54 +166,65 @@ Out one_lane(const ModelSpec& spec, const Sample& s, double dt) {
   return o;
 }
 
-D2 pack(double a, double b) {
-  return D2{a, b};
+// Lanes of S from one field of W samples.
+template <class S, class F>
+S pack(const Sample* s, F field) {
+  S r;
+  for (int l = 0; l < lane::width<S>(); ++l)
+    r[l] = field(s[l]);
+  return r;
 }
-V3<D2> pack(const V3<double>& a, const V3<double>& b) {
-  return {pack(a.x, b.x), pack(a.y, b.y), pack(a.z, b.z)};
+template <class S, class F>
+V3<S> pack3(const Sample* s, F field) {
+  return {pack<S>(s, [&](const Sample& x) { return field(x).x; }),
+          pack<S>(s, [&](const Sample& x) { return field(x).y; }),
+          pack<S>(s, [&](const Sample& x) { return field(x).z; })};
 }
 
-template <class K>
-void two_lanes(const ModelSpec& spec, const Sample s[2], double dt, Out out[2]) {
-  GeometryT<D2> g;
-  g.n = pack(s[0].g.n, s[1].g.n);
-  g.overlap = pack(s[0].g.overlap, s[1].g.overlap);
-  g.r_i = pack(s[0].g.r_i, s[1].g.r_i);
-  g.r_j = pack(s[0].g.r_j, s[1].g.r_j);
-  g.r_eff = pack(s[0].g.r_eff, s[1].g.r_eff);
-  g.m_eff = pack(s[0].g.m_eff, s[1].g.m_eff);
-  g.i_roll = pack(s[0].g.i_roll, s[1].g.i_roll);
-  g.omega_i = pack(s[0].g.omega_i, s[1].g.omega_i);
-  g.omega_j = pack(s[0].g.omega_j, s[1].g.omega_j);
-  MaterialT<D2> m;
-  const MaterialT<double>& a = s[0].mat;
-  const MaterialT<double>& b = s[1].mat;
-  m = {pack(a.Y_eff, b.Y_eff),
-       pack(a.G_eff, b.G_eff),
-       pack(a.beta, b.beta),
-       pack(a.friction, b.friction),
-       pack(a.rolling_friction, b.rolling_friction),
-       pack(a.char_velocity, b.char_velocity),
-       pack(a.cohesion_energy_density, b.cohesion_energy_density),
-       pack(a.dissipative_time, b.dissipative_time),
-       pack(a.kn, b.kn),
-       pack(a.kt, b.kt),
-       pack(a.gamman, b.gamman),
-       pack(a.gammat, b.gammat),
-       pack(a.rolling_damping, b.rolling_damping),
-       pack(a.rolling_stiffness, b.rolling_stiffness),
-       pack(a.max_elastic_stiffness, b.max_elastic_stiffness),
-       pack(a.adhesion_stiffness, b.adhesion_stiffness),
-       pack(a.plasticity_depth, b.plasticity_depth)};
-  PreparedT<D2> q;
+// The W samples s[0..W-1] evaluated at once, lane l giving out[l].
+template <class K, class S>
+void lanes(const ModelSpec& spec, const Sample* s, double dt, Out* out) {
+  constexpr int W = lane::width<S>();
+#define GRANARY_PACK(field) pack<S>(s, [](const Sample& x) { return x.field; })
+#define GRANARY_PACK3(field) pack3<S>(s, [](const Sample& x) { return x.field; })
+  GeometryT<S> g;
+  g.n = GRANARY_PACK3(g.n);
+  g.overlap = GRANARY_PACK(g.overlap);
+  g.r_i = GRANARY_PACK(g.r_i);
+  g.r_j = GRANARY_PACK(g.r_j);
+  g.r_eff = GRANARY_PACK(g.r_eff);
+  g.m_eff = GRANARY_PACK(g.m_eff);
+  g.i_roll = GRANARY_PACK(g.i_roll);
+  g.omega_i = GRANARY_PACK3(g.omega_i);
+  g.omega_j = GRANARY_PACK3(g.omega_j);
+  MaterialT<S> m = {GRANARY_PACK(mat.Y_eff),
+                    GRANARY_PACK(mat.G_eff),
+                    GRANARY_PACK(mat.beta),
+                    GRANARY_PACK(mat.friction),
+                    GRANARY_PACK(mat.rolling_friction),
+                    GRANARY_PACK(mat.char_velocity),
+                    GRANARY_PACK(mat.cohesion_energy_density),
+                    GRANARY_PACK(mat.dissipative_time),
+                    GRANARY_PACK(mat.kn),
+                    GRANARY_PACK(mat.kt),
+                    GRANARY_PACK(mat.gamman),
+                    GRANARY_PACK(mat.gammat),
+                    GRANARY_PACK(mat.rolling_damping),
+                    GRANARY_PACK(mat.rolling_stiffness),
+                    GRANARY_PACK(mat.max_elastic_stiffness),
+                    GRANARY_PACK(mat.adhesion_stiffness),
+                    GRANARY_PACK(mat.plasticity_depth)};
+  PreparedT<S> q;
   prepare<K>(spec, g, m, q);
-  V3<D2> shear = pack(s[0].shear, s[1].shear), roll = pack(s[0].roll, s[1].roll);
-  SlipT<D2> slip{pack(s[0].slip.turn, s[1].slip.turn), pack(s[0].slip.t_max, s[1].slip.t_max),
-                 pack(s[0].slip.kt_prev, s[1].slip.kt_prev), pack(s[0].slip.d_max, s[1].slip.d_max)};
-  ResultT<D2> r;
-  interact<K>(spec, q, g.omega_i, pack(s[0].v_rel, s[1].v_rel), HistoryDt{dt, dt}, shear, slip, roll, r);
-  for (int l = 0; l < 2; ++l) {
-    auto v = [l](const V3<D2>& x) { return V3<double>{x.x[l], x.y[l], x.z[l]}; };
+  V3<S> shear = GRANARY_PACK3(shear), roll = GRANARY_PACK3(roll);
+  SlipT<S> slip{GRANARY_PACK(slip.turn), GRANARY_PACK(slip.t_max), GRANARY_PACK(slip.kt_prev),
+                GRANARY_PACK(slip.d_max)};
+  ResultT<S> r;
+  interact<K>(spec, q, g.omega_i, GRANARY_PACK3(v_rel), HistoryDt{dt, dt}, shear, slip, roll, r);
+#undef GRANARY_PACK
+#undef GRANARY_PACK3
+  for (int l = 0; l < W; ++l) {
+    auto v = [l](const V3<S>& x) { return V3<double>{x.x[l], x.y[l], x.z[l]}; };
     out[l].r.force = v(r.force);
     out[l].r.torque_i = v(r.torque_i);
     out[l].r.torque_j = v(r.torque_j);
@@ -246,27 +256,36 @@ struct Counts {
 void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
   const double dt = 1e-6;
   for (int trial = 0; trial < 200; ++trial) {
-    Sample s[2];
+    // four contacts: each the first of a particle or a second contact of the
+    // one before (the pair loop's lanes hold contacts of one particle or several)
+    Sample s[4];
     s[0] = random_contact(rng, nullptr);
-    s[1] = random_contact(rng, &s[0]);
-    Out runtime[2], lanes_runtime[2], lanes_picked[2];
-    for (int l = 0; l < 2; ++l)
+    for (int l = 1; l < 4; ++l)
+      s[l] = random_contact(rng, &s[l - 1]);
+    Out runtime[4], two_runtime[4], four_runtime[4], two_picked[4], four_picked[4];
+    for (int l = 0; l < 4; ++l)
       runtime[l] = one_lane<RuntimeKernel>(spec, s[l], dt);
-    two_lanes<RuntimeKernel>(spec, s, dt, lanes_runtime);
+    lanes<RuntimeKernel, lane::D2>(spec, s, dt, two_runtime);
+    lanes<RuntimeKernel, lane::D2>(spec, s + 2, dt, two_runtime + 2);
+    lanes<RuntimeKernel, lane::D4>(spec, s, dt, four_runtime);
     dispatch_model(spec, [&](auto kernel) {
       using K = decltype(kernel);
       (K::compiled ? counts.hot : counts.runtime) += 1;
-      two_lanes<K>(spec, s, dt, lanes_picked);
-      for (int l = 0; l < 2; ++l) {
+      lanes<K, lane::D2>(spec, s, dt, two_picked);
+      lanes<K, lane::D2>(spec, s + 2, dt, two_picked + 2);
+      lanes<K, lane::D4>(spec, s, dt, four_picked);
+      for (int l = 0; l < 4; ++l) {
         const Out picked_one = one_lane<K>(spec, s[l], dt);
         INFO(model_words(spec) << "; trial " << trial << " lane " << l);
         REQUIRE(same_bits(picked_one, runtime[l]));
       }
     });
-    for (int l = 0; l < 2; ++l) {
+    for (int l = 0; l < 4; ++l) {
       INFO(model_words(spec) << "; trial " << trial << " lane " << l << " overlap " << s[l].g.overlap);
-      REQUIRE(same_bits(lanes_runtime[l], runtime[l]));
-      REQUIRE(same_bits(lanes_picked[l], runtime[l]));
+      REQUIRE(same_bits(two_runtime[l], runtime[l]));
+      REQUIRE(same_bits(two_picked[l], runtime[l]));
+      REQUIRE(same_bits(four_runtime[l], runtime[l]));
+      REQUIRE(same_bits(four_picked[l], runtime[l]));
       // the branches the comparisons went through
       const Out& o = runtime[l];
       if (!(s[l].g.overlap > 0.0)) {
@@ -293,7 +312,7 @@ void check_spec(const ModelSpec& spec, std::mt19937_64& rng, Counts& counts) {
 
 }  // namespace
 
-TEST_CASE("Contact formulas: two lanes give one lane's bits, compiled kernels the run-time slots'",
+TEST_CASE("Contact formulas: two and four lanes give one lane's bits, compiled kernels the run-time slots'",
           "[contact][lanes]") {
   std::mt19937_64 rng(20261125);
   Counts counts;

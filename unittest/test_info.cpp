@@ -70,6 +70,12 @@ TEST_CASE("info all writes every category of the present state to a file", "[inf
   CHECK_THAT(t, Contains(" Wall time: "));
   CHECK_THAT(t, Contains("Libraries: VTK 9."));
   CHECK_THAT(t, Contains("Granary version: "));
+  // the build's instruction set and the lanes of the pair loop agree
+#if defined(__AVX2__)
+  CHECK_THAT(t, Contains("Packed instructions: AVX2, 4 contacts at a time\n"));
+#else
+  CHECK_THAT(t, Contains("Packed instructions: SSE2, 2 contacts at a time\n"));
+#endif
 }
 
 TEST_CASE("info: only the categories asked for, appended or to the log", "[info]") {

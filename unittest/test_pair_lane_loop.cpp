@@ -1,4 +1,4 @@
-// The pair loop of pair_style gran (pair/pair_loop.h: two contacts at a time,
+// The pair loop of pair_style gran (pair/pair_loop.h: lane::Wide contacts at a time,
 // in blocks across particles) against a plain loop over the same neighbour
 // list that calls contact::evaluate (the same formulas on one lane) pair by
 // pair in the list's order: on a settled, partly sliding bed of two kinds of

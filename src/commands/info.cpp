@@ -16,6 +16,7 @@
 
 #include "comm/comm.h"
 #include "compute/compute.h"
+#include "contact/lane.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/force.h"
@@ -187,6 +188,17 @@ void configuration_info(std::ostringstream& o) {
     << "unknown"
 #endif
     << ", C++ standard " << __cplusplus << "\n";
+  // the instruction set of the build (CMake option GRANARY_SIMD) and the
+  // contacts the contact kernels evaluate at once
+  o << "Packed instructions: "
+#if defined(__AVX2__)
+    << "AVX2"
+#elif defined(__SSE2__)
+    << "SSE2"
+#else
+    << "the compiler's default"
+#endif
+    << ", " << contact::lane::width<contact::lane::Wide>() << " contacts at a time\n";
   o << "Libraries: VTK " << VTK_VERSION << ", Eigen " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION
     << "." << EIGEN_MINOR_VERSION << "\n";
   o << "VTK output module: "

@@ -2,7 +2,7 @@
 //
 // Every formula is templated on two things:
 //  - the number type S (contact/lane.h): a double for one contact, or a lane of
-//    two doubles for two contacts at once. Branches are selections (a ternary
+//    two or four doubles for two or four contacts at once. Branches are selections (a ternary
 //    for a double), so the same text gives the same IEEE operations per lane;
 //  - the sub-model slots K: which normal, tangential, rolling and cohesion
 //    sub-model and whether limitForce is on. Kernel<N, T, R, Limit, C> fixes

@@ -1,24 +1,25 @@
 // The number types the contact formulas are written on: a plain double (one
-// contact) or a lane of two doubles (two contacts at once, one per lane of a
-// packed register). contact_kernels.h writes each sub-model once on a type S
-// from this header; the pair loop picks the width.
+// contact) or a lane of two or four doubles (two or four contacts at once, one
+// per lane of a packed register). contact_kernels.h writes each sub-model once
+// on a type S from this header; the pair loop and the walls take lane::Wide.
 //
 //   S                 lanes  mask      on x86-64
 //   double            1      bool      scalar SSE2 instructions
 //   lane::D2          2      lane::M2  one SSE2 register (packed instructions)
+//   lane::D4          4      lane::M4  one AVX register (a build with AVX2;
+//                                      otherwise the compiler splits it in two)
 //
 // Branches of a formula become selections: select(m, a, b) is the ternary
-// m ? a : b for a double and a per-lane bit selection for D2. Both sides of a
-// selection are computed, so a division or square root on a discarded side
-// may produce inf or NaN that never reaches a result. Every operation is the
-// same IEEE operation in each lane, so a lane's result is the double's to the
-// last bit (unittest/test_contact_lanes.cpp checks it).
+// m ? a : b for a double and a per-lane bit selection for D2 and D4. Both
+// sides of a selection are computed, so a division or square root on a
+// discarded side may produce inf or NaN that never reaches a result. Every
+// operation is the same IEEE operation in each lane (no fused multiply-add:
+// a build for AVX2 does not enable FMA), so a lane's result is the double's to
+// the last bit, whatever the width (unittest/test_contact_lanes.cpp checks it).
 //
-// D2 uses the GCC/Clang vector extensions; elsewhere than x86-64 the compiler
-// splits the operations. Apart from sqrt, any and all, the two-lane code is
-// written for any width; four lanes (AVX2) gave the same bits but at most
-// 4.5 % less pair time on the benchmarks (doc/performance.md), too little for
-// a second build of the kernels chosen at run time.
+// D2 and D4 use the GCC/Clang vector extensions; elsewhere than x86-64 the
+// compiler splits the operations. lane::Wide is D4 in a build for AVX2 (CMake
+// option GRANARY_SIMD, doc/install.md) and D2 otherwise.
 #pragma once
 
 #include <cmath>
@@ -30,11 +31,21 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 namespace granary::contact::lane {
 
 using D2 = double __attribute__((vector_size(16)));
 using M2 = std::int64_t __attribute__((vector_size(16)));  ///< lane masks: all bits set = true
+using D4 = double __attribute__((vector_size(32)));
+using M4 = std::int64_t __attribute__((vector_size(32)));
+#if defined(__AVX2__)
+using Wide = D4;  ///< the lane type of the pair loop and the walls in this build
+#else
+using Wide = D2;
+#endif
 
 /// Number of lanes of S.
 template <class S>
@@ -47,7 +58,12 @@ constexpr int width() {
 
 /// The mask type of S (what a comparison of two S gives).
 template <class S>
-using Mask = std::conditional_t<std::is_same_v<S, double>, bool, M2>;
+using Mask =
+    std::conditional_t<std::is_same_v<S, double>, bool, std::conditional_t<std::is_same_v<S, D2>, M2, M4>>;
+template <class M>
+constexpr int mask_width() {
+  return static_cast<int>(sizeof(M) / sizeof(std::int64_t));
+}
 
 // ---- one lane: plain double ----------------------------------------------
 [[gnu::always_inline]] inline double sqrt(double a) {
@@ -87,49 +103,104 @@ using Mask = std::conditional_t<std::is_same_v<S, double>, bool, M2>;
   return std::cbrt(a);
 }
 
-// ---- two lanes ---------------------------------------------------------------
-[[gnu::always_inline]] inline D2 sqrt(D2 a) {
-#if defined(__SSE2__)
-  return reinterpret_cast<D2>(_mm_sqrt_pd(reinterpret_cast<__m128d>(a)));
-#else
-  return D2{std::sqrt(a[0]), std::sqrt(a[1])};
+// ---- several lanes: D2, D4 -------------------------------------------------
+/// True for the packed lane types (their masks are the int64 vectors of the same size).
+template <class S>
+constexpr bool packed = std::is_same_v<S, D2> || std::is_same_v<S, D4>;
+
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline S sqrt(S a) {
+#if defined(__AVX__)
+  if constexpr (std::is_same_v<S, D4>)
+    return reinterpret_cast<D4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(a)));
 #endif
+#if defined(__SSE2__)
+  if constexpr (std::is_same_v<S, D2>) return reinterpret_cast<D2>(_mm_sqrt_pd(reinterpret_cast<__m128d>(a)));
+#endif
+  S r;
+  for (int l = 0; l < width<S>(); ++l)
+    r[l] = std::sqrt(a[l]);
+  return r;
 }
-[[gnu::always_inline]] inline D2 abs(D2 a) {
-  M2 mask;
-  for (int l = 0; l < 2; ++l)
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline S abs(S a) {
+  Mask<S> mask;
+  for (int l = 0; l < width<S>(); ++l)
     mask[l] = INT64_MAX;
-  return reinterpret_cast<D2>(reinterpret_cast<M2>(a) & mask);
+  return reinterpret_cast<S>(reinterpret_cast<Mask<S>>(a) & mask);
 }
-[[gnu::always_inline]] inline D2 select(M2 m, D2 a, D2 b) {
-  return reinterpret_cast<D2>((m & reinterpret_cast<M2>(a)) | (~m & reinterpret_cast<M2>(b)));
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline S select(Mask<S> m, S a, S b) {
+  return reinterpret_cast<S>((m & reinterpret_cast<Mask<S>>(a)) | (~m & reinterpret_cast<Mask<S>>(b)));
+}
+// The masks' operations are plain overloads for M2 and M4, not templates: a
+// comparison of two D2 gives a vector of long with GCC and of long long with
+// Clang, which converts to M2 or M4 but would not deduce a template's type.
+template <class M>
+[[gnu::always_inline]] inline bool any_lane(M m) {
+  std::int64_t r = 0;
+  for (int l = 0; l < mask_width<M>(); ++l)
+    r |= m[l];
+  return r != 0;
+}
+template <class M>
+[[gnu::always_inline]] inline bool all_lanes(M m) {
+  std::int64_t r = -1;
+  for (int l = 0; l < mask_width<M>(); ++l)
+    r &= m[l];
+  return r != 0;
 }
 [[gnu::always_inline]] inline bool any(M2 m) {
-  return (m[0] | m[1]) != 0;
+  return any_lane(m);
+}
+[[gnu::always_inline]] inline bool any(M4 m) {
+  return any_lane(m);
 }
 [[gnu::always_inline]] inline bool all(M2 m) {
-  return (m[0] & m[1]) != 0;
+  return all_lanes(m);
+}
+[[gnu::always_inline]] inline bool all(M4 m) {
+  return all_lanes(m);
 }
 [[gnu::always_inline]] inline M2 mask_and(M2 a, M2 b) {
+  return a & b;
+}
+[[gnu::always_inline]] inline M4 mask_and(M4 a, M4 b) {
   return a & b;
 }
 [[gnu::always_inline]] inline M2 mask_andnot(M2 a, M2 b) {
   return ~a & b;
 }
+[[gnu::always_inline]] inline M4 mask_andnot(M4 a, M4 b) {
+  return ~a & b;
+}
 [[gnu::always_inline]] inline bool on(M2 m, int l) {
   return m[l] != 0;
 }
-[[gnu::always_inline]] inline double get(D2 a, int l) {
+[[gnu::always_inline]] inline bool on(M4 m, int l) {
+  return m[l] != 0;
+}
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline double get(S a, int l) {
   return a[l];
 }
-[[gnu::always_inline]] inline void set(D2& a, int l, double v) {
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline void set(S& a, int l, double v) {
   a[l] = v;
 }
-[[gnu::always_inline]] inline D2 pow(D2 a, double b) {
-  return D2{std::pow(a[0], b), std::pow(a[1], b)};
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline S pow(S a, double b) {
+  S r;
+  for (int l = 0; l < width<S>(); ++l)
+    r[l] = std::pow(a[l], b);
+  return r;
 }
-[[gnu::always_inline]] inline D2 cbrt(D2 a) {
-  return D2{std::cbrt(a[0]), std::cbrt(a[1])};
+template <class S, class = std::enable_if_t<packed<S>>>
+[[gnu::always_inline]] inline S cbrt(S a) {
+  S r;
+  for (int l = 0; l < width<S>(); ++l)
+    r[l] = std::cbrt(a[l]);
+  return r;
 }
 
 /// a in every lane of S.

@@ -591,11 +591,11 @@ void FixWallGran::post_force() {
       w.mat = &materials(type[i], wall_type);
       w.h = h;
       if (nblk == kWallBlock) {
-        evaluate_wall_block<K, contact::lane::D2>(spec, dt, blk, nblk, radius, omega, apply);
+        evaluate_wall_block<K, contact::lane::Wide>(spec, dt, blk, nblk, radius, omega, apply);
         nblk = 0;
       }
     }
-    if (nblk > 0) evaluate_wall_block<K, contact::lane::D2>(spec, dt, blk, nblk, radius, omega, apply);
+    if (nblk > 0) evaluate_wall_block<K, contact::lane::Wide>(spec, dt, blk, nblk, radius, omega, apply);
   });
 }
 
@@ -797,7 +797,7 @@ void FixWallGran::post_force_mesh() {
       count[i] = nkept;
     };
     auto flush = [&]() {
-      evaluate_wall_block<K, contact::lane::D2>(spec, dt, blk, nblk, radius, omega, apply);
+      evaluate_wall_block<K, contact::lane::Wide>(spec, dt, blk, nblk, radius, omega, apply);
       for (int s = 0; s < nstaged; ++s)
         write_back(staged[s]);
       nblk = 0;

@@ -1,7 +1,7 @@
 // The neighbour loop of the granular pair styles: one loop for every contact
 // model and both widths. It is templated on the sub-model slots K
 // (contact_kernels.h: a compiled hot kernel or RuntimeKernel) and on the
-// number type S (double: one contact at a time; lane::D2: two).
+// number type S (double: one contact at a time; lane::D2: two; lane::D4: four).
 //
 // In blocks of about kBlock contacts:
 //  1. all list entries (or those of the caller's near list: the entries that
