@@ -47,7 +47,7 @@ using Wide = D4;  ///< the lane type of the pair loop and the walls in this buil
 using Wide = D2;
 #endif
 
-/// Number of lanes of S.
+/// Number of lanes of S (of a mask type too: its lanes are 8-byte integers).
 template <class S>
 constexpr int width() {
   if constexpr (std::is_same_v<S, double>)
@@ -60,10 +60,6 @@ constexpr int width() {
 template <class S>
 using Mask =
     std::conditional_t<std::is_same_v<S, double>, bool, std::conditional_t<std::is_same_v<S, D2>, M2, M4>>;
-template <class M>
-constexpr int mask_width() {
-  return static_cast<int>(sizeof(M) / sizeof(std::int64_t));
-}
 
 // ---- one lane: plain double ----------------------------------------------
 [[gnu::always_inline]] inline double sqrt(double a) {
@@ -139,14 +135,14 @@ template <class S, class = std::enable_if_t<packed<S>>>
 template <class M>
 [[gnu::always_inline]] inline bool any_lane(M m) {
   std::int64_t r = 0;
-  for (int l = 0; l < mask_width<M>(); ++l)
+  for (int l = 0; l < width<M>(); ++l)
     r |= m[l];
   return r != 0;
 }
 template <class M>
 [[gnu::always_inline]] inline bool all_lanes(M m) {
   std::int64_t r = -1;
-  for (int l = 0; l < mask_width<M>(); ++l)
+  for (int l = 0; l < width<M>(); ++l)
     r &= m[l];
   return r != 0;
 }
