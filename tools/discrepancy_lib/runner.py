@@ -89,9 +89,12 @@ class Runner:
                 angle, _ = extractors.heap_angle(path, tuple(heap["central"]), heap["bins"], heap["layout"])
                 derived[heap["key"]] = angle
         if proc.returncode != 0:
-            tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
+            # the end of the output and the whole error stream (a crash's backtrace starts with
+            # the frame that failed; cutting it off hides where)
+            lines = proc.stdout.strip().splitlines()[-5:] + ["(standard error:)"]
+            lines += proc.stderr.strip().splitlines()[-80:]
             raise RunError("granary failed (exit %d): %s\n  %s" % (proc.returncode, " ".join(args),
-                                                                   "\n  ".join(tail)))
+                                                                   "\n  ".join(lines)))
         res = parse_results(text, self.model.prefix)
         res.update(derived)
         if not res:
