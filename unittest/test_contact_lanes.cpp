@@ -335,6 +335,32 @@ TEST_CASE("Contact formulas: two and four lanes give one lane's bits, compiled k
   CHECK(counts.pulled > 100);
 }
 
+// The masks' reductions (bits, any, all) against a lane-by-lane reading, for
+// every pattern of true lanes, from comparisons as the formulas make them.
+template <class S>
+void check_mask_reductions() {
+  constexpr int W = lane::width<S>();
+  for (int t = 0; t < (1 << W); ++t) {
+    S a = lane::splat<S>(1.0), b = lane::splat<S>(2.0);
+    for (int l = 0; l < W; ++l)
+      if ((t >> l) & 1) lane::set(a, l, 3.0);  // lane l: a > b
+    const lane::Mask<S> m = a > b;
+    CAPTURE(W, t);
+    CHECK(lane::bits(m) == t);
+    CHECK(lane::any(m) == (t != 0));
+    CHECK(lane::all(m) == (t == (1 << W) - 1));
+    CHECK(lane::bits(lane::mask_and(m, b < a)) == t);
+    CHECK(lane::bits(lane::mask_andnot(m, a == a)) == ((1 << W) - 1 - t));
+  }
+}
+
+TEST_CASE("Mask reductions: bits, any and all of two and four lanes", "[contact][lanes]") {
+  check_mask_reductions<lane::D2>();
+  check_mask_reductions<lane::D4>();
+  CHECK(lane::bits(true) == 1);
+  CHECK(lane::bits(false) == 0);
+}
+
 TEST_CASE("Only the hot models are compiled kernels", "[contact][lanes]") {
   auto compiled = [](const char* words) {
     std::vector<std::string> w;

@@ -87,25 +87,50 @@ struct MaterialT {
   S max_elastic_stiffness, adhesion_stiffness, plasticity_depth;  ///< hooke/hysteresis
 };
 
+/// f(field of m, the same field of p) for every field.
+template <class S, class F>
+[[gnu::always_inline]] inline void each_material_field(MaterialT<S>& m, const PairMaterial& p, F&& f) {
+  f(m.Y_eff, p.Y_eff);
+  f(m.G_eff, p.G_eff);
+  f(m.beta, p.beta);
+  f(m.friction, p.friction);
+  f(m.rolling_friction, p.rolling_friction);
+  f(m.char_velocity, p.char_velocity);
+  f(m.cohesion_energy_density, p.cohesion_energy_density);
+  f(m.dissipative_time, p.dissipative_time);
+  f(m.rolling_damping, p.rolling_damping);
+  f(m.rolling_stiffness, p.rolling_stiffness);
+  f(m.max_elastic_stiffness, p.max_elastic_stiffness);
+  f(m.adhesion_stiffness, p.adhesion_stiffness);
+  f(m.plasticity_depth, p.plasticity_depth);
+  f(m.kn, p.kn);
+  f(m.kt, p.kt);
+  f(m.gamman, p.gamman);
+  f(m.gammat, p.gammat);
+}
+
+/// Lane l of m from the pair material p.
 template <class S>
 [[gnu::always_inline]] inline void set_material(MaterialT<S>& m, int l, const PairMaterial& p) {
-  lane::set(m.Y_eff, l, p.Y_eff);
-  lane::set(m.G_eff, l, p.G_eff);
-  lane::set(m.beta, l, p.beta);
-  lane::set(m.friction, l, p.friction);
-  lane::set(m.rolling_friction, l, p.rolling_friction);
-  lane::set(m.char_velocity, l, p.char_velocity);
-  lane::set(m.cohesion_energy_density, l, p.cohesion_energy_density);
-  lane::set(m.dissipative_time, l, p.dissipative_time);
-  lane::set(m.rolling_damping, l, p.rolling_damping);
-  lane::set(m.rolling_stiffness, l, p.rolling_stiffness);
-  lane::set(m.max_elastic_stiffness, l, p.max_elastic_stiffness);
-  lane::set(m.adhesion_stiffness, l, p.adhesion_stiffness);
-  lane::set(m.plasticity_depth, l, p.plasticity_depth);
-  lane::set(m.kn, l, p.kn);
-  lane::set(m.kt, l, p.kt);
-  lane::set(m.gamman, l, p.gamman);
-  lane::set(m.gammat, l, p.gammat);
+  each_material_field(
+      m, p, [l](S & a, double v) __attribute__((always_inline)) { lane::set(a, l, v); });
+}
+
+/// The lanes of m from their pair materials p[l]: when all lanes have the
+/// same (one type pair, the usual case), one broadcast per field instead of a
+/// value per lane.
+template <class S>
+[[gnu::always_inline]] inline void set_materials(MaterialT<S>& m,
+                                                 const PairMaterial* const (&p)[lane::width<S>()]) {
+  bool one = true;
+  for (int l = 1; l < lane::width<S>(); ++l)
+    one &= p[l] == p[0];
+  if (one)
+    each_material_field(
+        m, *p[0], [](S & a, double v) __attribute__((always_inline)) { a = lane::splat<S>(v); });
+  else
+    for (int l = 0; l < lane::width<S>(); ++l)
+      set_material(m, l, *p[l]);
 }
 
 /// The geometry of W contacts: what prepare() reads.

@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #include <Eigen/Core>
@@ -83,9 +84,6 @@ using Mask =
 [[gnu::always_inline]] inline bool mask_andnot(bool a, bool b) {  ///< !a and b
   return !a & b;
 }
-[[gnu::always_inline]] inline bool on(bool m, int) {
-  return m;
-}
 [[gnu::always_inline]] inline double get(double a, int) {
   return a;
 }
@@ -132,31 +130,45 @@ template <class S, class = std::enable_if_t<packed<S>>>
 // The masks' operations are plain overloads for M2 and M4, not templates: a
 // comparison of two D2 gives a vector of long with GCC and of long long with
 // Clang, which converts to M2 or M4 but would not deduce a template's type.
+// A mask's lanes are all bits set or none (what comparisons, mask_and and
+// mask_andnot give), so the sign bit of a lane says it: bits() reads the
+// sign bits in one instruction (movmskpd) instead of a lane at a time.
 template <class M>
-[[gnu::always_inline]] inline bool any_lane(M m) {
-  std::int64_t r = 0;
+[[gnu::always_inline]] inline int sign_bits(M m) {
+  int r = 0;
   for (int l = 0; l < width<M>(); ++l)
-    r |= m[l];
-  return r != 0;
+    r |= static_cast<int>(m[l] < 0) << l;
+  return r;
 }
-template <class M>
-[[gnu::always_inline]] inline bool all_lanes(M m) {
-  std::int64_t r = -1;
-  for (int l = 0; l < width<M>(); ++l)
-    r &= m[l];
-  return r != 0;
+/// The lanes of a mask as the bits of an int: bit l set when lane l is true.
+[[gnu::always_inline]] inline int bits(bool m) {
+  return m;
+}
+[[gnu::always_inline]] inline int bits(M2 m) {
+#if defined(__SSE2__)
+  return _mm_movemask_pd(reinterpret_cast<__m128d>(m));
+#else
+  return sign_bits(m);
+#endif
+}
+[[gnu::always_inline]] inline int bits(M4 m) {
+#if defined(__AVX__)
+  return _mm256_movemask_pd(reinterpret_cast<__m256d>(m));
+#else
+  return sign_bits(m);
+#endif
 }
 [[gnu::always_inline]] inline bool any(M2 m) {
-  return any_lane(m);
+  return bits(m) != 0;
 }
 [[gnu::always_inline]] inline bool any(M4 m) {
-  return any_lane(m);
+  return bits(m) != 0;
 }
 [[gnu::always_inline]] inline bool all(M2 m) {
-  return all_lanes(m);
+  return bits(m) == 3;
 }
 [[gnu::always_inline]] inline bool all(M4 m) {
-  return all_lanes(m);
+  return bits(m) == 15;
 }
 [[gnu::always_inline]] inline M2 mask_and(M2 a, M2 b) {
   return a & b;
@@ -169,12 +181,6 @@ template <class M>
 }
 [[gnu::always_inline]] inline M4 mask_andnot(M4 a, M4 b) {
   return ~a & b;
-}
-[[gnu::always_inline]] inline bool on(M2 m, int l) {
-  return m[l] != 0;
-}
-[[gnu::always_inline]] inline bool on(M4 m, int l) {
-  return m[l] != 0;
 }
 template <class S, class = std::enable_if_t<packed<S>>>
 [[gnu::always_inline]] inline double get(S a, int l) {
@@ -275,13 +281,52 @@ template <class S>
   v[2] = get(a.z, l);
 }
 
+/// The lanes of a into out[0 .. W-1]; of a 3-vector into out[0][...], out[1][...], out[2][...].
+template <class S>
+[[gnu::always_inline]] inline void spill(S a, double* out) {
+  if constexpr (std::is_same_v<S, double>)
+    out[0] = a;
+  else
+    std::memcpy(out, &a, sizeof a);
+}
+template <class S>
+[[gnu::always_inline]] inline void spill(const V3<S>& a, double (&out)[3][width<S>()]) {
+  spill(a.x, out[0]);
+  spill(a.y, out[1]);
+  spill(a.z, out[2]);
+}
+
+/// Lanes of the 3-vectors at p[0], ..., p[W-1] (three doubles each). Four
+/// lanes: x and y of two vectors per 256-bit register, then unpacked (11
+/// instructions instead of 15), reading no byte beyond the vectors.
+template <class S>
+[[gnu::always_inline]] inline V3<S> gather3(const double* const* p) {
+#if defined(__AVX__)
+  if constexpr (std::is_same_v<S, D4>) {
+    const __m256d ac =
+        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p[0])), _mm_loadu_pd(p[2]), 1);
+    const __m256d bd =
+        _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(p[1])), _mm_loadu_pd(p[3]), 1);
+    const __m128d z01 = _mm_loadh_pd(_mm_load_sd(p[0] + 2), p[1] + 2);
+    const __m128d z23 = _mm_loadh_pd(_mm_load_sd(p[2] + 2), p[3] + 2);
+    return {reinterpret_cast<D4>(_mm256_unpacklo_pd(ac, bd)),
+            reinterpret_cast<D4>(_mm256_unpackhi_pd(ac, bd)),
+            reinterpret_cast<D4>(_mm256_insertf128_pd(_mm256_castpd128_pd256(z01), z23, 1))};
+  }
+#endif
+  V3<S> r;
+  for (int l = 0; l < width<S>(); ++l)
+    set(r, l, p[l]);
+  return r;
+}
+
 /// Lanes of a[idx[0]], ..., a[idx[W-1]].
 template <class S>
 [[gnu::always_inline]] inline V3<S> gather(const Eigen::Vector3d* a, const int* idx) {
-  V3<S> r;
+  const double* p[width<S>()];
   for (int l = 0; l < width<S>(); ++l)
-    set(r, l, a[idx[l]]);
-  return r;
+    p[l] = a[idx[l]].data();
+  return gather3<S>(p);
 }
 template <class S>
 [[gnu::always_inline]] inline S gather(const double* a, const int* idx) {

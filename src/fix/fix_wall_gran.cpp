@@ -59,6 +59,7 @@ void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, 
   PreparedT<S> prep[(kWallBlock + FixWallGran::kMeshSlots + W - 1) / W];
   // a wall: r_j = 0, R* = r_i, m* = m_i, no spin
   auto geometry = [&](const int(&c)[W], GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
+    const PairMaterial* pm[W];
     for (int l = 0; l < W; ++l) {
       const WallContact& w = blk[c[l]];
       lane::set(g.n, l, w.n);
@@ -66,8 +67,9 @@ void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, 
       lane::set(g.r_i, l, w.r);
       lane::set(g.m_eff, l, w.m_eff);
       lane::set(g.omega_i, l, omega[w.i]);
-      set_material(mat, l, *w.mat);
+      pm[l] = w.mat;
     }
+    set_materials(mat, pm);
     g.r_j = lane::splat<S>(0.0);
     g.r_eff = g.r_i;
     g.omega_j = lane::zero3<S>();
@@ -76,19 +78,20 @@ void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, 
   };
   auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
       __attribute__((always_inline)) {
+    const double* h[W];
     for (int l = 0; l < W; ++l) {
       const WallContact& w = blk[c[l]];
       lane::set(omega_i, l, omega[w.i]);
       lane::set(v_rel, l, w.v_rel);
-      load_history<K>(spec, l, w.h, shear, slip, roll);
+      h[l] = w.h;
     }
+    load_history<K>(spec, h, shear, slip, roll);
   };
-  auto store = [&](const int(&c)[W], int nvalid, const ResultT<S>& out, const V3<S>& shear,
-                   const SlipT<S>& slip, const V3<S>& roll) __attribute__((always_inline)) {
+  auto store = [&](const int(&c)[W], int nvalid, const GroupOut<S>& r) __attribute__((always_inline)) {
     for (int l = 0; l < nvalid; ++l) {
       const WallContact& w = blk[c[l]];
-      store_history<K>(spec, l, shear, slip, roll, w.h);
-      apply(w, lane::get(out.force, l), lane::get(out.torque_i, l));
+      store_history<K>(spec, r, l, w.h);
+      apply(w, GroupOut<S>::at(r.force, l), GroupOut<S>::at(r.torque_i, l));
     }
   };
   evaluate_block<K, S>(spec, n, dt, prep, geometry, load, store);

@@ -26,6 +26,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -182,8 +183,10 @@ void pair_loop(const PairLoopData& L) {
       }
       g.omega_i = lane::gather<S>(omega, ii);
       g.omega_j = lane::gather<S>(omega, j);
+      const PairMaterial* pm[W];
       for (int l = 0; l < W; ++l)
-        set_material(mat, l, materials(type[ii[l]], type[j[l]]));
+        pm[l] = &materials(type[ii[l]], type[j[l]]);
+      set_materials(mat, pm);
     };
     auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
         __attribute__((always_inline)) {
@@ -193,34 +196,36 @@ void pair_loop(const PairLoopData& L) {
         j[l] = neigh[blk_k[c[l]]];
       }
       v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
-      for (int l = 0; l < W; ++l)
-        load_history<K>(spec, l, pool + static_cast<std::size_t>(slot[blk_k[c[l]]]) * nh, shear, slip, roll);
+      if (nh > 0) {
+        const double* h[W];
+        for (int l = 0; l < W; ++l)
+          h[l] = pool + static_cast<std::size_t>(slot[blk_k[c[l]]]) * nh;
+        load_history<K>(spec, h, shear, slip, roll);
+      }
       omega_i = lane::gather<S>(omega, ii);
     };
-    auto store = [&](const int(&c)[W], int nvalid, const ResultT<S>& out, const V3<S>& shear,
-                     const SlipT<S>& slip, const V3<S>& roll) __attribute__((always_inline)) {
+    auto store = [&](const int(&c)[W], int nvalid, const GroupOut<S>& r) __attribute__((always_inline)) {
       for (int l = 0; l < nvalid; ++l) {
         const int kk = blk_k[c[l]], i = blk_i[c[l]], j = neigh[kk];
-        if (nh > 0)
-          store_history<K>(spec, l, shear, slip, roll, pool + static_cast<std::size_t>(slot[kk]) * nh);
+        if (nh > 0) store_history<K>(spec, r, l, pool + static_cast<std::size_t>(slot[kk]) * nh);
         // i's sums in memory, contact after contact: the same additions in
         // the same order as a running sum (no partner of i's row is i)
-        const Vec3 force = lane::get(out.force, l);
+        const Vec3 force = GroupOut<S>::at(r.force, l);
         f[i] += force;
-        torque[i] += lane::get(out.torque_i, l);
+        torque[i] += GroupOut<S>::at(r.torque_i, l);
         if (newton || j < nlocal) {
           f[j] -= force;
-          torque[j] += lane::get(out.torque_j, l);
+          torque[j] += GroupOut<S>::at(r.torque_j, l);
         }
         if (mc) {
           // this evaluation's contact for the next one: the point in the
           // middle of the geometric overlap, relative to each centre
           const Particles& P = *L.particles;
           const Vec3 d = x[i] - x[j];
-          const double r = d.norm();
-          const Vec3 n = d * (1.0 / r);
-          const Vec3 rel_i = MultiContact::offset(radius[i], radius[i] + radius[j] - r, n);
-          const double fn = lane::get(out.fn, l);
+          const double rr = d.norm();
+          const Vec3 n = d * (1.0 / rr);
+          const Vec3 rel_i = MultiContact::offset(radius[i], radius[i] + radius[j] - rr, n);
+          const double fn = r.fn[l];
           mc->record(P, i, static_cast<double>(P.id[j]), rel_i, n, fn);
           if (j < nlocal) mc->record(P, j, static_cast<double>(P.id[i]), d + rel_i, -n, fn);
         }
@@ -243,6 +248,14 @@ void pair_loop(const PairLoopData& L) {
   // particle), appending the contacts to the block: all entries, or the
   // entries of the near list L.near (ascending) when the caller keeps one.
   const int* const owner = L.owner;
+  // kLanesBelow[t][l]: how many of the lanes 0 .. l-1 are set in t (l = W: all)
+  static constexpr auto kLanesBelow = [] {
+    std::array<std::array<std::int8_t, W + 1>, (1 << W)> c{};
+    for (int t = 0; t < (1 << W); ++t)
+      for (int l = 0; l < W; ++l)
+        c[t][l + 1] = static_cast<std::int8_t>(c[t][l] + ((t >> l) & 1));
+    return c;
+  }();
   auto stage1 = [&](auto entry, int n) __attribute__((always_inline)) {
     int nblock = 0;
     int q = 0;
@@ -256,18 +269,25 @@ void pair_loop(const PairLoopData& L) {
       const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, jj);
       const S rsum = lane::gather<S>(radius, ii) + lane::gather<S>(radius, jj);
       const S r2 = dot(d, d);
-      const auto t = lane::mask_and(r2 < rsum * rsum, r2 != 0.0);
-      bool changed = false;
+      // the lanes that touch, bit l for lane l
+      const int t = lane::bits(lane::mask_and(r2 < rsum * rsum, r2 != 0.0));
+      // lane l goes after the touching lanes before it; a lane that does not
+      // touch is overwritten by the next one (independent stores: no chain
+      // of additions from lane to lane)
       for (int l = 0; l < W; ++l) {
-        const int tl = lane::on(t, l);
-        blk_k[nblock] = kk[l];
-        blk_i[nblock] = ii[l];
-        nblock += tl;
-        if (nh > 0) changed |= (tl != 0) != (slot[kk[l]] != kNone);
+        const int at = nblock + kLanesBelow[t][l];
+        blk_k[at] = kk[l];
+        blk_i[at] = ii[l];
       }
-      if (changed)
+      nblock += kLanesBelow[t][W];
+      if (nh > 0) {
+        int had = 0;  // the lanes that had a contact
         for (int l = 0; l < W; ++l)
-          begin_or_end(kk[l], lane::on(t, l));
+          had |= static_cast<int>(slot[kk[l]] != kNone) << l;
+        if (had != t)
+          for (int l = 0; l < W; ++l)
+            begin_or_end(kk[l], (t >> l) & 1);
+      }
       if (nblock >= kPairBlock) {
         flush(nblock);
         nblock = 0;
