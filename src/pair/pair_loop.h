@@ -110,7 +110,9 @@ void pair_loop(const PairLoopData& L) {
   auto mass = [&](int a) { return body_mass && body_mass[a] > 0.0 ? body_mass[a] : rmass[a]; };
 
   // stages 2 and 3 for the n contacts of the block (contact/contact_block.h)
-  auto flush = [&](int n) {
+  // (the pointers and flags by value: one load each from the closure, not two)
+  auto flush = [&, f, torque, neigh, x, v, omega, radius, rmass, body_mass, type, slot, newton, nlocal,
+                mc](int n) {
     // (stage 1 took the slots of this block's new contacts: the pool stays put until the next block)
     double* const pool = nh > 0 ? history->pool() : nullptr;
     // R* and m* again only for pairs unlike the last group's (exact
@@ -127,10 +129,15 @@ void pair_loop(const PairLoopData& L) {
       const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, j);
       const S r_i = lane::gather<S>(radius, ii);
       const S r_j = lane::gather<S>(radius, j);
-      S m_i{}, m_j{};
-      for (int l = 0; l < W; ++l) {
-        lane::set(m_i, l, mass(ii[l]));
-        lane::set(m_j, l, mass(j[l]));
+      S m_i, m_j;
+      if (body_mass) {
+        for (int l = 0; l < W; ++l) {
+          lane::set(m_i, l, mass(ii[l]));
+          lane::set(m_j, l, mass(j[l]));
+        }
+      } else {  // no clumps: every particle's own mass
+        m_i = lane::gather<S>(rmass, ii);
+        m_j = lane::gather<S>(rmass, j);
       }
       if (!lane::all(lane::mask_and(lane::mask_and(r_i == last_ri, r_j == last_rj),
                                     lane::mask_and(m_i == last_mi, m_j == last_mj)))) {
