@@ -36,6 +36,15 @@
 #include <immintrin.h>
 #endif
 
+// Without AVX, GCC notes (-Wpsabi) that D4 and M4 passed by value have
+// another ABI than with it; every function here is inlined, so no call
+// crosses a boundary where that could matter.
+#if !defined(__AVX__) && defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define GRANARY_LANE_PSABI_PUSHED
+#endif
+
 namespace granary::contact::lane {
 
 using D2 = double __attribute__((vector_size(16)));
@@ -337,3 +346,8 @@ template <class S>
 }
 
 }  // namespace granary::contact::lane
+
+#ifdef GRANARY_LANE_PSABI_PUSHED
+#pragma GCC diagnostic pop
+#undef GRANARY_LANE_PSABI_PUSHED
+#endif
