@@ -106,9 +106,6 @@ void pair_loop(const PairLoopData& L) {
   int blk_k[kCap], blk_i[kCap];
   PreparedT<S> prep[(kCap + W - 1) / W];
 
-  // sub-spheres of clumps use their body's mass (filled by fix multisphere)
-  auto mass = [&](int a) { return body_mass && body_mass[a] > 0.0 ? body_mass[a] : rmass[a]; };
-
   // stages 2 and 3 for the n contacts of the block (contact/contact_block.h)
   // (the pointers and flags by value: one load each from the closure, not two)
   auto flush = [&, f, torque, neigh, x, v, omega, radius, rmass, body_mass, type, slot, newton, nlocal,
@@ -131,6 +128,8 @@ void pair_loop(const PairLoopData& L) {
       const S r_j = lane::gather<S>(radius, j);
       S m_i, m_j;
       if (body_mass) {
+        // sub-spheres of clumps use their body's mass (filled by fix multisphere)
+        auto mass = [&](int a) { return body_mass[a] > 0.0 ? body_mass[a] : rmass[a]; };
         for (int l = 0; l < W; ++l) {
           lane::set(m_i, l, mass(ii[l]));
           lane::set(m_j, l, mass(j[l]));
