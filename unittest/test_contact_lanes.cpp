@@ -169,7 +169,7 @@ Out one_lane(const ModelSpec& spec, const Sample& s, double dt) {
   PreparedT<double> q;
   prepare<K>(spec, s.g, s.mat, q);
   Out o{{}, s.shear, s.roll, s.slip};
-  interact<K>(spec, q, s.g.omega_i, s.v_rel, HistoryDt{dt, dt}, o.shear, o.slip, o.roll, o.r);
+  interact<K>(spec, q, s.v_rel, HistoryDt{dt, dt}, o.shear, o.slip, o.roll, o.r);
   return o;
 }
 
@@ -227,7 +227,7 @@ void lanes(const ModelSpec& spec, const Sample* s, double dt, Out* out) {
   SlipT<S> slip{GRANARY_PACK(slip.turn), GRANARY_PACK(slip.t_max), GRANARY_PACK(slip.kt_prev),
                 GRANARY_PACK(slip.d_max)};
   ResultT<S> r;
-  interact<K>(spec, q, g.omega_i, GRANARY_PACK3(v_rel), HistoryDt{dt, dt}, shear, slip, roll, r);
+  interact<K>(spec, q, GRANARY_PACK3(v_rel), HistoryDt{dt, dt}, shear, slip, roll, r);
 #undef GRANARY_PACK
 #undef GRANARY_PACK3
   for (int l = 0; l < W; ++l) {

@@ -8,28 +8,29 @@
 //     they form a long chain of dependent slow operations, across contacts
 //     they are independent and the processor overlaps them);
 //  2. contact after contact in the block's order, W at a time: the caller's
-//     `load` gathers spins, relative velocities and history, contact::interact(),
+//     `load` gathers relative velocities and history, contact::interact(),
 //     the results and the history go to memory lane by lane (GroupOut), and
 //     the caller's `store` writes the history back and adds the forces, for
 //     the lanes that hold contacts (`nvalid`), in lane order; so the sums are
 //     the same additions in the same order whatever W.
-// A last group with fewer than W contacts repeats its last contact in the
-// spare lanes; their results are not stored. The contacts of the block are
-// named by their position c in the block (c[l]: the contact in lane l).
+// The contacts of the block are named by their position in the block: a
+// group's lanes hold the contacts m .. m+W-1. The caller's arrays repeat the
+// last contact up to the next multiple of W (pad_block()), so a last group
+// with fewer than W contacts evaluates copies in its spare lanes; their
+// results are not stored.
 #pragma once
-
-#include <algorithm>
 
 #include "contact/contact_kernels.h"
 #include "contact/lane.h"
 
 namespace granary::contact {
 
-/// The contacts of lanes m .. m+W-1 of a block of n (the last one repeated).
-template <int W>
-[[gnu::always_inline]] inline void block_lanes(int m, int n, int (&c)[W]) {
-  for (int l = 0; l < W; ++l)
-    c[l] = std::min(m + l, n - 1);
+/// Repeat a[n-1] in a[n] .. up to the next multiple of W (n > 0; room for
+/// W - 1 more than n).
+template <int W, class T>
+[[gnu::always_inline]] inline void pad_block(T* a, int n) {
+  for (int k = n; k % W != 0; ++k)
+    a[k] = a[n - 1];
 }
 
 /// The lanes' history state from the history doubles h[l] of each lane's contact.
@@ -104,38 +105,39 @@ template <class K, class S>
   if (ho >= 0) h[ho] = g.d_max[l];
 }
 
-/// Evaluate the n contacts of a block (see the top of this file). `prep` holds
-/// at least (n + W - 1) / W prepared groups. The callbacks, for the lanes'
-/// contacts c[W]:
-///   geometry(c, GeometryT<S>& g, MaterialT<S>& mat)
-///   load(c, V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
+/// Evaluate the n contacts of a block (see the top of this file; the caller's
+/// arrays padded by pad_block()). `prep` holds at least (n + W - 1) / W
+/// prepared groups. The callbacks, for the group of lanes m .. m+W-1:
+///   geometry(m, GeometryT<S>& g, MaterialT<S>& mat)
+///   load(m, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
 ///     (shear, slip and roll arrive zero)
-///   store(c, int nvalid, const GroupOut<S>& r)   (results and history, lane by lane)
+///   store(m, int nvalid, const GroupOut<S>& r)   (results and history, lane by lane;
+///     nvalid = W but in a last group of fewer contacts)
 template <class K, class S, class Geometry, class Load, class Store>
 [[gnu::always_inline]] inline void evaluate_block(const ModelSpec& spec, int n, HistoryDt dt,
                                                   PreparedT<S>* prep, Geometry&& geometry, Load&& load,
                                                   Store&& store) {
   constexpr int W = lane::width<S>();
   for (int m = 0; m < n; m += W) {
-    int c[W];
-    block_lanes<W>(m, n, c);
     GeometryT<S> g;  // locals, so fields a model does not read cost nothing
     MaterialT<S> mat{};
-    geometry(c, g, mat);
+    geometry(m, g, mat);
     prepare<K>(spec, g, mat, prep[m / W]);
   }
   ResultT<S> out;
   GroupOut<S> r;
   for (int m = 0; m < n; m += W) {
-    int c[W];
-    block_lanes<W>(m, n, c);
-    lane::V3<S> omega_i = lane::zero3<S>(), v_rel = omega_i;  // filled by load
+    lane::V3<S> v_rel = lane::zero3<S>();  // filled by load
     lane::V3<S> shear = lane::zero3<S>(), roll = lane::zero3<S>();
     SlipT<S> slip{lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0), lane::splat<S>(0.0)};
-    load(c, omega_i, v_rel, shear, slip, roll);
-    interact<K>(spec, prep[m / W], omega_i, v_rel, dt, shear, slip, roll, out);
+    load(m, v_rel, shear, slip, roll);
+    interact<K>(spec, prep[m / W], v_rel, dt, shear, slip, roll, out);
     spill_group<K>(spec, out, shear, slip, roll, r);
-    store(c, std::min(W, n - m), r);
+    // (a full group with W known when compiling: the store's loop unrolled)
+    if (m + W <= n)
+      store(m, W, r);
+    else
+      store(m, n - m, r);
   }
 }
 

@@ -145,7 +145,7 @@ struct GeometryT {
 };
 
 /// What prepare() hands to interact(): everything the second stage reads
-/// apart from the history, the spins of i and the relative velocity. A pair
+/// apart from the history and the relative velocity. A pair
 /// loop keeps these for a block of contacts, so only what interact() needs is
 /// here (the geometry and material of the first stage are gone by then).
 template <class S>
@@ -155,11 +155,11 @@ struct PreparedT {
   S kn, kt, gamma_n, gamma_t;  ///< stiffness and damping of the normal sub-model
   S cr_i, cr_j;                ///< lever arms r - overlap/2 (a wall: 0)
   S friction, rolling_friction;
-  lane::V3<S> omega_j;    ///< spin of the partner
-  S spin;                 ///< cdt: |omega_i - omega_j|
-  S f_coh;                ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
-  S k_roll, c_roll;       ///< epsd, epsd3: rolling stiffness k_r and dashpot C_r; unset otherwise
-  S k2_max, k_c, d_star;  ///< hooke/hysteresis: k2max, kc and delta_max*; unset otherwise
+  lane::V3<S> omega_i, omega_j;  ///< spins of i and of the partner
+  S spin;                        ///< cdt: |omega_i - omega_j|
+  S f_coh;                       ///< sjkr, sjkr2: the cohesive pull (>= 0); unset without cohesion
+  S k_roll, c_roll;              ///< epsd, epsd3: rolling stiffness k_r and dashpot C_r; unset otherwise
+  S k2_max, k_c, d_star;         ///< hooke/hysteresis: k2max, kc and delta_max*; unset otherwise
 };
 
 /// The scalar history of a contact: the loading state of mindlin_deresiewicz
@@ -285,6 +285,7 @@ template <class K, class S>
   q.r_eff = g.r_eff;
   q.friction = m.friction;
   q.rolling_friction = m.rolling_friction;
+  q.omega_i = g.omega_i;
   q.omega_j = g.omega_j;
   if (K::cohesion(spec) == CohesionModel::Sjkr)
     q.f_coh = sjkr_force(g, m);
@@ -315,8 +316,8 @@ template <class K, class S>
   }
 }
 
-/// Second stage: forces and torques of W contacts from the first stage's `q`,
-/// the spins of the particles i, the relative velocity of the centres `v_rel`
+/// Second stage: forces and torques of W contacts from the first stage's `q`
+/// (the spins included), the relative velocity of the centres `v_rel`
 /// (v_i - v_j; a wall: v_i minus the wall's velocity) and the timestep `dt`. `shear` (tangential history,
 /// mindlin_deresiewicz), `slip` (mindlin_deresiewicz) and `roll` (epsd2 spring
 /// torque) are the contacts' history, updated in place; a slot the model does
@@ -324,14 +325,14 @@ template <class K, class S>
 /// result and a zero history.
 template <class K, class S>
 [[gnu::always_inline]] inline void interact(const ModelSpec& spec, const PreparedT<S>& q,
-                                            const lane::V3<S>& omega_i, const lane::V3<S>& v_rel,
-                                            HistoryDt hdt, lane::V3<S>& shear, SlipT<S>& slip,
-                                            lane::V3<S>& roll, ResultT<S>& out) {
+                                            const lane::V3<S>& v_rel, HistoryDt hdt, lane::V3<S>& shear,
+                                            SlipT<S>& slip, lane::V3<S>& roll, ResultT<S>& out) {
   using lane::select;
   using lane::splat;
   using V = lane::V3<S>;
   const double dt = hdt.tangential;
   const V n = q.n;
+  const V& omega_i = q.omega_i;
   // Normal force: spring + dashpot; vn < 0 while approaching, so the dashpot
   // pushes the bodies apart on approach and pulls on separation.
   const S vn = dot(v_rel, n);
@@ -572,7 +573,7 @@ template <class K>
   if (ho >= 0) slip.d_max = history[ho];
   V roll = ro >= 0 ? V{history[ro], history[ro + 1], history[ro + 2]} : lane::zero3<double>();
   ResultT<double> r;
-  interact<K>(spec, q, g.omega_i, v3(c.v_rel), HistoryDt{c.dt, c.dt}, shear, slip, roll, r);
+  interact<K>(spec, q, v3(c.v_rel), HistoryDt{c.dt, c.dt}, shear, slip, roll, r);
   if (so >= 0) lane::store(shear, 0, history + so);
   if (po >= 0) store_slip(slip, 0, history + po);
   if (ro >= 0) lane::store(roll, 0, history + ro);

@@ -41,6 +41,8 @@ struct WallContact {
 
 /// Contacts gathered before a block is evaluated.
 constexpr int kWallBlock = 64;
+/// Room for the copies of a block's last contact that fill its last group (pad_block()).
+constexpr int kWallPad = contact::lane::width<contact::lane::Wide>() - 1;
 
 // GCC 12 takes the lanes of the material, filled one at a time from the
 // contacts, for maybe uninitialized in the run-time kernel's instance (they are
@@ -49,19 +51,21 @@ constexpr int kWallBlock = 64;
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 /// The n wall contacts of blk through the pair loop's block machinery
 /// (contact/contact_block.h), W at a time; then apply(contact, force,
-/// torque) for each, in blk's order.
+/// torque) for each, in blk's order. blk has room for W - 1 more (the copies
+/// of the last contact that fill the last group).
 template <class K, class S, class Apply>
-void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, const WallContact* blk, int n,
+void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, WallContact* blk, int n,
                          const double* radius, const Vec3* omega, Apply&& apply) {
   using namespace contact;
   using lane::V3;
   constexpr int W = lane::width<S>();
+  pad_block<W>(blk, n);
   PreparedT<S> prep[(kWallBlock + FixWallGran::kMeshSlots + W - 1) / W];
   // a wall: r_j = 0, R* = r_i, m* = m_i, no spin
-  auto geometry = [&](const int(&c)[W], GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
+  auto geometry = [&](int m, GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
     const PairMaterial* pm[W];
     for (int l = 0; l < W; ++l) {
-      const WallContact& w = blk[c[l]];
+      const WallContact& w = blk[m + l];
       lane::set(g.n, l, w.n);
       lane::set(g.overlap, l, w.overlap);
       lane::set(g.r_i, l, w.r);
@@ -76,20 +80,19 @@ void evaluate_wall_block(const contact::ModelSpec& spec, contact::HistoryDt dt, 
     // epsd, epsd3: I_r = I_i + m_i r_i^2 of a solid sphere
     g.i_roll = rolling_dashpot(K::rolling(spec)) ? S(1.4 * g.m_eff * g.r_i * g.r_i) : lane::splat<S>(0.0);
   };
-  auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
+  auto load = [&](int m, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
       __attribute__((always_inline)) {
     const double* h[W];
     for (int l = 0; l < W; ++l) {
-      const WallContact& w = blk[c[l]];
-      lane::set(omega_i, l, omega[w.i]);
+      const WallContact& w = blk[m + l];
       lane::set(v_rel, l, w.v_rel);
       h[l] = w.h;
     }
     load_history<K>(spec, h, shear, slip, roll);
   };
-  auto store = [&](const int(&c)[W], int nvalid, const GroupOut<S>& r) __attribute__((always_inline)) {
+  auto store = [&](int m, int nvalid, const GroupOut<S>& r) __attribute__((always_inline)) {
     for (int l = 0; l < nvalid; ++l) {
-      const WallContact& w = blk[c[l]];
+      const WallContact& w = blk[m + l];
       store_history<K>(spec, r, l, w.h);
       apply(w, GroupOut<S>::at(r.force, l), GroupOut<S>::at(r.torque_i, l));
     }
@@ -536,7 +539,7 @@ void FixWallGran::post_force() {
     const int nh = K::history_size(spec);
     double dummy[contact::kMaxHistory] = {};
     // the contacts, a block at a time (contact/contact_block.h)
-    WallContact blk[kWallBlock];
+    WallContact blk[kWallBlock + kWallPad];
     int nblk = 0;
     MultiContact* const mc = mc_;
     const double mc_key = MultiContact::wall_key(mc_ordinal_, 0);
@@ -750,7 +753,7 @@ void FixWallGran::post_force_mesh() {
     // gathered, particle after particle, until a block is full, then
     // evaluated; the particles' slots are written back after the block.
     constexpr int kStage = kWallBlock + kMeshSlots;  // a block, plus the last particle's contacts
-    WallContact blk[kStage];
+    WallContact blk[kStage + kWallPad];
     int nblk = 0;
     double
         fresh[kStage * (kSlotHeader + contact::kMaxHistory) + 1];  // the block's slots (key, point, history)

@@ -202,50 +202,51 @@ void PairGranular::loop() {
   // built then, which forgot ended contacts, is not kept)
   const bool setup = engine_.update->in_setup_forces;
   if (setup) near_epoch_ = -1;
-  if (near_list && engine_.neighbor->skin > 0.0) {
-    update_near_list(p, list.neigh, L.offset[p.nlocal], nh);
-    L.near = near_.data();
-    L.nnear = static_cast<int>(near_.size());
+  const bool use_near = near_list && engine_.neighbor->skin > 0.0;
+  const double margin = 0.25 * engine_.neighbor->skin;
+  bool remake = false;  // the near list is made anew by this scan of every entry
+  if (use_near) {
+    if (near_list_current(p, margin)) {
+      L.near = near_.data();
+      L.nnear = static_cast<int>(near_.size());
+    } else {
+      remake = true;
+      // room for every entry (the old entries need not be kept)
+      const std::size_t room =
+          static_cast<std::size_t>(L.offset[p.nlocal]) + contact::lane::width<contact::lane::Wide>();
+      if (room > near_.capacity())
+        assign_fresh(near_, room, 0);
+      else
+        near_.resize(room);
+      L.near_out = near_.data();
+      L.near_margin = margin;
+    }
   } else {
     engine_.neighbor->watch(0.0);
   }
-  pair_loop<Kernel, contact::lane::Wide>(L);
+  const int nnear = pair_loop<Kernel, contact::lane::Wide>(L);
+  if (remake) {
+    near_.resize(static_cast<std::size_t>(nnear));
+    near_x_.assign(p.x.begin(), p.x.end());
+    near_r_.assign(p.radius.begin(), p.radius.end());
+    near_epoch_ = engine_.neighbor->watch_epoch();
+  }
   if (setup) near_epoch_ = -1;
 }
 
-void PairGranular::update_near_list(const Particles& p, const std::vector<int>& neigh, int nentries, int nh) {
+bool PairGranular::near_list_current(const Particles& p, double margin) {
   Neighbor& list = *engine_.neighbor;
-  const double margin = 0.25 * list.skin;
   const int nall = p.size();
-  const Vec3* const x = p.x.data();
-  const double* const radius = p.radius.data();
   // a pair's distance changes by at most the sum of the two displacements:
-  // remade when a particle moved by half the margin, found by the neighbour
+  // stale when a particle moved by half the margin, found by the neighbour
   // list's watch at this step (all ranks remake theirs together, so that a
   // ghost's displacement is its owner's) or, when it did not look, here
   list.watch(0.25 * margin * margin);
   // (every build begins a new epoch)
-  bool rebuild = near_epoch_ != list.watch_epoch() || static_cast<int>(near_x_.size()) != nall;
-  if (!rebuild)
-    rebuild =
-        (!list.watch_checked() && Neighbor::moved_beyond(x, near_x_.data(), nall, 0.25 * margin * margin)) ||
-        !Neighbor::same_values(radius, near_r_.data(), nall);
-  if (!rebuild) return;
-  near_.clear();
-  const int* const owner = owner_.data();
-  for (int k = 0; k < nentries; ++k) {
-    const int i = owner[k], j = neigh[k];
-    const double reach = radius[i] + radius[j] + margin;
-    if ((x[i] - x[j]).squaredNorm() < reach * reach) {
-      near_.push_back(k);
-    } else if (nh > 0 && history_.touched(k)) {
-      // a contact that ended: forget its history, as the full scan would
-      history_.forget(k);
-    }
-  }
-  near_x_.assign(x, x + nall);
-  near_r_.assign(radius, radius + nall);
-  near_epoch_ = list.watch_epoch();
+  if (near_epoch_ != list.watch_epoch() || static_cast<int>(near_x_.size()) != nall) return false;
+  return !(!list.watch_checked() &&
+           Neighbor::moved_beyond(p.x.data(), near_x_.data(), nall, 0.25 * margin * margin)) &&
+         Neighbor::same_values(p.radius.data(), near_r_.data(), nall);
 }
 
 void PairGranular::compute() {

@@ -59,8 +59,9 @@ class PairGranular : public Pair {
   /// positions and radii then (owned particles and ghosts). Until some
   /// particle has moved by half that margin (or a radius changed, or the
   /// list was rebuilt) no other entry can touch, so the pair loop scans only
-  /// these; the contacts, their order and so the forces are the same.
-  void update_near_list(const Particles& p, const std::vector<int>& neigh, int nentries, int nh);
+  /// these; the contacts, their order and so the forces are the same. When it
+  /// is stale, the pair loop scans every entry and makes it anew on the way.
+  bool near_list_current(const Particles& p, double margin);
   std::vector<int> near_;
   std::vector<Vec3> near_x_;
   std::vector<double> near_r_;

@@ -3,14 +3,16 @@
 // (contact_kernels.h: a compiled hot kernel or RuntimeKernel) and on the
 // number type S (double: one contact at a time; lane::D2: two; lane::D4: four).
 //
-// In blocks of about kBlock contacts:
+// In blocks of about kPairBlock contacts:
 //  1. all list entries (or those of the caller's near list: the entries that
-//     can touch before it is rebuilt) as one stream, W at a time: which touch, without a
-//     branch per entry (whether a listed pair touches is close to a coin toss
-//     in a dense bed, and a mispredicted branch per entry costs more than the
-//     distance test itself); a contact that began takes a history slot, one
-//     that ended returns its slot;
-//     the contacts are appended to the block with their particle;
+//     can touch before it is remade) as one stream, W at a time: which touch,
+//     without a branch per entry (whether a listed pair touches is close to a
+//     coin toss in a dense bed, and a mispredicted branch per entry costs more
+//     than the distance test itself); a contact that began takes a history
+//     slot, one that ended returns its slot; the contacts are appended to the
+//     block with their two particles; when the caller asks for a new near
+//     list, the scan of all entries writes it on the way (the same way: no
+//     branch);
 //  2. for all contacts of the block, W at a time (lanes may hold contacts of
 //     different particles): geometry and contact::prepare() (the square roots
 //     and divisions that do not depend on the history: in one contact they form
@@ -29,6 +31,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "contact/contact_block.h"
 #include "contact/contact_kernels.h"
@@ -71,12 +74,20 @@ struct PairLoopData {
   /// the caller rebuilds it; stage 1 scans only these (null: every entry)
   const int* near = nullptr;
   int nnear = 0;
+  /// or, to make the near list anew: every entry is scanned and those whose
+  /// spheres are within near_margin of touching are written here, ascending
+  /// (room for all entries, plus the lanes of one group); pair_loop() returns
+  /// their number
+  int* near_out = nullptr;
+  double near_margin = 0.0;
 };
 
 constexpr int kPairBlock = 64;
 
+/// The pair loop (see the top of this file); returns the number of entries
+/// written to L.near_out (0 without).
 template <class K, class S>
-void pair_loop(const PairLoopData& L) {
+int pair_loop(const PairLoopData& L) {
   using namespace contact;
   using lane::V3;
   constexpr int W = lane::width<S>();
@@ -100,16 +111,31 @@ void pair_loop(const PairLoopData& L) {
   const contact::HistoryDt dt = L.dt;
   const bool newton = L.newton;
   MultiContact* const mc = L.mc;
-  // the block: list position and particle of each contact, the first stage's
-  // results; fewer than kPairBlock contacts before the last group of W entries
+  // the block: list position and the two particles of each contact, the
+  // first stage's results; fewer than kPairBlock contacts before the last
+  // group of W entries, and room for the copies of the last contact that
+  // fill the last group (pad_block())
   constexpr int kCap = kPairBlock + W;
-  int blk_k[kCap], blk_i[kCap];
+  int blk_k[kCap], blk_i[kCap], blk_j[kCap];
   PreparedT<S> prep[(kCap + W - 1) / W];
+
+  // one type pair: the lanes' material set once for all contacts
+  const bool one_material = materials.ntypes() == 1;
+  MaterialT<S> material{};
+  if (one_material) {
+    const PairMaterial* pm[W];
+    for (int l = 0; l < W; ++l)
+      pm[l] = &materials(1, 1);
+    set_materials(material, pm);
+  }
 
   // stages 2 and 3 for the n contacts of the block (contact/contact_block.h)
   // (the pointers and flags by value: one load each from the closure, not two)
-  auto flush = [&, f, torque, neigh, x, v, omega, radius, rmass, body_mass, type, slot, newton, nlocal,
-                mc](int n) {
+  auto flush = [&, f, torque, x, v, omega, radius, rmass, body_mass, type, slot, newton, nlocal, mc,
+                one_material](int n) {
+    pad_block<W>(blk_k, n);
+    pad_block<W>(blk_i, n);
+    pad_block<W>(blk_j, n);
     // (stage 1 took the slots of this block's new contacts: the pool stays put until the next block)
     double* const pool = nh > 0 ? history->pool() : nullptr;
     // R* and m* again only for pairs unlike the last group's (exact
@@ -117,12 +143,9 @@ void pair_loop(const PairLoopData& L) {
     // positive, so nothing matches at first
     S last_ri = lane::splat<S>(-1.0), last_rj = last_ri, last_mi = last_ri, last_mj = last_ri;
     S r_eff = last_ri, m_eff = last_ri;
-    auto geometry = [&](const int(&c)[W], GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
-      int ii[W], j[W];
-      for (int l = 0; l < W; ++l) {
-        ii[l] = blk_i[c[l]];
-        j[l] = neigh[blk_k[c[l]]];
-      }
+    auto geometry = [&](int m, GeometryT<S>& g, MaterialT<S>& mat) __attribute__((always_inline)) {
+      const int* const ii = blk_i + m;
+      const int* const j = blk_j + m;
       const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, j);
       const S r_i = lane::gather<S>(radius, ii);
       const S r_j = lane::gather<S>(radius, j);
@@ -189,30 +212,28 @@ void pair_loop(const PairLoopData& L) {
       }
       g.omega_i = lane::gather<S>(omega, ii);
       g.omega_j = lane::gather<S>(omega, j);
-      const PairMaterial* pm[W];
-      for (int l = 0; l < W; ++l)
-        pm[l] = &materials(type[ii[l]], type[j[l]]);
-      set_materials(mat, pm);
-    };
-    auto load = [&](const int(&c)[W], V3<S>& omega_i, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
-        __attribute__((always_inline)) {
-      int ii[W], j[W];
-      for (int l = 0; l < W; ++l) {
-        ii[l] = blk_i[c[l]];
-        j[l] = neigh[blk_k[c[l]]];
+      if (one_material) {
+        mat = material;
+      } else {
+        const PairMaterial* pm[W];
+        for (int l = 0; l < W; ++l)
+          pm[l] = &materials(type[ii[l]], type[j[l]]);
+        set_materials(mat, pm);
       }
-      v_rel = lane::gather<S>(v, ii) - lane::gather<S>(v, j);
+    };
+    auto load = [&](int m, V3<S>& v_rel, V3<S>& shear, SlipT<S>& slip, V3<S>& roll)
+        __attribute__((always_inline)) {
+      v_rel = lane::gather<S>(v, blk_i + m) - lane::gather<S>(v, blk_j + m);
       if (nh > 0) {
         const double* h[W];
         for (int l = 0; l < W; ++l)
-          h[l] = pool + static_cast<std::size_t>(slot[blk_k[c[l]]]) * nh;
+          h[l] = pool + static_cast<std::size_t>(slot[blk_k[m + l]]) * nh;
         load_history<K>(spec, h, shear, slip, roll);
       }
-      omega_i = lane::gather<S>(omega, ii);
     };
-    auto store = [&](const int(&c)[W], int nvalid, const GroupOut<S>& r) __attribute__((always_inline)) {
+    auto store = [&](int m, int nvalid, const GroupOut<S>& r) __attribute__((always_inline)) {
       for (int l = 0; l < nvalid; ++l) {
-        const int kk = blk_k[c[l]], i = blk_i[c[l]], j = neigh[kk];
+        const int kk = blk_k[m + l], i = blk_i[m + l], j = blk_j[m + l];
         if (nh > 0) store_history<K>(spec, r, l, pool + static_cast<std::size_t>(slot[kk]) * nh);
         // i's sums in memory, contact after contact: the same additions in
         // the same order as a running sum (no partner of i's row is i)
@@ -262,7 +283,12 @@ void pair_loop(const PairLoopData& L) {
         c[t][l + 1] = static_cast<std::int8_t>(c[t][l] + ((t >> l) & 1));
     return c;
   }();
-  auto stage1 = [&](auto entry, int n) __attribute__((always_inline)) {
+  // (near_out: the near list is made on the way, each entry near enough
+  // written at the end and the end moved on when it is; no branch)
+  int* const near_out = L.near_out;
+  const double near_margin = L.near_margin;
+  int nnear_out = 0;
+  auto stage1 = [&](auto entry, int n, auto make_near) __attribute__((always_inline)) {
     int nblock = 0;
     int q = 0;
     for (; q + W <= n; q += W) {
@@ -284,8 +310,16 @@ void pair_loop(const PairLoopData& L) {
         const int at = nblock + kLanesBelow[t][l];
         blk_k[at] = kk[l];
         blk_i[at] = ii[l];
+        blk_j[at] = jj[l];
       }
       nblock += kLanesBelow[t][W];
+      if constexpr (decltype(make_near)::value) {
+        const S reach = rsum + near_margin;
+        const int u = lane::bits(r2 < reach * reach);
+        for (int l = 0; l < W; ++l)
+          near_out[nnear_out + kLanesBelow[u][l]] = kk[l];
+        nnear_out += kLanesBelow[u][W];
+      }
       if (nh > 0) {
         int had = 0;  // the lanes that had a contact
         for (int l = 0; l < W; ++l)
@@ -309,15 +343,24 @@ void pair_loop(const PairLoopData& L) {
       const bool touching = (r2 < rsum * rsum) & (r2 != 0.0);
       blk_k[nblock] = k;
       blk_i[nblock] = i;
+      blk_j[nblock] = j;
       nblock += touching;
+      if constexpr (decltype(make_near)::value) {
+        const double reach = rsum + near_margin;
+        near_out[nnear_out] = k;
+        nnear_out += r2 < reach * reach;
+      }
       if (nh > 0) begin_or_end(k, touching);
     }
     if (nblock > 0) flush(nblock);
   };
   if (L.near)
-    stage1([&](int q) { return L.near[q]; }, L.nnear);
+    stage1([&](int q) { return L.near[q]; }, L.nnear, std::false_type{});
+  else if (near_out)
+    stage1([](int q) { return q; }, L.offset[nlocal], std::true_type{});
   else
-    stage1([](int q) { return q; }, L.offset[nlocal]);
+    stage1([](int q) { return q; }, L.offset[nlocal], std::false_type{});
+  return nnear_out;
 }
 
 }  // namespace granary
