@@ -32,6 +32,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#endif
 #if defined(__AVX__)
 #include <immintrin.h>
 #endif
@@ -342,6 +345,26 @@ template <class S>
   S r;
   for (int l = 0; l < width<S>(); ++l)
     set(r, l, a[idx[l]]);
+  return r;
+}
+
+/// The lanes l of W (1, 2 or 4) whose a[idx[l]] is not negative, as the bits
+/// of an int (bit l for lane l): with four lanes one vector of the four values
+/// and its sign bits (movmskps) instead of a test and a shift per lane.
+template <int W>
+[[gnu::always_inline]] inline int nonnegative_bits(const std::int32_t* a, const int* idx) {
+#if defined(__SSE4_1__)
+  if constexpr (W == 4) {
+    __m128i v = _mm_cvtsi32_si128(a[idx[0]]);
+    v = _mm_insert_epi32(v, a[idx[1]], 1);
+    v = _mm_insert_epi32(v, a[idx[2]], 2);
+    v = _mm_insert_epi32(v, a[idx[3]], 3);
+    return ~_mm_movemask_ps(_mm_castsi128_ps(v)) & 0xF;
+  }
+#endif
+  int r = 0;
+  for (int l = 0; l < W; ++l)
+    r |= static_cast<int>(a[idx[l]] >= 0) << l;
   return r;
 }
 

@@ -321,9 +321,9 @@ int pair_loop(const PairLoopData& L) {
         nnear_out += kLanesBelow[u][W];
       }
       if (nh > 0) {
-        int had = 0;  // the lanes that had a contact
-        for (int l = 0; l < W; ++l)
-          had |= static_cast<int>(slot[kk[l]] != kNone) << l;
+        // the lanes that had a contact (a slot: not negative)
+        static_assert(kNone < 0);
+        const int had = lane::nonnegative_bits<W>(slot, kk);
         if (had != t)
           for (int l = 0; l < W; ++l)
             begin_or_end(kk[l], (t >> l) & 1);
