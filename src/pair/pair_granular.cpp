@@ -207,6 +207,7 @@ void PairGranular::loop() {
   bool remake = false;  // the near list is made anew by this scan of every entry
   if (use_near) {
     if (near_list_current(p, margin)) {
+      L.use_near = true;
       L.near = near_.data();
       L.nnear = static_cast<int>(near_.size());
     } else {

@@ -71,7 +71,9 @@ struct PairLoopData {
   MultiContact* mc = nullptr;
   const Particles* particles = nullptr;
   /// optional near list: the list entries (ascending) that can touch before
-  /// the caller rebuilds it; stage 1 scans only these (null: every entry)
+  /// the caller remakes it; with use_near stage 1 scans only these (none
+  /// when nnear is 0), else every entry
+  bool use_near = false;
   const int* near = nullptr;
   int nnear = 0;
   /// or, to make the near list anew: every entry is scanned and those whose
@@ -354,7 +356,7 @@ int pair_loop(const PairLoopData& L) {
     }
     if (nblock > 0) flush(nblock);
   };
-  if (L.near)
+  if (L.use_near)
     stage1([&](int q) { return L.near[q]; }, L.nnear, std::false_type{});
   else if (near_out)
     stage1([](int q) { return q; }, L.offset[nlocal], std::true_type{});
