@@ -285,6 +285,37 @@ int pair_loop(const PairLoopData& L) {
         c[t][l + 1] = static_cast<std::int8_t>(c[t][l] + ((t >> l) & 1));
     return c;
   }();
+  // The lanes l of a[] set in t, in lane order, to out[0 ..] (the lanes not
+  // set after them: overwritten by the next group's, or past the end). With
+  // four lanes and AVX one permutation of the four values (kCompress[t]: the
+  // set lanes first) and one store: no position per lane and no scalar
+  // values kept for the stores (with W = 4 the indices of the group fill the
+  // registers and went to the stack).
+#if defined(__AVX__)
+  static constexpr auto kCompress = [] {
+    std::array<std::array<std::int32_t, 4>, 16> c{};
+    for (int t = 0; t < 16; ++t) {
+      int at = 0;
+      for (int l = 0; l < 4; ++l)
+        if ((t >> l) & 1) c[t][at++] = l;
+      for (int l = 0; l < 4; ++l)
+        if (!((t >> l) & 1)) c[t][at++] = l;
+    }
+    return c;
+  }();
+#endif
+  auto place = [](const int(&a)[W], int t, int* out) __attribute__((always_inline)) {
+#if defined(__AVX__)
+    if constexpr (W == 4) {
+      const __m128 v = _mm_castsi128_ps(_mm_setr_epi32(a[0], a[1], a[2], a[3]));
+      const __m128i order = _mm_loadu_si128(reinterpret_cast<const __m128i*>(kCompress[t].data()));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(v, order)));
+      return;
+    }
+#endif
+    for (int l = 0; l < W; ++l)
+      out[kLanesBelow[t][l]] = a[l];
+  };
   // (near_out: the near list is made on the way, each entry near enough
   // written at the end and the end moved on when it is; no branch)
   int* const near_out = L.near_out;
@@ -305,21 +336,15 @@ int pair_loop(const PairLoopData& L) {
       const S r2 = dot(d, d);
       // the lanes that touch, bit l for lane l
       const int t = lane::bits(lane::mask_and(r2 < rsum * rsum, r2 != 0.0));
-      // lane l goes after the touching lanes before it; a lane that does not
-      // touch is overwritten by the next one (independent stores: no chain
-      // of additions from lane to lane)
-      for (int l = 0; l < W; ++l) {
-        const int at = nblock + kLanesBelow[t][l];
-        blk_k[at] = kk[l];
-        blk_i[at] = ii[l];
-        blk_j[at] = jj[l];
-      }
+      // the touching lanes after the block's contacts, in lane order
+      place(kk, t, blk_k + nblock);
+      place(ii, t, blk_i + nblock);
+      place(jj, t, blk_j + nblock);
       nblock += kLanesBelow[t][W];
       if constexpr (decltype(make_near)::value) {
         const S reach = rsum + near_margin;
         const int u = lane::bits(r2 < reach * reach);
-        for (int l = 0; l < W; ++l)
-          near_out[nnear_out + kLanesBelow[u][l]] = kk[l];
+        place(kk, u, near_out + nnear_out);
         nnear_out += kLanesBelow[u][W];
       }
       if (nh > 0) {
