@@ -368,13 +368,13 @@ TEST_CASE("Mask reductions: bits, any and all of two and four lanes", "[contact]
   CHECK(lane::bits(false) == 0);
 }
 
-// nonnegative_bits() against a lane-by-lane test: every sign pattern of four
-// values (0 counts as not negative, INT32_MIN and -1 as negative), read
-// through indices in another order than the values'.
+// nonnegative_bits() against a lane-by-lane test: every pattern of signs of
+// W values (0, 7 and INT32_MAX count as not negative, -1 and INT32_MIN as
+// negative), read through indices in another order than the values'.
 template <int W>
 void check_nonnegative_bits() {
-  const std::int32_t values[3] = {0, -1, INT32_MIN};
-  const std::int32_t positive[2] = {7, INT32_MAX};
+  const std::int32_t nonnegative[3] = {0, 7, INT32_MAX};
+  const std::int32_t negative[2] = {-1, INT32_MIN};
   for (int pattern = 0; pattern < (1 << W); ++pattern) {
     std::int32_t a[2 * W];
     int idx[W];
@@ -382,7 +382,7 @@ void check_nonnegative_bits() {
     for (int l = 0; l < W; ++l) {
       const bool nonneg = (pattern >> l) & 1;
       idx[l] = 2 * W - 1 - 2 * l;  // reversed, every other value
-      a[idx[l]] = nonneg ? (l % 2 ? positive[l % 2] : 0) : values[1 + l % 2];
+      a[idx[l]] = nonneg ? nonnegative[l % 3] : negative[l % 2];
       a[idx[l] - 1] = nonneg ? -1 : 5;  // the neighbours say the opposite
       expect |= static_cast<int>(nonneg) << l;
     }

@@ -228,8 +228,8 @@ void PairGranular::loop() {
   const int nnear = pair_loop<Kernel, contact::lane::Wide>(L);
   if (remake) {
     near_.resize(static_cast<std::size_t>(nnear));
-    near_x_.assign(p.x.begin(), p.x.end());
-    near_r_.assign(p.radius.begin(), p.radius.end());
+    near_x_.assign(p.x.begin(), p.x.begin() + p.size());
+    near_r_.assign(p.radius.begin(), p.radius.begin() + p.size());
     near_epoch_ = engine_.neighbor->watch_epoch();
   }
   if (setup) near_epoch_ = -1;
@@ -245,9 +245,10 @@ bool PairGranular::near_list_current(const Particles& p, double margin) {
   list.watch(0.25 * margin * margin);
   // (every build begins a new epoch)
   if (near_epoch_ != list.watch_epoch() || static_cast<int>(near_x_.size()) != nall) return false;
-  return !(!list.watch_checked() &&
-           Neighbor::moved_beyond(p.x.data(), near_x_.data(), nall, 0.25 * margin * margin)) &&
-         Neighbor::same_values(p.radius.data(), near_r_.data(), nall);
+  if (!list.watch_checked() &&
+      Neighbor::moved_beyond(p.x.data(), near_x_.data(), nall, 0.25 * margin * margin))
+    return false;
+  return Neighbor::same_values(p.radius.data(), near_r_.data(), nall);
 }
 
 void PairGranular::compute() {
