@@ -397,6 +397,50 @@ TEST_CASE("nonnegative_bits: the lanes whose indexed values are not negative", "
   check_nonnegative_bits<4>();
 }
 
+// compress(): for every pattern of W lanes, the values of the set lanes
+// first, in lane order, and their number; differ_bits(): the lanes whose
+// 64-bit key differs from the one given.
+template <int W>
+void check_compress() {
+  for (int t = 0; t < (1 << W); ++t) {
+    std::int32_t in[W], out[W];
+    std::vector<std::int32_t> expect;
+    for (int l = 0; l < W; ++l) {
+      in[l] = 100 + 7 * l;
+      out[l] = -1;
+      if ((t >> l) & 1) expect.push_back(in[l]);
+    }
+    INFO("W = " << W << ", lanes " << t);
+    CHECK(lane::compress<W>(in, t, out) == static_cast<int>(expect.size()));
+    CHECK(std::vector<std::int32_t>(out, out + expect.size()) == expect);
+  }
+}
+
+template <class S>
+void check_differ_bits() {
+  constexpr int W = lane::width<S>();
+  const std::int64_t key = 0x123456789abLL;
+  for (int t = 0; t < (1 << W); ++t) {
+    std::int64_t k[W];
+    // differing keys: one bit of the high half, one of the low half, all bits
+    const std::int64_t other[3] = {key ^ (std::int64_t{1} << 40), key ^ 8, ~key};
+    for (int l = 0; l < W; ++l)
+      k[l] = (t >> l) & 1 ? other[l % 3] : key;
+    INFO("W = " << W << ", lanes " << t);
+    CHECK(lane::differ_bits<S>(k, lane::splat_int<S>(key)) == t);
+  }
+}
+
+TEST_CASE("compress and differ_bits: the lanes kept, in order, and the keys that differ",
+          "[contact][lanes]") {
+  check_compress<1>();
+  check_compress<2>();
+  check_compress<4>();
+  check_differ_bits<double>();
+  check_differ_bits<lane::D2>();
+  check_differ_bits<lane::D4>();
+}
+
 TEST_CASE("Only the hot models are compiled kernels", "[contact][lanes]") {
   auto compiled = [](const char* words) {
     std::vector<std::string> w;

@@ -22,6 +22,7 @@
 // option GRANARY_SIMD, doc/install.md) and D2 otherwise.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -366,6 +367,90 @@ template <int W>
   for (int l = 0; l < W; ++l)
     r |= static_cast<int>(a[idx[l]] >= 0) << l;
   return r;
+}
+
+/// The lanes l of W (1, 2 or 4) of a[] set in t to out[0 ..] in lane order;
+/// returns how many lanes are set. Any of out[0 .. W-1] may be written: what
+/// follows the set lanes is to be overwritten by what is stored next, or lie
+/// past the end. With four lanes and AVX one permutation of the four values
+/// (the set lanes first) and one store, instead of a position and a store per
+/// lane.
+template <int W>
+[[gnu::always_inline]] inline int compress(const std::int32_t* a, int t, std::int32_t* out) {
+  // below[t][l]: how many of the lanes 0 .. l-1 are set in t (l = W: all)
+  static constexpr auto below = [] {
+    std::array<std::array<std::int8_t, W + 1>, (1 << W)> c{};
+    for (int u = 0; u < (1 << W); ++u)
+      for (int l = 0; l < W; ++l)
+        c[u][l + 1] = static_cast<std::int8_t>(c[u][l] + ((u >> l) & 1));
+    return c;
+  }();
+#if defined(__AVX__)
+  if constexpr (W == 4) {
+    static constexpr auto order = [] {
+      std::array<std::array<std::int32_t, 4>, 16> c{};
+      for (int u = 0; u < 16; ++u) {
+        int at = 0;
+        for (int l = 0; l < 4; ++l)
+          if ((u >> l) & 1) c[u][at++] = l;
+        for (int l = 0; l < 4; ++l)
+          if (!((u >> l) & 1)) c[u][at++] = l;
+      }
+      return c;
+    }();
+    // (from the values, not a load: a[] may be a local array whose values are
+    // still in registers; where it is memory, the compiler makes one load)
+    const __m128 v = _mm_castsi128_ps(_mm_setr_epi32(a[0], a[1], a[2], a[3]));
+    const __m128i o = _mm_loadu_si128(reinterpret_cast<const __m128i*>(order[t].data()));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(v, o)));
+    return below[t][W];
+  }
+#endif
+  for (int l = 0; l < W; ++l)
+    out[below[t][l]] = a[l];
+  return below[t][W];
+}
+
+/// W consecutive doubles p[0 .. W-1] as the lanes of S.
+template <class S>
+[[gnu::always_inline]] inline S load(const double* p) {
+  if constexpr (std::is_same_v<S, double>) {
+    return *p;
+  } else {
+    S r;
+    std::memcpy(&r, p, sizeof r);
+    return r;
+  }
+}
+
+/// 64-bit integers, one per lane of S (for a double, one).
+template <class S>
+using Ints = std::conditional_t<std::is_same_v<S, double>, std::int64_t, Mask<S>>;
+/// a in every lane.
+template <class S>
+[[gnu::always_inline]] inline Ints<S> splat_int(std::int64_t a) {
+  if constexpr (std::is_same_v<S, double>) {
+    return a;
+  } else {
+    Ints<S> r;
+    for (int l = 0; l < width<S>(); ++l)
+      r[l] = a;
+    return r;
+  }
+}
+/// The lanes l whose k[l] (W consecutive 64-bit integers) differs from
+/// key's, as the bits of an int.
+template <class S>
+[[gnu::always_inline]] inline int differ_bits(const std::int64_t* k, Ints<S> key) {
+  if constexpr (std::is_same_v<S, double>) {
+    return *k != key;
+  } else {
+    Ints<S> v;
+    std::memcpy(&v, k, sizeof v);
+    // (the lanes that are equal, inverted: a comparison for "not equal" is
+    // one for equal and a negation of the mask)
+    return ~bits(static_cast<Mask<S>>(v == key)) & ((1 << width<S>()) - 1);
+  }
 }
 
 }  // namespace granary::contact::lane

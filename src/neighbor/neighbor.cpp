@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "comm/comm.h"
+#include "contact/lane.h"
 #include "core/engine.h"
 #include "core/error.h"
 #include "core/growth.h"
@@ -297,25 +298,33 @@ void Neighbor::build() {
   const bool prune = prune_bins_;
   pruned_bins_ = prune;
   prune_bins_ = occupied > 0 && static_cast<double>(nall) / static_cast<double>(occupied) > kCrowdedBin;
-  binpart_.resize(nall);
-  binx_.resize(nall);
-  binr_.resize(nall);
+  // the candidates are tested W at a time (the lanes of contact::lane::Wide)
+  using S = contact::lane::Wide;
+  constexpr int W = contact::lane::width<S>();
+  const std::size_t padded = static_cast<std::size_t>(nall) + (W - 1);
+  binpart_.resize(padded);
+  for (auto& c : binx_)
+    c.resize(padded);
+  binr_.resize(padded);
   // the key: the body's id for a sub-sphere, -1 - index for a free sphere
   auto key = [body](int i) { return body[i] >= 0 ? body[i] : -1 - static_cast<tagint>(i); };
-  if (bodies) binkey_.resize(nall);
+  if (bodies) binkey_.resize(padded);
   {
     std::vector<int> fill(binstart_.begin(), binstart_.end() - 1);
     for (int i = 0; i < nall; ++i) {
       const int k = fill[bin_of_[i]]++;
       binpart_[k] = i;
-      binx_[k] = x[i];
+      for (int d = 0; d < 3; ++d)
+        binx_[d][k] = x[i][d];
       binr_[k] = radius[i];
       if (bodies) binkey_[k] = key(i);
     }
   }
   const int* const bstart = binstart_.data();
   const int* const bpart = binpart_.data();
-  const Vec3* const bx = binx_.data();
+  const double* const bx = binx_[0].data();
+  const double* const by = binx_[1].data();
+  const double* const bz = binx_[2].data();
   const double* const br = binr_.data();
   const tagint* const bkey = bodies ? binkey_.data() : nullptr;
   // per bin: where its particles of index above the current i begin
@@ -359,25 +368,33 @@ void Neighbor::build() {
       gap[d][1] = above * above;
     }
     auto gap2 = [&](int d, int delta) { return delta == 0 ? 0.0 : gap[d][delta > 0]; };
-    // the candidates k of [kbeg, kend) within the cutoff (and of another body)
+    // the candidates k of [kbeg, kend) within the cutoff (and of another
+    // body), W at a time: the lanes within (past kend: none) placed at the
+    // end and the end moved on by their number; no branch on a candidate.
+    // Per lane the operations of (x_i - x_k).squaredNorm() < rc * rc in
+    // Eigen's order, so the list is the one a candidate at a time gives.
+    const S sx = contact::lane::splat<S>(xi[0]), sy = contact::lane::splat<S>(xi[1]),
+            sz = contact::lane::splat<S>(xi[2]), sri = contact::lane::splat<S>(ri);
+    const auto ski = contact::lane::splat_int<S>(ki);
+    // the candidates k .. k + W - 1 of the lanes set in `lanes`
+    auto group = [&](int* out, int k, int lanes) __attribute__((always_inline)) {
+      using contact::lane::load;
+      const S dx = sx - load<S>(bx + k), dy = sy - load<S>(by + k), dz = sz - load<S>(bz + k);
+      const S d2 = (dx * dx + dy * dy) + dz * dz;
+      const S rc = (sri + load<S>(br + k)) * rf + sk;
+      int t = contact::lane::bits(d2 < rc * rc) & lanes;
+      if (bkey) t &= contact::lane::differ_bits<S>(bkey + k, ski);
+      end += contact::lane::compress<W>(bpart + k, t, out + end);
+    };
     auto scan = [&](int kbeg, int kend) __attribute__((always_inline)) {
-      if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg))
+      if (neigh.size() < end + static_cast<std::size_t>(kend - kbeg) + W)
         grow_keep(neigh,
-                  std::max(neigh.size() + neigh.size() / 4, end + static_cast<std::size_t>(kend - kbeg)));
+                  std::max(neigh.size() + neigh.size() / 4, end + static_cast<std::size_t>(kend - kbeg) + W));
       int* const out = neigh.data();
-      if (bkey) {
-        for (int k = kbeg; k < kend; ++k) {
-          const double rc = (ri + br[k]) * rf + sk;
-          out[end] = bpart[k];
-          end += ((xi - bx[k]).squaredNorm() < rc * rc) & (bkey[k] != ki);
-        }
-      } else {
-        for (int k = kbeg; k < kend; ++k) {
-          const double rc = (ri + br[k]) * rf + sk;
-          out[end] = bpart[k];
-          end += (xi - bx[k]).squaredNorm() < rc * rc;
-        }
-      }
+      int k = kbeg;
+      for (; k + W <= kend; k += W)
+        group(out, k, (1 << W) - 1);
+      if (k < kend) group(out, k, (1 << (kend - k)) - 1);  // the last lanes past kend left out
     };
     for (int dz = -1; dz <= 1; ++dz) {
       const int z = cz + dz;

@@ -112,8 +112,11 @@ class Neighbor {
   std::vector<Vec3> watch_x_;  // owned particles' positions when the epoch began
   double watch_hold_ = 0.0;    // largest |watch_x_ - xhold_| (0 after a build)
   // bins: the particles of bin b are binpart_[binstart_[b] .. binstart_[b+1])
-  // in ascending index order, with their positions and radii in the same
-  // order (binx_, binr_) so that scanning a bin reads contiguous memory;
+  // in ascending index order, with their coordinates and radii in the same
+  // order (binx_[0], binx_[1], binx_[2], binr_) so that scanning a bin reads
+  // contiguous memory, a lane's worth of candidates per load; each array has
+  // lanes - 1 entries of padding after the last particle, read by a scan's
+  // last group and masked out;
   // with clumps also a key per particle that is equal for sub-spheres of one
   // body and unique otherwise (binkey_), so that pairs within a body are
   // left out as they are found
@@ -123,7 +126,7 @@ class Neighbor {
   // kCrowdedBin particles each (the lists are the same either way).
   bool prune_bins_ = false, pruned_bins_ = false;
   static constexpr double kCrowdedBin = 4.0;
-  std::vector<Vec3> binx_;
+  std::vector<double> binx_[3];
   std::vector<double> binr_;
   std::vector<std::int64_t> binkey_;  // (tagint)
 };

@@ -277,45 +277,10 @@ int pair_loop(const PairLoopData& L) {
   // particle), appending the contacts to the block: all entries, or the
   // entries of the near list L.near (ascending) when the caller keeps one.
   const int* const owner = L.owner;
-  // kLanesBelow[t][l]: how many of the lanes 0 .. l-1 are set in t (l = W: all)
-  static constexpr auto kLanesBelow = [] {
-    std::array<std::array<std::int8_t, W + 1>, (1 << W)> c{};
-    for (int t = 0; t < (1 << W); ++t)
-      for (int l = 0; l < W; ++l)
-        c[t][l + 1] = static_cast<std::int8_t>(c[t][l] + ((t >> l) & 1));
-    return c;
-  }();
-  // The lanes l of a[] set in t, in lane order, to out[0 ..] (the lanes not
-  // set after them: overwritten by the next group's, or past the end). With
-  // four lanes and AVX one permutation of the four values (kCompress[t]: the
-  // set lanes first) and one store: no position per lane and no scalar
-  // values kept for the stores (with W = 4 the indices of the group fill the
-  // registers and went to the stack).
-#if defined(__AVX__)
-  static constexpr auto kCompress = [] {
-    std::array<std::array<std::int32_t, 4>, 16> c{};
-    for (int t = 0; t < 16; ++t) {
-      int at = 0;
-      for (int l = 0; l < 4; ++l)
-        if ((t >> l) & 1) c[t][at++] = l;
-      for (int l = 0; l < 4; ++l)
-        if (!((t >> l) & 1)) c[t][at++] = l;
-    }
-    return c;
-  }();
-#endif
-  auto place = [](const int(&a)[W], int t, int* out) __attribute__((always_inline)) {
-#if defined(__AVX__)
-    if constexpr (W == 4) {
-      const __m128 v = _mm_castsi128_ps(_mm_setr_epi32(a[0], a[1], a[2], a[3]));
-      const __m128i order = _mm_loadu_si128(reinterpret_cast<const __m128i*>(kCompress[t].data()));
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(v, order)));
-      return;
-    }
-#endif
-    for (int l = 0; l < W; ++l)
-      out[kLanesBelow[t][l]] = a[l];
-  };
+  // The touching lanes' values after the block's (lane::compress: with four
+  // lanes and AVX one permutation and one store per array; with W = 4 the
+  // group's indices fill the registers, and went to the stack when stored a
+  // lane at a time).
   // (near_out: the near list is made on the way, each entry near enough
   // written at the end and the end moved on when it is; no branch)
   int* const near_out = L.near_out;
@@ -337,15 +302,13 @@ int pair_loop(const PairLoopData& L) {
       // the lanes that touch, bit l for lane l
       const int t = lane::bits(lane::mask_and(r2 < rsum * rsum, r2 != 0.0));
       // the touching lanes after the block's contacts, in lane order
-      place(kk, t, blk_k + nblock);
-      place(ii, t, blk_i + nblock);
-      place(jj, t, blk_j + nblock);
-      nblock += kLanesBelow[t][W];
+      lane::compress<W>(kk, t, blk_k + nblock);
+      lane::compress<W>(ii, t, blk_i + nblock);
+      nblock += lane::compress<W>(jj, t, blk_j + nblock);
       if constexpr (decltype(make_near)::value) {
         const S reach = rsum + near_margin;
         const int u = lane::bits(r2 < reach * reach);
-        place(kk, u, near_out + nnear_out);
-        nnear_out += kLanesBelow[u][W];
+        nnear_out += lane::compress<W>(kk, u, near_out + nnear_out);
       }
       if (nh > 0) {
         // the lanes that had a contact (a slot: not negative)
