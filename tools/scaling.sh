@@ -4,7 +4,7 @@
 # scaling to 16 ranks", as one script for a machine with many cores:
 #
 #   tools/scaling.sh [--ranks 16,8,4,2,1] [--nsteps 1000] [--vf 0.3] [--settle 6000]
-#                    [--balance 5] [--liggghts] [--out DIR] [--granary BUILD]
+#                    [--balance 5] [--liggghts] [--contention] [--out DIR] [--granary BUILD]
 #
 # 1. inserts the bed on one rank (in.bench_silo_large -var nfill 1);
 # 2. lets it settle with the shutter closed on the largest rank count
@@ -14,6 +14,11 @@
 #    `-var balance B` (0: none);
 # 4. with --liggghts, the same for LIGGGHTS on the largest count and one rank
 #    (its own insertion and settling; LIGGGHTS must be on PATH).
+# 5. with --contention, the machine's own limit for this work: a bed of 1/N
+#    the volume fraction (N the largest rank count) inserted and settled on
+#    one rank, its one-rank discharge run alone and then as N copies at once,
+#    each bound to its own core (taskset); the copies' slowdown is printed
+#    (contention.txt): the efficiency no program reaches on N ranks there.
 # With mpicc on PATH the discharges also record each rank's time inside
 # blocking MPI calls (tools/bench.py --mpi-times: the transfers and the
 # waits, per call, in a third table).
@@ -33,6 +38,7 @@ vf=0.3
 settle=6000
 balance=5
 liggghts=0
+contention=0
 out=scaling_out
 granary=$root/build/granary
 while [ $# -gt 0 ]; do
@@ -43,6 +49,7 @@ while [ $# -gt 0 ]; do
     --settle) settle=$2; shift 2 ;;
     --balance) balance=$2; shift 2 ;;
     --liggghts) liggghts=1; shift ;;
+    --contention) contention=1; shift ;;
     --out) out=$2; shift 2 ;;
     --granary) granary=$(realpath "$2"); shift 2 ;;
     -h | --help) sed -n '2,/^set -euo/p' "$0" | sed -n 's/^# \{0,1\}//p'; exit 0 ;;
@@ -101,4 +108,49 @@ for prog in granary liggghts; do
       --json "$out/granary_balance.json" --keep-output "$out/granary_balance_logs" "${mpitimes[@]}"
   fi
 done
-cat "$out"/*_discharge.screen "$out"/granary_balance.screen 2> /dev/null || true
+if [ "$contention" = 1 ]; then
+  # the bed of one rank's share, settled on one rank
+  vfc=$(awk -v v="$vf" -v n="$nmax" 'BEGIN { printf "%.6g", v / n }')
+  if [ ! -e "$out/c.settled.restart" ]; then
+    [ -e "$out/c.1.restart" ] ||
+      step contention_insert "$granary" -in "$bench/in.bench_silo_large" -var dir "$bench" -var nfill 1 \
+        -var vf "$vfc" -var out "$out/c.1.restart" -log "$out/c.insert.log"
+    step contention_settle "$granary" -in "$bench/in.bench_silo_large_run" -var dir "$bench" \
+      -var in "$out/c.1.restart" -var open 0 -var save 1 -var nsteps "$settle" -var out "$out/c.settled.restart.tmp" \
+      -log "$out/c.settle.log"
+    mv "$out/c.settled.restart.tmp" "$out/c.settled.restart"
+  fi
+  pin=()
+  command -v taskset > /dev/null && pin=(taskset -c)
+  copy() {  # copy NAME CORE: one one-rank discharge (bound to CORE with taskset)
+    local where=()
+    [ ${#pin[@]} -gt 0 ] && where=("${pin[@]}" "$2")
+    (cd "$out" && "${where[@]}" "$granary" -in "$bench/in.bench_silo_large_run" -var dir "$bench" \
+      -var in "$out/c.settled.restart" -var nsteps "$nsteps" -log "$out/$1.log" > "$out/$1.screen" 2>&1)
+  }
+  loop_s() { awk '/^Loop time of/ { print $4 }' "$out/$1.screen"; }
+  copy c.alone 0 || { echo "scaling.sh: the lone copy failed; see $out/c.alone.screen" >&2; exit 1; }
+  ncores=$(nproc)
+  pids=()
+  for ((k = 0; k < nmax; ++k)); do
+    copy "c.copy$k" $((k % ncores)) &
+    pids+=($!)
+  done
+  for k in "${!pids[@]}"; do
+    wait "${pids[$k]}" || { echo "scaling.sh: copy $k failed; see $out/c.copy$k.screen" >&2; exit 1; }
+  done
+  {
+    echo "contention: $nmax copies of the one-rank discharge (vf $vfc, $nsteps steps) on $ncores cores" \
+      "$([ ${#pin[@]} -gt 0 ] && echo "(each bound to a core)" || echo "(not bound: no taskset)")"
+    echo "alone: loop $(loop_s c.alone) s"
+    for ((k = 0; k < nmax; ++k)); do
+      echo "copy $k: loop $(loop_s "c.copy$k") s"
+    done
+    for ((k = 0; k < nmax; ++k)); do
+      loop_s "c.copy$k"
+    done | awk -v alone="$(loop_s c.alone)" '{ s += $1; if ($1 > m) m = $1 } END {
+      printf "copies: mean loop %.4g s, slowest %.4g s; alone / mean = %.3f (the efficiency the machine allows)\n",
+        s / NR, m, alone / (s / NR) }'
+  } > "$out/contention.txt"
+fi
+cat "$out"/*_discharge.screen "$out"/granary_balance.screen "$out"/contention.txt 2> /dev/null || true

@@ -3,6 +3,7 @@
 import io
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -233,12 +234,25 @@ class RealRun(unittest.TestCase):
             with open(os.path.join(tmp, "granary_balance.json")) as f:
                 rows = json.load(f)["results"]
             self.assertEqual([row["ranks"] for row in rows], [2])
-            # a second call starts from the settled bed of the first
-            r = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+            # a second call starts from the settled bed of the first; with
+            # --contention, a bed of half the volume fraction, run alone and
+            # as two copies at once
+            r = subprocess.run(cmd + ["--contention"], capture_output=True, text=True, cwd=ROOT)
             self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
             self.assertNotIn("granary_insert:", r.stdout)
             self.assertNotIn("granary_settle:", r.stdout)
             self.assertIn("granary_discharge:", r.stdout)
+            self.assertIn("contention_insert:", r.stdout)
+            with open(os.path.join(tmp, "contention.txt")) as f:
+                text = f.read()
+            self.assertIn("2 copies of the one-rank discharge (vf 0.01, 50 steps)", text)
+            loops = [float(re.search(r"loop (\S+) s", line).group(1))
+                     for line in text.splitlines() if line.startswith(("alone:", "copy "))]
+            self.assertEqual(len(loops), 3)
+            self.assertTrue(all(t > 0 for t in loops), text)
+            mean = (loops[1] + loops[2]) / 2
+            ratio = float(text.split("alone / mean = ")[1].split()[0])
+            self.assertAlmostEqual(ratio, loops[0] / mean, delta=0.002 * ratio + 0.001)
             # an unknown option: a clear error, exit status 2
             r = subprocess.run(["bash", script, "--rank", "4"], capture_output=True, text=True, cwd=ROOT)
             self.assertEqual(r.returncode, 2)
