@@ -46,6 +46,7 @@ import argparse
 import csv
 import math
 import os
+import re
 import sys
 
 DC = 3.2e-3
@@ -136,18 +137,24 @@ def main():
     if args.granary_rate <= 0 or args.liggghts_rate <= 0:
         sys.exit("--granary-rate and --liggghts-rate must be positive")
     rate = {"granary": args.granary_rate, "liggghts": args.liggghts_rate}
-    cases = []
+    cases, variants = [], []
     for name in sorted(os.listdir(args.results)):
-        if not name.startswith("r") or "_n50" in name:
+        # the paper's cases only (rR_phiPHI); the study's variants (other clump
+        # resolutions, cohesion: a suffix such as _n50 or _coh10000) are left out
+        m = re.fullmatch(r"r([0-9.]+)_phi([0-9.]+)", name)
+        if m is None:
+            if name.startswith("r") and os.path.isdir(os.path.join(args.results, name)):
+                variants.append(name)
             continue
-        r_word, phi_word = name[1:].split("_phi")
-        r, phi = float(r_word), float(phi_word)
+        r, phi = float(m.group(1)), float(m.group(2))
         c = campaign(os.path.join(args.results, name))
         if c is None:
             continue
         cases.append((r, phi, name, c))
     if not cases:
         sys.exit("no case with a complete cycle in " + args.results)
+    if variants:
+        print("(variants left out: %s)" % ", ".join(variants))
     print("| case | sub-spheres at 65 dc | cycles | simulated s | dt (us) | steps | particle-steps | "
           "Granary h, 1 / 16 / 64 cores | LIGGGHTS h, 1 / 16 / 64 cores |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")

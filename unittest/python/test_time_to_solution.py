@@ -25,11 +25,17 @@ class TimeToSolution(unittest.TestCase):
             write(os.path.join(case, "cycles.csv"), "cycle,finished,sim_time_s", ["0,1,99", "1,0,99"])
             write(os.path.join(case, "avalanches.csv"), "cycle,t_start,t_end,bodies,mass",
                   ["0,1.0,3.0,100,0.01", "0,3.0,3.5,0,0", "1,9.0,9.5,7,0.001"])
+            # variants of the study (another clump resolution, cohesion): named, not estimated
+            for variant in ("r3.2_phi0.05_n50", "r3.2_phi0.05_coh10000"):
+                os.makedirs(os.path.join(tmp, variant))
+                for f in ("cycles.csv", "avalanches.csv"):
+                    os.link(os.path.join(case, f), os.path.join(tmp, variant, f))
             r = subprocess.run([sys.executable, os.path.join(TOOLS, "time_to_solution.py"), "--results", tmp]
                                + list(extra), capture_output=True, text=True)
         self.assertEqual(r.returncode, 0, r.stderr)
         row = [line for line in r.stdout.splitlines() if line.startswith("| r3.2_phi0.05")]
         self.assertEqual(len(row), 1, r.stdout)
+        self.assertIn("(variants left out: r3.2_phi0.05_coh10000, r3.2_phi0.05_n50)", r.stdout)
         return [c.strip() for c in row[0].strip("|").split("|")]
 
     def test_by_hand(self):
