@@ -139,16 +139,19 @@ if [ "$contention" = 1 ]; then
   for k in "${!pids[@]}"; do
     wait "${pids[$k]}" || { echo "scaling.sh: copy $k failed; see $out/c.copy$k.screen" >&2; exit 1; }
   done
+  alone=$(loop_s c.alone)
+  loops=()
+  for ((k = 0; k < nmax; ++k)); do
+    loops+=("$(loop_s "c.copy$k")")
+  done
   {
     echo "contention: $nmax copies of the one-rank discharge (vf $vfc, $nsteps steps) on $ncores cores" \
       "$([ ${#pin[@]} -gt 0 ] && echo "(each bound to a core)" || echo "(not bound: no taskset)")"
-    echo "alone: loop $(loop_s c.alone) s"
-    for ((k = 0; k < nmax; ++k)); do
-      echo "copy $k: loop $(loop_s "c.copy$k") s"
+    echo "alone: loop $alone s"
+    for k in "${!loops[@]}"; do
+      echo "copy $k: loop ${loops[$k]} s"
     done
-    for ((k = 0; k < nmax; ++k)); do
-      loop_s "c.copy$k"
-    done | awk -v alone="$(loop_s c.alone)" '{ s += $1; if ($1 > m) m = $1 } END {
+    printf '%s\n' "${loops[@]}" | awk -v alone="$alone" '{ s += $1; if ($1 > m) m = $1 } END {
       printf "copies: mean loop %.4g s, slowest %.4g s; alone / mean = %.3f (the efficiency the machine allows)\n",
         s / NR, m, alone / (s / NR) }'
   } > "$out/contention.txt"

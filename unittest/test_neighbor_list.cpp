@@ -35,14 +35,14 @@ Partners listed(const granary::Engine& e) {
   return out;
 }
 
-Partners all_pairs(const granary::Engine& e, bool newton, bool bodies = false) {
+Partners all_pairs(const granary::Engine& e, bool newton) {
   const granary::Particles& p = *e.particles;
   const granary::Neighbor& list = *e.neighbor;
   Partners out(p.nlocal);
   for (int i = 0; i < p.nlocal; ++i) {
     for (int j = i + 1; j < p.size(); ++j) {
       if (j >= p.nlocal && (p.id[j] == p.id[i] || (newton && p.id[j] < p.id[i]))) continue;
-      if (bodies && p.body[i] >= 0 && p.body[i] == p.body[j]) continue;
+      if (p.body[i] >= 0 && p.body[i] == p.body[j]) continue;  // sub-spheres of one clump
       const double rc = (p.radius[i] + p.radius[j]) * list.range_factor + list.skin;
       if ((p.x[i] - p.x[j]).squaredNorm() < rc * rc) out[i].emplace_back(p.id[j], j);
     }
@@ -146,7 +146,7 @@ TEST_CASE("Neighbour list: all pairs of sub-spheres of different clumps and free
     // the clumps' bins are crowded: prune from the next build on
     s.cmd("run 0");
     REQUIRE(e.neighbor->pruned_bins());
-    const Partners b = all_pairs(e, newton == "on", true);
+    const Partners b = all_pairs(e, newton == "on");
     INFO(count(b) << " pairs within the cutoff");
     REQUIRE(count(b) > 5000);
     CHECK(listed(e) == b);
