@@ -4,7 +4,8 @@
 # scaling to 16 ranks", as one script for a machine with many cores:
 #
 #   tools/scaling.sh [--ranks 16,8,4,2,1] [--nsteps 1000] [--vf 0.3] [--settle 6000]
-#                    [--balance 5] [--liggghts] [--contention] [--out DIR] [--granary BUILD]
+#                    [--balance 5] [--liggghts] [--contention] [--contention-steps 2000]
+#                    [--out DIR] [--granary BUILD]
 #
 # 1. inserts the bed on one rank (in.bench_silo_large -var nfill 1);
 # 2. lets it settle with the shutter closed on the largest rank count
@@ -14,11 +15,15 @@
 #    `-var balance B` (0: none);
 # 4. with --liggghts, the same for LIGGGHTS on the largest count and one rank
 #    (its own insertion and settling; LIGGGHTS must be on PATH).
-# 5. with --contention, the machine's own limit for this work: a bed of 1/N
-#    the volume fraction (N the largest rank count) inserted and settled on
-#    one rank, its one-rank discharge run alone and then as N copies at once,
-#    each bound to its own core (taskset); the copies' slowdown is printed
-#    (contention.txt): the efficiency no program reaches on N ranks there.
+# 5. with --contention, the machine's own limit for this work: the settled
+#    bed cut into the N boxes of the N-rank processor grid (N the largest
+#    rank count; in.bench_silo_large_run -var part K), each box's particles
+#    discharged on one rank for --contention-steps steps, first each alone,
+#    then all N at once, each bound to its own core (taskset). The shares'
+#    summed loop times alone over beside the others (contention.txt) is the
+#    efficiency no program reaches on N ranks there: the same work without
+#    communication, slowed only by what the cores share (memory, caches,
+#    clock). The time all ran together is printed too.
 # With mpicc on PATH the discharges also record each rank's time inside
 # blocking MPI calls (tools/bench.py --mpi-times: the transfers and the
 # waits, per call, in a third table).
@@ -39,6 +44,7 @@ settle=6000
 balance=5
 liggghts=0
 contention=0
+csteps=2000
 out=scaling_out
 granary=$root/build/granary
 while [ $# -gt 0 ]; do
@@ -50,6 +56,7 @@ while [ $# -gt 0 ]; do
     --balance) balance=$2; shift 2 ;;
     --liggghts) liggghts=1; shift ;;
     --contention) contention=1; shift ;;
+    --contention-steps) csteps=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --granary) granary=$(realpath "$2"); shift 2 ;;
     -h | --help) sed -n '2,/^set -euo/p' "$0" | sed -n 's/^# \{0,1\}//p'; exit 0 ;;
@@ -109,51 +116,59 @@ for prog in granary liggghts; do
   fi
 done
 if [ "$contention" = 1 ]; then
-  # the bed of one rank's share, settled on one rank
-  vfc=$(awk -v v="$vf" -v n="$nmax" 'BEGIN { printf "%.6g", v / n }')
-  if [ ! -e "$out/c.settled.restart" ]; then
-    [ -e "$out/c.1.restart" ] ||
-      step contention_insert "$granary" -in "$bench/in.bench_silo_large" -var dir "$bench" -var nfill 1 \
-        -var vf "$vfc" -var out "$out/c.1.restart" -log "$out/c.insert.log"
-    step contention_settle "$granary" -in "$bench/in.bench_silo_large_run" -var dir "$bench" \
-      -var in "$out/c.1.restart" -var open 0 -var save 1 -var nsteps "$settle" -var out "$out/c.settled.restart.tmp" \
-      -log "$out/c.settle.log"
-    mv "$out/c.settled.restart.tmp" "$out/c.settled.restart"
+  # the shares of the largest rank count: its processor grid (read_restart
+  # prints it) cut into equal boxes, each box's particles alone on one rank
+  grid=$(cd "$out" && "${mpi[@]}" "$granary" -in "$bench/in.bench_silo_large_run" -var dir "$bench" \
+    -var in "$out/g.settled.restart" -var nsteps 0 -log none 2>&1 | awk '/MPI processor grid/ { print $1, $3, $5; exit }')
+  read -r px py pz <<< "$grid"
+  if [ -z "$pz" ] || [ "$pz" != 1 ] || [ $((px * py)) != "$nmax" ]; then
+    echo "scaling.sh: --contention expects a grid of $nmax x 1 boxes in z on $nmax ranks, found '$grid'" >&2
+    exit 1
   fi
   pin=()
   command -v taskset > /dev/null && pin=(taskset -c)
-  copy() {  # copy NAME CORE: one one-rank discharge (bound to CORE with taskset)
-    local where=()
-    [ ${#pin[@]} -gt 0 ] && where=("${pin[@]}" "$2")
+  share() {  # share NAME K CORE: box K's one-rank discharge (bound to CORE with taskset); NAME.span: start and end (s)
+    local where=() t0 rc=0
+    [ ${#pin[@]} -gt 0 ] && where=("${pin[@]}" "$3")
+    t0=$(date +%s.%N)
     (cd "$out" && "${where[@]}" "$granary" -in "$bench/in.bench_silo_large_run" -var dir "$bench" \
-      -var in "$out/c.settled.restart" -var nsteps "$nsteps" -log "$out/$1.log" > "$out/$1.screen" 2>&1)
+      -var in "$out/g.settled.restart" -var part "$2" -var px "$px" -var py "$py" -var nsteps "$csteps" \
+      -log "$out/$1.log" > "$out/$1.screen" 2>&1) || rc=$?
+    echo "$t0 $(date +%s.%N)" > "$out/$1.span"
+    return $rc
   }
   loop_s() { awk '/^Loop time of/ { print $4 }' "$out/$1.screen"; }
-  copy c.alone 0 || { echo "scaling.sh: the lone copy failed; see $out/c.alone.screen" >&2; exit 1; }
+  atoms() { awk '/^Loop time of/ { print $(NF - 1) }' "$out/$1.screen"; }
+  t0=$(date +%s%N)
+  for ((k = 0; k < nmax; ++k)); do
+    share "c.alone$k" "$k" 0 || { echo "scaling.sh: share $k alone failed; see $out/c.alone$k.screen" >&2; exit 1; }
+  done
   ncores=$(nproc)
   pids=()
   for ((k = 0; k < nmax; ++k)); do
-    copy "c.copy$k" $((k % ncores)) &
+    share "c.copy$k" "$k" $((k % ncores)) &
     pids+=($!)
   done
   for k in "${!pids[@]}"; do
-    wait "${pids[$k]}" || { echo "scaling.sh: copy $k failed; see $out/c.copy$k.screen" >&2; exit 1; }
+    wait "${pids[$k]}" || { echo "scaling.sh: share $k beside the others failed; see $out/c.copy$k.screen" >&2; exit 1; }
   done
-  alone=$(loop_s c.alone)
-  loops=()
-  for ((k = 0; k < nmax; ++k)); do
-    loops+=("$(loop_s "c.copy$k")")
-  done
+  echo "contention: $(( ($(date +%s%N) - t0) / 1000000 )) ms"
   {
-    echo "contention: $nmax copies of the one-rank discharge (vf $vfc, $nsteps steps) on $ncores cores" \
+    echo "contention: the bed cut into the $nmax boxes of the $px x $py grid of $nmax ranks, each box's" \
+      "particles discharged for $csteps steps on one rank, alone and all $nmax at once on $ncores cores" \
       "$([ ${#pin[@]} -gt 0 ] && echo "(each bound to a core)" || echo "(not bound: no taskset)")"
-    echo "alone: loop $alone s"
-    for k in "${!loops[@]}"; do
-      echo "copy $k: loop ${loops[$k]} s"
+    for ((k = 0; k < nmax; ++k)); do
+      echo "share $k: $(atoms "c.alone$k") particles, loop alone $(loop_s "c.alone$k") s, beside the others $(loop_s "c.copy$k") s"
     done
-    printf '%s\n' "${loops[@]}" | awk -v alone="$alone" '{ s += $1; if ($1 > m) m = $1 } END {
-      printf "copies: mean loop %.4g s, slowest %.4g s; alone / mean = %.3f (the efficiency the machine allows)\n",
-        s / NR, m, alone / (s / NR) }'
+    for ((k = 0; k < nmax; ++k)); do echo "$(loop_s "c.alone$k") $(loop_s "c.copy$k")"; done | awk '
+      { a += $1; t += $2; if ($2 > m) m = $2 } END {
+      printf "alone / beside the others: %.4g / %.4g s = %.3f (summed over the shares: the efficiency the machine allows this work on these cores; slowest share beside the others %.4g s)\n",
+        a, t, a / t, m }'
+    # from the last start to the first end all ran (start-up and reading included)
+    for ((k = 0; k < nmax; ++k)); do cat "$out/c.copy$k.span"; done | awk '
+      NR == 1 || $1 > t0 { t0 = $1 } NR == 1 || $2 < t1 { t1 = $2 } { s += $2 - $1 } END {
+      printf "all shares running together: %.3g s of the %.3g s each ran (start to exit, mean)\n",
+        (t1 > t0 ? t1 - t0 : 0), s / NR }'
   } > "$out/contention.txt"
 fi
 cat "$out"/*_discharge.screen "$out"/granary_balance.screen "$out"/contention.txt 2> /dev/null || true

@@ -79,6 +79,25 @@ Vec3 total_momentum(const Bodies& b) {
   return p;
 }
 
+// Clumps bouncing on the floor of the box of setup(), unsorted, in the order
+// `clumps` (templates and create_clump commands) made them or, with
+// `reverse`, stored in reverse order: no body's sub-spheres in sub-sphere
+// order, so that fix multisphere sums them through slots, not along runs.
+void clumps_on_floor(Sim& s, const std::vector<std::string>& clumps, bool reverse) {
+  std::vector<std::string> c = setup();
+  c.insert(c.end(), {"atom_modify sort 0 0", "fix g all gravity 9.81 vector 0 0 -1",
+                     "fix floor all wall/gran model hertz tangential history primitive type 1 zplane -0.05",
+                     "fix ms all multisphere", "fix nve all nve/sphere"});
+  c.insert(c.end(), clumps.begin(), clumps.end());
+  s.cmds(c);
+  if (!reverse) return;
+  granary::Particles& p = *s.e.particles;
+  std::vector<int> order(p.nlocal);
+  for (int i = 0; i < p.nlocal; ++i)
+    order[i] = p.nlocal - 1 - i;
+  p.permute(order);
+}
+
 double rotational_energy(const Bodies& b) {
   double e = 0.0;
   for (int k = 0; k < b.size(); ++k)
@@ -476,23 +495,11 @@ TEST_CASE("multisphere: body sums alike whether its sub-spheres lie in order or 
   // the floor's forces depend on each particle alone.
   auto run = [](bool reverse) {
     Sim s;
-    s.cmds({"units si", "atom_style granular", "atom_modify sort 0 0", "boundary f f f",
-            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05", "create_box 1 box", "neighbor 0.001 bin",
-            "neigh_modify delay 0", granary::test::materials(1, 5.e6, 0.45, 0.5, 0.5),
-            "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-5",
-            "fix g all gravity 9.81 vector 0 0 -1",
-            "fix floor all wall/gran model hertz tangential history primitive type 1 zplane -0.05",
-            "fix ms all multisphere", "fix nve all nve/sphere", kTriple,
-            "create_clump tri -0.02 0 -0.0465 omega 20 30 -10 vel 0.1 0 -0.3",
-            "create_clump tri 0.02 0.01 -0.046 omega -15 5 25 vel -0.05 0.1 -0.2"});
-    granary::Particles& p = *s.e.particles;
-    REQUIRE(p.nlocal == 6);
-    if (reverse) {
-      std::vector<int> order(p.nlocal);
-      for (int i = 0; i < p.nlocal; ++i)
-        order[i] = p.nlocal - 1 - i;
-      p.permute(order);
-    }
+    clumps_on_floor(s,
+                    {kTriple, "create_clump tri -0.02 0 -0.0465 omega 20 30 -10 vel 0.1 0 -0.3",
+                     "create_clump tri 0.02 0.01 -0.046 omega -15 5 25 vel -0.05 0.1 -0.2"},
+                    reverse);
+    REQUIRE(s.e.particles->nlocal == 6);
     s.cmd("run 2000");
     const Bodies& b = s.bodies();
     REQUIRE(b.size() == 2);
@@ -503,4 +510,42 @@ TEST_CASE("multisphere: body sums alike whether its sub-spheres lie in order or 
   const std::vector<Vec3> in_order = run(false), scattered = run(true);
   for (std::size_t k = 0; k < in_order.size(); ++k)
     CHECK(in_order[k] == scattered[k]);  // to the bit
+}
+
+TEST_CASE("multisphere: clumps of different templates keep their own shapes", "[multisphere]") {
+  // Clumps of templates with the same number and sizes of spheres but other
+  // offsets (dumbbells 2 and 3 mm long) tumble on the floor together. fix
+  // multisphere reads the offsets of all clumps of one template from one
+  // place: each sub-sphere must still sit where its own body's offsets put
+  // it (x = xcm + R d, the same operations: to the bit), with the
+  // sub-spheres in order (summed along runs) and in reverse order (slots).
+  const char* kLong =
+      "fix long all particletemplate/multisphere 15485863 atom_type 1 density constant 2500 nspheres 2 ntry "
+      "1000000 spheres -0.0015 0 0 0.001 0.0015 0 0 0.001 type 1";
+  for (const bool reverse : {false, true}) {
+    Sim s;
+    clumps_on_floor(s,
+                    {kDumbbell, kLong, "create_clump dumb -0.02 0 -0.046 omega 20 30 -10 vel 0.1 0 -0.3",
+                     "create_clump long -0.0165 0.0005 -0.04 omega -15 5 25 vel -0.05 0.1 -0.2",
+                     "create_clump dumb 0.02 0.01 -0.046 omega 5 -40 10 vel 0 0.05 -0.25",
+                     "create_clump long 0.017 0.01 -0.04 omega 30 10 -20 vel 0.05 -0.1 -0.3"},
+                    reverse);
+    const granary::Particles& p = *s.e.particles;
+    REQUIRE(p.nlocal == 8);
+    s.cmd("run 3000");
+    const Bodies& b = s.bodies();
+    REQUIRE(b.size() == 4);
+    int placed = 0;
+    for (int i = 0; i < p.nlocal; ++i) {
+      const int k = b.find(p.body[i]);
+      REQUIRE(k >= 0);
+      const int d = b.sphere_start[k] + static_cast<int>(p.id[i] - b.first_id[k]);
+      const Vec3 expected = b.xcm[k] + b.rotation(k) * b.offsets[d];
+      CHECK(p.x[i] == expected);
+      placed += p.x[i] == expected;
+    }
+    CHECK(placed == 8);
+    // the dumbbells met each other or the floor: spun and slowed
+    CHECK(b.vcm[0].z() > -0.3);
+  }
 }

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "comm/comm.h"
 #include "compute/compute.h"
@@ -28,6 +31,20 @@ namespace granary {
 namespace {
 
 constexpr const char* kIndexField = "multisphere/index";
+
+// The runs' bodies lie in id order, their sub-spheres in the order of the
+// spatial sort: the loops along the runs ask the cache for the body data of
+// the run this many runs ahead, so that it arrives while they work.
+constexpr int kAhead = 4;
+
+// every cache line of *p (write: the caller will store there)
+template <bool write = false, class T>
+inline void prefetch(const T* p) {
+  const char* const c = reinterpret_cast<const char*>(p);
+  for (std::size_t k = 0; k < sizeof(T); k += 64)
+    __builtin_prefetch(c + k, write);
+  __builtin_prefetch(c + sizeof(T) - 1, write);
+}
 
 /// cos and sin of x. NO_SQUISH's half angles are small (|omega| dt / 2, about
 /// 1e-3): below 0.01 the Taylor series to x^6 / x^7 equals the functions to
@@ -152,6 +169,7 @@ void FixMultisphere::init() {
 }
 
 void FixMultisphere::bodies_changed() {
+  shapes_stale_ = true;
   if (!engine_.modify) return;
   for (const auto& c : engine_.modify->computes)
     if (auto* out = dynamic_cast<BodyOutput*>(c.get())) out->bodies_changed(bodies_.size());
@@ -419,16 +437,12 @@ void FixMultisphere::index_spheres() {
   const Particles& p = *engine_.particles;
   const int n = p.nlocal;
   pbody_.resize(n);
-  pframe_.resize(n);
   pslot_.resize(n);
-  poffset_.resize(n);
   for (int i = 0; i < n; ++i) {
     int k;
     const int b = body_of(i, k);
     pbody_[i] = b;
-    pframe_[i] = b >= 0 ? bodies_.offsets[bodies_.sphere_start[b] + k] : Vec3::Zero();
     pslot_[i] = b >= 0 ? slot_[b] + k : -1;
-    poffset_[i] = b >= 0 ? Vec3(rot_[b] * pframe_[i]) : Vec3::Zero();
   }
   std::vector<int> owned(bodies_.size(), 0);
   for (int i = 0; i < n; ++i)
@@ -481,7 +495,39 @@ Vec3 FixMultisphere::omega_from(const Eigen::Matrix3d& r, int b) const {
   return r * lb;
 }
 
+void FixMultisphere::find_shapes() {
+  // Bodies of one template have the same offsets bit for bit (Bodies::add
+  // makes them alike from the template's); found by a hash of the bits and
+  // compared in full.
+  const Bodies& B = bodies_;
+  const int nb = B.size();
+  shape_start_.resize(nb);
+  std::unordered_map<std::uint64_t, std::vector<int>> seen;  // hash -> first bodies of their shapes
+  for (int b = 0; b < nb; ++b) {
+    const int s0 = B.sphere_start[b], ns = B.nspheres[b];
+    const std::size_t bytes = sizeof(Vec3) * static_cast<std::size_t>(ns);
+    const unsigned char* const bits = reinterpret_cast<const unsigned char*>(&B.offsets[s0]);
+    std::uint64_t h = 1469598103934665603ull ^ static_cast<std::uint64_t>(ns);
+    for (std::size_t c = 0; c + 8 <= bytes; c += 8) {
+      std::uint64_t w;
+      std::memcpy(&w, bits + c, 8);
+      h = (h ^ w) * 1099511628211ull;
+    }
+    std::vector<int>& same_hash = seen[h];
+    shape_start_[b] = s0;
+    for (const int c : same_hash) {
+      if (B.nspheres[c] == ns && std::memcmp(&B.offsets[B.sphere_start[c]], bits, bytes) == 0) {
+        shape_start_[b] = B.sphere_start[c];
+        break;
+      }
+    }
+    if (shape_start_[b] == s0) same_hash.push_back(b);
+  }
+  shapes_stale_ = false;
+}
+
 void FixMultisphere::check_index() {
+  if (shapes_stale_) find_shapes();
   if (reindex_) {
     reindex();
     return;
@@ -518,6 +564,7 @@ void FixMultisphere::reindex() {
     nslots += bodies_.nspheres[b];
   }
   part_.assign(6 * static_cast<std::size_t>(nslots), 0.0);
+  if (shapes_stale_) find_shapes();
   fetch_state();
   compute_rotations();
   index_spheres();
@@ -626,10 +673,12 @@ void FixMultisphere::place_spheres(bool positions) {
   check_index();
   Particles& p = *engine_.particles;
   const Domain& dom = *engine_.domain;
-  const int n = p.nlocal;
   const int* const pbody = pbody_.data();
-  const Vec3* const pframe = pframe_.data();
-  Vec3* const poffset = poffset_.data();
+  const int* const pslot = pslot_.data();
+  const int* const slot = slot_.data();
+  const int* const shape = shape_start_.data();
+  const int* const nspheres = bodies_.nspheres.data();
+  const Vec3* const offsets = bodies_.offsets.data();
   const Eigen::Matrix3d* const rot = rot_.data();
   const Vec3* const xcm = bodies_.xcm.data();
   const Vec3* const vcm = bodies_.vcm.data();
@@ -639,28 +688,40 @@ void FixMultisphere::place_spheres(bool positions) {
   Vec3* const v = p.v.data();
   Vec3* const w = p.omega.data();
   const int image0 = Particles::image_pack(0, 0, 0);
-  for (int i = 0; i < n; ++i) {
-    const int b = pbody[i];
-    if (b < 0) continue;
-    // the lever arm in a local: read back from poffset just after being
-    // stored, it would wait for the store (the loads straddle its two parts)
-    Vec3 r;
+  // sub-sphere i of body b, at offset d in the body frame
+  auto place = [&](int i, int b, const Vec3& d) {
+    const Vec3 r = rot[b] * d;
     if (positions) {
-      r = rot[b] * pframe[i];
-      poffset[i] = r;
       Vec3 xi = xcm[b] + r;
       if (image[i] != image0) {
         int img[3];
         Particles::image_unpack(image[i], img[0], img[1], img[2]);
-        for (int d = 0; d < 3; ++d)
-          if (dom.periodic[d]) xi[d] -= img[d] * dom.prd[d];
+        for (int c = 0; c < 3; ++c)
+          if (dom.periodic[c]) xi[c] -= img[c] * dom.prd[c];
       }
       x[i] = xi;
-    } else {
-      r = poffset[i];
     }
     v[i] = vcm[b] + omega[b].cross(r);
     w[i] = omega[b];
+  };
+  const int nruns = static_cast<int>(runs_.size());
+  for (int j = 0; j < nruns; ++j) {
+    if (j + kAhead < nruns) {
+      const int ahead = pbody[runs_[j + kAhead]];
+      prefetch(rot + ahead);
+      prefetch(xcm + ahead);
+      prefetch(vcm + ahead);
+      prefetch(omega + ahead);
+    }
+    const int start = runs_[j];
+    const int b = pbody[start];
+    const Vec3* const d = offsets + shape[b];
+    for (int k = 0; k < nspheres[b]; ++k)
+      place(start + k, b, d[k]);
+  }
+  for (const int i : slotted_spheres_) {
+    const int b = pbody[i];
+    place(i, b, offsets[shape[b] + pslot[i] - slot[b]]);
   }
 }
 
@@ -678,12 +739,17 @@ void FixMultisphere::sum_forces() {
   for (int b : partial_)
     std::fill_n(part + 6 * static_cast<std::size_t>(slot_[b]), 6 * bodies_.nspheres[b], 0.0);
   const int* const pslot = pslot_.data();
-  const Vec3* const poffset = poffset_.data();
+  const int* const pbody = pbody_.data();
+  const int* const shape = shape_start_.data();
+  const Vec3* const offsets = bodies_.offsets.data();
+  const Eigen::Matrix3d* const rot = rot_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
   // (free spheres and the sub-spheres summed along their body's run have no slot)
   for (const int i : slotted_spheres_) {
-    const Vec3 t = poffset[i].cross(f[i]) + torque[i];
+    const int b = pbody[i];
+    const Vec3 r = rot[b] * offsets[shape[b] + pslot[i] - slot_[b]];
+    const Vec3 t = r.cross(f[i]) + torque[i];
     double* s = part + 6 * static_cast<std::size_t>(pslot[i]);
     for (int d = 0; d < 3; ++d) {
       s[d] = f[i][d];
@@ -740,15 +806,27 @@ void FixMultisphere::sum_forces_runs() {
   // every sub-sphere's six values added to its body's totals in sub-sphere
   // order, as sum_forces() adds the slots
   const Particles& p = *engine_.particles;
-  const Vec3* const poffset = poffset_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
   const int* const nspheres = bodies_.nspheres.data();
-  for (const int start : runs_) {
+  const int* const shape = shape_start_.data();
+  const Vec3* const offsets = bodies_.offsets.data();
+  const int nruns = static_cast<int>(runs_.size());
+  for (int j = 0; j < nruns; ++j) {
+    if (j + kAhead < nruns) {
+      const int ahead = pbody_[runs_[j + kAhead]];
+      prefetch(&rot_[ahead]);
+      prefetch<true>(&bodies_.fcm[ahead]);
+      prefetch<true>(&bodies_.torque[ahead]);
+    }
+    const int start = runs_[j];
     const int b = pbody_[start];
+    const Eigen::Matrix3d& rot = rot_[b];
+    const Vec3* const d = offsets + shape[b];
     double total[6] = {0, 0, 0, 0, 0, 0};
     for (int i = start; i < start + nspheres[b]; ++i) {
-      const Vec3 t = poffset[i].cross(f[i]) + torque[i];
+      const Vec3 r = rot * d[i - start];
+      const Vec3 t = r.cross(f[i]) + torque[i];
       for (int d = 0; d < 3; ++d) {
         total[d] += f[i][d];
         total[3 + d] += t[d];

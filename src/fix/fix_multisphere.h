@@ -125,9 +125,11 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   void find_partners();
   /// Body index and sub-sphere index of owned particle i (-1 when free).
   int body_of(int i, int& k) const;
-  /// Fill the per-particle caches (body index, sub-sphere index, space-frame
-  /// offset) of the owned particles from the body field and the current rot_.
+  /// Fill the per-particle caches (body index, slot) of the owned particles
+  /// from the body field, and the runs and slots of the active bodies.
   void index_spheres();
+  /// shape_start_ of every body (after the bodies changed).
+  void find_shapes();
   /// reindex() when bodies or particles changed (collective flag), index_spheres()
   /// when only the number of owned particles differs from the caches.
   void check_index();
@@ -139,15 +141,20 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   std::vector<Eigen::Matrix3d> rot_;  // rotation matrix of each body at the current step
   // Per owned particle, valid from one neighbour-list build (pre_neighbor,
   // where particles are reordered) to the next: the body index (-1: free
-  // sphere or not yet taken over), its offset d in the body's frame (a copy
-  // of its entry in Bodies::offsets, read in particle order: the bodies'
-  // offsets lie in body order, scattered from the particles' order), and its
-  // offset R d in the space frame at the current step (set by
-  // place_spheres(true), read by sum_forces and place_spheres(false)).
-  // pslot_: the sub-sphere's slot in part_ (-1: summed along its body's run).
+  // sphere or not yet taken over) and the sub-sphere's slot in part_ (-1:
+  // summed along its body's run; sub-sphere k of body b in a slot has
+  // pslot_ = slot_[b] + k).
   std::vector<int> pbody_, pslot_;
   std::vector<int> slotted_spheres_;  // the owned particles with a slot (pslot_ >= 0), ascending
-  std::vector<Vec3> pframe_, poffset_;
+  // Per body: where its offsets in the body frame begin in Bodies::offsets,
+  // those of the first body with the same offsets, bit for bit (bodies of one
+  // template share them): placing and summing read a small table per
+  // template, not each body's copy. Set by find_shapes() when shapes_stale_.
+  std::vector<int> shape_start_;
+  bool shapes_stale_ = true;
+  // The space-frame offset of sub-sphere k of body b at the current step is
+  // rot_[b] * d_k, computed where needed (placing, summing): rot_ is set for
+  // the step before the sub-spheres are placed and kept until the next.
   // Force and torque of each sub-sphere of the active bodies (6 doubles per
   // slot; body b's sub-sphere k in slot slot_[b] + k, set from one reindex()
   // to the next; zero where another rank owns the sub-sphere).

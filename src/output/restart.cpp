@@ -913,9 +913,11 @@ void read_restart(Engine& e, const std::string& file) {
   e.modify->restart_materials = std::move(materials);
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "Read restart file %s: %lld particles at step %lld, time %g s (written on %s rank(s))\n",
+                "Read restart file %s: %lld particles at step %lld, time %g s (written on %s rank(s))\n"
+                "  %d by %d by %d MPI processor grid\n",
                 file.c_str(), static_cast<long long>(p.natoms), static_cast<long long>(step), u.time(),
-                g.count("written_on_ranks") ? g["written_on_ranks"][0].c_str() : "?");
+                g.count("written_on_ranks") ? g["written_on_ranks"][0].c_str() : "?", e.comm->procgrid[0],
+                e.comm->procgrid[1], e.comm->procgrid[2]);
   e.logger->print(buf);
 }
 

@@ -235,24 +235,41 @@ class RealRun(unittest.TestCase):
                 rows = json.load(f)["results"]
             self.assertEqual([row["ranks"] for row in rows], [2])
             # a second call starts from the settled bed of the first; with
-            # --contention, a bed of half the volume fraction, run alone and
-            # as two copies at once
-            r = subprocess.run(cmd + ["--contention"], capture_output=True, text=True, cwd=ROOT)
+            # --contention, the bed cut into the two boxes of the 2-rank grid,
+            # each box's particles run alone and beside the other
+            r = subprocess.run(cmd + ["--contention", "--contention-steps", "60"], capture_output=True, text=True,
+                               cwd=ROOT)
             self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
             self.assertNotIn("granary_insert:", r.stdout)
             self.assertNotIn("granary_settle:", r.stdout)
             self.assertIn("granary_discharge:", r.stdout)
-            self.assertIn("contention_insert:", r.stdout)
+            self.assertIn("contention:", r.stdout)
             with open(os.path.join(tmp, "contention.txt")) as f:
                 text = f.read()
-            self.assertIn("2 copies of the one-rank discharge (vf 0.01, 50 steps)", text)
-            loops = [float(re.search(r"loop (\S+) s", line).group(1))
-                     for line in text.splitlines() if line.startswith(("alone:", "copy "))]
-            self.assertEqual(len(loops), 3)
-            self.assertTrue(all(t > 0 for t in loops), text)
-            mean = (loops[1] + loops[2]) / 2
-            ratio = float(text.split("alone / mean = ")[1].split()[0])
-            self.assertAlmostEqual(ratio, loops[0] / mean, delta=0.002 * ratio + 0.001)
+            self.assertIn("the 2 boxes of the", text)
+            self.assertIn("discharged for 60 steps on one rank", text)
+            shares = re.findall(r"share (\d): (\d+) particles, loop alone (\S+) s, beside the others (\S+) s", text)
+            self.assertEqual([int(k) for k, _, _, _ in shares], [0, 1], text)
+            # the boxes part the bed: together they hold it but for the clumps their faces cut
+            total = rows[0]["particles"]
+            held = sum(int(n) for _, n, _, _ in shares)
+            self.assertLessEqual(held, total)
+            self.assertGreater(held, 0.8 * total)
+            self.assertTrue(all(int(n) > 0.2 * total for _, n, _, _ in shares), text)
+            alone = sum(float(a) for _, _, a, _ in shares)
+            beside = sum(float(b) for _, _, _, b in shares)
+            a, b, ratio = map(float, re.search(r"alone / beside the others: (\S+) / (\S+) s = (\S+)", text).groups())
+            self.assertAlmostEqual(a, alone, delta=0.001 * alone + 1e-3)
+            self.assertAlmostEqual(b, beside, delta=0.001 * beside + 1e-3)
+            self.assertAlmostEqual(ratio, alone / beside, delta=0.002 * ratio + 0.001)
+            # the shares ran side by side: together for part of each one's run, never longer than it
+            together, each = map(float, re.search(r"together: (\S+) s of the (\S+) s each", text).groups())
+            self.assertGreater(together, 0.0, text)
+            self.assertLessEqual(together, each * 1.001, text)
+            for k in (0, 1):
+                for name in ("c.alone%d" % k, "c.copy%d" % k):
+                    with open(os.path.join(tmp, name + ".screen")) as f:
+                        self.assertIn("for 60 steps", f.read())
             # an unknown option: a clear error, exit status 2
             r = subprocess.run(["bash", script, "--rank", "4"], capture_output=True, text=True, cwd=ROOT)
             self.assertEqual(r.returncode, 2)
