@@ -4,6 +4,8 @@
 #include <mpi.h>
 
 #include <catch2/catch.hpp>
+#include <cstdio>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -78,13 +80,27 @@ TEST_CASE("a restart written on N ranks continues on 1 and on N ranks") {
     e.input->one("run 600");
     e.input->one("write_restart " + file);
   }
+  std::string grid_said, grid_made;
   {
     granary::Engine e(MPI_COMM_WORLD);
     e.logger->set_screen(false);
+    const std::string log = "mpi_" + std::to_string(nprocs) + ".read.log";
+    e.logger->open_log(log, false);
     granary::test::run(e, restart_scene::restarted(file));
+    e.logger->close_log();
+    // read_restart says the grid it made, as LAMMPS does
+    if (rank == 0) {
+      std::ifstream in(log);
+      for (std::string line; std::getline(in, line);)
+        if (line.find("MPI processor grid") != std::string::npos) grid_said = line;
+      std::remove(log.c_str());
+    }
+    grid_made = "  " + std::to_string(e.comm->procgrid[0]) + " by " + std::to_string(e.comm->procgrid[1]) +
+                " by " + std::to_string(e.comm->procgrid[2]) + " MPI processor grid";
     e.input->one("run 600");
     on_world = gather(e, MPI_COMM_WORLD);
   }
+  if (rank == 0) CHECK(grid_said == grid_made);
   {
     granary::Engine e(MPI_COMM_SELF);
     e.logger->set_screen(false);
