@@ -564,7 +564,6 @@ void FixMultisphere::reindex() {
     nslots += bodies_.nspheres[b];
   }
   part_.assign(6 * static_cast<std::size_t>(nslots), 0.0);
-  if (shapes_stale_) find_shapes();
   fetch_state();
   compute_rotations();
   index_spheres();
@@ -674,8 +673,6 @@ void FixMultisphere::place_spheres(bool positions) {
   Particles& p = *engine_.particles;
   const Domain& dom = *engine_.domain;
   const int* const pbody = pbody_.data();
-  const int* const pslot = pslot_.data();
-  const int* const slot = slot_.data();
   const int* const shape = shape_start_.data();
   const int* const nspheres = bodies_.nspheres.data();
   const Vec3* const offsets = bodies_.offsets.data();
@@ -721,7 +718,7 @@ void FixMultisphere::place_spheres(bool positions) {
   }
   for (const int i : slotted_spheres_) {
     const int b = pbody[i];
-    place(i, b, offsets[shape[b] + pslot[i] - slot[b]]);
+    place(i, b, slotted_offset(i, b));
   }
 }
 
@@ -740,15 +737,13 @@ void FixMultisphere::sum_forces() {
     std::fill_n(part + 6 * static_cast<std::size_t>(slot_[b]), 6 * bodies_.nspheres[b], 0.0);
   const int* const pslot = pslot_.data();
   const int* const pbody = pbody_.data();
-  const int* const shape = shape_start_.data();
-  const Vec3* const offsets = bodies_.offsets.data();
   const Eigen::Matrix3d* const rot = rot_.data();
   const Vec3* const f = p.f.data();
   const Vec3* const torque = p.torque.data();
   // (free spheres and the sub-spheres summed along their body's run have no slot)
   for (const int i : slotted_spheres_) {
     const int b = pbody[i];
-    const Vec3 r = rot[b] * offsets[shape[b] + pslot[i] - slot_[b]];
+    const Vec3 r = rot[b] * slotted_offset(i, b);
     const Vec3 t = r.cross(f[i]) + torque[i];
     double* s = part + 6 * static_cast<std::size_t>(pslot[i]);
     for (int d = 0; d < 3; ++d) {

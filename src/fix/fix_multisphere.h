@@ -130,6 +130,10 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   void index_spheres();
   /// shape_start_ of every body (after the bodies changed).
   void find_shapes();
+  /// Body-frame offset of owned sub-sphere i of body b when it has a slot.
+  const Vec3& slotted_offset(int i, int b) const {
+    return bodies_.offsets[shape_start_[b] + pslot_[i] - slot_[b]];
+  }
   /// reindex() when bodies or particles changed (collective flag), index_spheres()
   /// when only the number of owned particles differs from the caches.
   void check_index();
@@ -138,7 +142,11 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   Vec3 omega_from(const Eigen::Matrix3d& r, int b) const;  ///< the same with the rotation matrix r of b
 
   Bodies bodies_;
-  std::vector<Eigen::Matrix3d> rot_;  // rotation matrix of each body at the current step
+  // Rotation matrix of each body at the current step, set before the
+  // sub-spheres are placed and kept until the next step: the space-frame
+  // offset (lever arm) of sub-sphere k of body b is rot_[b] * d_k, computed
+  // where needed (placing, summing), not stored.
+  std::vector<Eigen::Matrix3d> rot_;
   // Per owned particle, valid from one neighbour-list build (pre_neighbor,
   // where particles are reordered) to the next: the body index (-1: free
   // sphere or not yet taken over) and the sub-sphere's slot in part_ (-1:
@@ -152,9 +160,6 @@ class FixMultisphere : public Fix, public BodyRegistrar, public Clumps {
   // template, not each body's copy. Set by find_shapes() when shapes_stale_.
   std::vector<int> shape_start_;
   bool shapes_stale_ = true;
-  // The space-frame offset of sub-sphere k of body b at the current step is
-  // rot_[b] * d_k, computed where needed (placing, summing): rot_ is set for
-  // the step before the sub-spheres are placed and kept until the next.
   // Force and torque of each sub-sphere of the active bodies (6 doubles per
   // slot; body b's sub-sphere k in slot slot_[b] + k, set from one reindex()
   // to the next; zero where another rank owns the sub-sphere).
