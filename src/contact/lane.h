@@ -369,6 +369,21 @@ template <int W>
   return r;
 }
 
+/// The same for a[0 .. W-1].
+template <int W>
+[[gnu::always_inline]] inline int nonnegative_bits(const std::int32_t* a) {
+#if defined(__SSE2__)
+  if constexpr (W == 4) {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a));
+    return ~_mm_movemask_ps(_mm_castsi128_ps(v)) & 0xF;
+  }
+#endif
+  int r = 0;
+  for (int l = 0; l < W; ++l)
+    r |= static_cast<int>(a[l] >= 0) << l;
+  return r;
+}
+
 /// The lanes l of W (1, 2 or 4) of a[] set in t to out[0 ..] in lane order;
 /// returns how many lanes are set. Any of out[0 .. W-1] may be written: what
 /// follows the set lanes is to be overwritten by what is stored next, or lie

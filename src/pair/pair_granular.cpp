@@ -209,6 +209,9 @@ void PairGranular::loop() {
     if (near_list_current(p, margin)) {
       L.use_near = true;
       L.near = near_.data();
+      L.near_i = near_i_.data();
+      L.near_j = near_j_.data();
+      L.near_slot = near_slot_.data();
       L.nnear = static_cast<int>(near_.size());
     } else {
       remake = true;
@@ -228,6 +231,22 @@ void PairGranular::loop() {
   const int nnear = pair_loop<Kernel, contact::lane::Wide>(L);
   if (remake) {
     near_.resize(static_cast<std::size_t>(nnear));
+    // the entries' particles and slots, read in step with the entries while
+    // the list is used
+    assign_fresh(near_i_, near_.size(), 0);
+    assign_fresh(near_j_, near_.size(), 0);
+    if (nh > 0) assign_fresh(near_slot_, near_.size(), ContactHistory::kNone);
+    const std::int32_t* const slot = nh > 0 ? history_.slots() : nullptr;
+    // (the entries ascend: their particle is found by walking the offsets,
+    // not read from owner_, a value per list entry)
+    for (int q = 0, i = 0; q < nnear; ++q) {
+      const int k = near_[q];
+      while (L.offset[i + 1] <= k)
+        ++i;
+      near_i_[q] = i;
+      near_j_[q] = L.neigh[k];
+      if (slot) near_slot_[q] = slot[k];
+    }
     near_x_.assign(p.x.begin(), p.x.begin() + p.size());
     near_r_.assign(p.radius.begin(), p.radius.begin() + p.size());
     near_epoch_ = engine_.neighbor->watch_epoch();

@@ -55,14 +55,18 @@ class PairGranular : public Pair {
   std::vector<int> owner_;         // particle of each neighbour-list entry (pair loop)
   std::int64_t owner_build_ = -1;  // the list build owner_ belongs to
   /// The near list: the entries of the neighbour list whose spheres were
-  /// within a quarter of the skin of touching when it was built, with the
-  /// positions and radii then (owned particles and ghosts). Until some
+  /// within a quarter of the skin of touching when it was built, their two
+  /// particles (copied, so that the pair loop reads them in step with the
+  /// entries and not from the arrays of all entries), and the positions and
+  /// radii then (owned particles and ghosts). Until some
   /// particle has moved by half that margin (or a radius changed, or the
   /// list was rebuilt) no other entry can touch, so the pair loop scans only
   /// these; the contacts, their order and so the forces are the same. When it
   /// is stale, the pair loop scans every entry and makes it anew on the way.
   bool near_list_current(const Particles& p, double margin);
   std::vector<int> near_;
+  std::vector<int> near_i_, near_j_;     // the particle and neighbour of each near entry
+  std::vector<std::int32_t> near_slot_;  // and its history slot (with history)
   std::vector<Vec3> near_x_;
   std::vector<double> near_r_;
   std::int64_t near_epoch_ = -1;  // the neighbour list's watch epoch when it was made

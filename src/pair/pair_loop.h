@@ -5,14 +5,14 @@
 //
 // In blocks of about kPairBlock contacts:
 //  1. all list entries (or those of the caller's near list: the entries that
-//     can touch before it is remade) as one stream, W at a time: which touch,
-//     without a branch per entry (whether a listed pair touches is close to a
-//     coin toss in a dense bed, and a mispredicted branch per entry costs more
-//     than the distance test itself); a contact that began takes a history
-//     slot, one that ended returns its slot; the contacts are appended to the
-//     block with their two particles; when the caller asks for a new near
-//     list, the scan of all entries writes it on the way (the same way: no
-//     branch);
+//     can touch before it is remade, with their two particles) as one
+//     stream, W at a time: which touch, without a branch per entry (whether a
+//     listed pair touches is close to a coin toss in a dense bed, and a
+//     mispredicted branch per entry costs more than the distance test
+//     itself); a contact that began takes a history slot, one that ended
+//     returns its slot; the contacts are appended to the block with their two
+//     particles; when the caller asks for a new near list, the scan of all
+//     entries writes it on the way (the same way: no branch);
 //  2. for all contacts of the block, W at a time (lanes may hold contacts of
 //     different particles): geometry and contact::prepare() (the square roots
 //     and divisions that do not depend on the history: in one contact they form
@@ -71,10 +71,16 @@ struct PairLoopData {
   MultiContact* mc = nullptr;
   const Particles* particles = nullptr;
   /// optional near list: the list entries (ascending) that can touch before
-  /// the caller remakes it; with use_near stage 1 scans only these (none
-  /// when nnear is 0), else every entry
+  /// the caller remakes it, their two particles (owner[near[q]] and
+  /// neigh[near[q]]) and, with history, their slots (slots()[near[q]], kept
+  /// equal to it: stage 1 writes both when a contact begins or ends); all
+  /// copied to be read in step with near, not through it; with use_near
+  /// stage 1 scans only these (none when nnear is 0), else every entry
   bool use_near = false;
   const int* near = nullptr;
+  const int* near_i = nullptr;
+  const int* near_j = nullptr;
+  std::int32_t* near_slot = nullptr;
   int nnear = 0;
   /// or, to make the near list anew: every entry is scanned and those whose
   /// spheres are within near_margin of touching are written here, ascending
@@ -286,16 +292,17 @@ int pair_loop(const PairLoopData& L) {
   int* const near_out = L.near_out;
   const double near_margin = L.near_margin;
   int nnear_out = 0;
-  auto stage1 = [&](auto entry, int n, auto make_near) __attribute__((always_inline)) {
+  // (entry(q, k, i, j): the q-th entry scanned, its particle and neighbour;
+  // slots: the near list's slots, in step with the entries, or null: those
+  // of the entries)
+  auto stage1 = [&](auto entry, std::int32_t* const slots, int n, auto make_near)
+      __attribute__((always_inline)) {
     int nblock = 0;
     int q = 0;
     for (; q + W <= n; q += W) {
       int kk[W], ii[W], jj[W];
-      for (int l = 0; l < W; ++l) {
-        kk[l] = entry(q + l);
-        ii[l] = owner[kk[l]];
-        jj[l] = neigh[kk[l]];
-      }
+      for (int l = 0; l < W; ++l)
+        entry(q + l, kk[l], ii[l], jj[l]);
       const V3<S> d = lane::gather<S>(x, ii) - lane::gather<S>(x, jj);
       const S rsum = lane::gather<S>(radius, ii) + lane::gather<S>(radius, jj);
       const S r2 = dot(d, d);
@@ -313,10 +320,14 @@ int pair_loop(const PairLoopData& L) {
       if (nh > 0) {
         // the lanes that had a contact (a slot: not negative)
         static_assert(kNone < 0);
-        const int had = lane::nonnegative_bits<W>(slot, kk);
-        if (had != t)
+        const int had = slots ? lane::nonnegative_bits<W>(slots + q) : lane::nonnegative_bits<W>(slot, kk);
+        if (had != t) {
           for (int l = 0; l < W; ++l)
             begin_or_end(kk[l], (t >> l) & 1);
+          if (slots)
+            for (int l = 0; l < W; ++l)
+              slots[q + l] = slot[kk[l]];
+        }
       }
       if (nblock >= kPairBlock) {
         flush(nblock);
@@ -324,9 +335,8 @@ int pair_loop(const PairLoopData& L) {
       }
     }
     for (; q < n; ++q) {  // the last entries, one lane's arithmetic
-      const int k = entry(q);
-      const int i = owner[k];
-      const int j = neigh[k];
+      int k, i, j;
+      entry(q, k, i, j);
       const Vec3 d = x[i] - x[j];
       const double rsum = radius[i] + radius[j];
       const double r2 = d.squaredNorm();
@@ -340,16 +350,32 @@ int pair_loop(const PairLoopData& L) {
         near_out[nnear_out] = k;
         nnear_out += r2 < reach * reach;
       }
-      if (nh > 0) begin_or_end(k, touching);
+      if (nh > 0) {
+        begin_or_end(k, touching);
+        if (slots) slots[q] = slot[k];
+      }
     }
     if (nblock > 0) flush(nblock);
   };
+  // (the near list's particles from its own arrays, in step with it: through
+  // owner[k] and neigh[k] each entry would cost two lines of arrays that
+  // hold every list entry, most of them not near)
+  auto near_entry = [near = L.near, near_i = L.near_i, near_j = L.near_j](int q, int& k, int& i, int& j) {
+    k = near[q];
+    i = near_i[q];
+    j = near_j[q];
+  };
+  auto every_entry = [owner, neigh](int q, int& k, int& i, int& j) {
+    k = q;
+    i = owner[q];
+    j = neigh[q];
+  };
   if (L.use_near)
-    stage1([&](int q) { return L.near[q]; }, L.nnear, std::false_type{});
+    stage1(near_entry, nh > 0 ? L.near_slot : nullptr, L.nnear, std::false_type{});
   else if (near_out)
-    stage1([](int q) { return q; }, L.offset[nlocal], std::true_type{});
+    stage1(every_entry, nullptr, L.offset[nlocal], std::true_type{});
   else
-    stage1([](int q) { return q; }, L.offset[nlocal], std::false_type{});
+    stage1(every_entry, nullptr, L.offset[nlocal], std::false_type{});
   return nnear_out;
 }
 
