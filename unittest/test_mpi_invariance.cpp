@@ -22,7 +22,9 @@
 #include "core/update.h"
 #include "neighbor/contact_history.h"
 #include "core/force.h"
+#include "neighbor/neighbor.h"
 #include "pair/pair.h"
+#include "pair/pair_granular.h"
 #include "particles/particles.h"
 #include "script_engine.h"
 
@@ -34,6 +36,7 @@ struct Snapshot {
   std::map<long long, granary::Vec3> x;
   long long contacts = 0;
   long long migrated_particles = 0, migrated_contacts = 0;
+  std::int64_t nbuilds = 0, watch_epoch = 0;
 };
 
 // tiled: comm_style tiled, the boxes recut by recursive bisection every 300 steps
@@ -76,10 +79,16 @@ std::vector<std::string> bed_script(const std::string& newton, int steps, bool t
   };
 }
 
-Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps, bool tiled = false) {
+// near: the pair loop scans its near list (the default), else every entry
+Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps, bool tiled = false, bool near = true) {
   granary::Engine e(comm);
   e.logger->set_screen(false);
-  granary::test::run(e, bed_script(newton, steps, tiled));
+  std::vector<std::string> script = bed_script(newton, steps, tiled);
+  const std::string run_line = script.back();
+  script.pop_back();
+  granary::test::run(e, script);
+  dynamic_cast<granary::PairGranular&>(*e.force->pair).near_list = near;
+  granary::test::run(e, {run_line});
   Snapshot s;
   const auto& p = *e.particles;
   // gather positions by id
@@ -112,6 +121,8 @@ Snapshot run_bed(MPI_Comm comm, const std::string& newton, int steps, bool tiled
   MPI_Allreduce(&local_contacts, &s.contacts, 1, MPI_LONG_LONG, MPI_SUM, comm);
   MPI_Allreduce(&e.comm->migrated_particles, &s.migrated_particles, 1, MPI_LONG_LONG, MPI_SUM, comm);
   MPI_Allreduce(&e.comm->migrated_contacts, &s.migrated_contacts, 1, MPI_LONG_LONG, MPI_SUM, comm);
+  s.nbuilds = e.neighbor->nbuilds;
+  s.watch_epoch = e.neighbor->watch_epoch();
   return s;
 }
 
@@ -166,4 +177,32 @@ TEST_CASE("poured bed gives the same physics on tiles of recursive bisection (co
   // changes nothing beyond round-off is checked step by step in
   // test_mpi_balance ("rcb recut ... the next steps").
   compare(ref, par, 1e-8);
+}
+
+// The near list (its entries' particles and history slots kept beside it,
+// ghosts among them) against a scan of every list entry, on the same ranks:
+// the same contacts in the same order, so the same positions to the bit.
+TEST_CASE("poured bed: the pair loop's near list gives the full scan's positions on every rank count") {
+  const int steps = 1500;
+  for (const std::string newton : {"off", "on"}) {
+    INFO("newton " << newton);
+    const Snapshot full = run_bed(MPI_COMM_WORLD, newton, steps, false, false);
+    const Snapshot near = run_bed(MPI_COMM_WORLD, newton, steps, false, true);
+    REQUIRE(near.natoms == full.natoms);
+    int differ = 0;
+    for (const auto& kv : full.x) {
+      auto it = near.x.find(kv.first);
+      REQUIRE(it != near.x.end());
+      for (int d = 0; d < 3; ++d)
+        differ += it->second[d] != kv.second[d];
+    }
+    CHECK(differ == 0);
+    CHECK(near.contacts == full.contacts);
+    CHECK(near.contacts > 500);
+    CHECK(near.nbuilds == full.nbuilds);
+    // the near list was remade between builds (on the neighbour list's watch)
+    INFO(near.nbuilds << " builds, watch epoch " << near.watch_epoch);
+    CHECK(near.watch_epoch - near.nbuilds > 10);
+    CHECK(full.watch_epoch == full.nbuilds);
+  }
 }
