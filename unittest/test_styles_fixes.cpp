@@ -66,6 +66,39 @@ TEST_CASE("fix gravity: free fall follows x0 + v0 t - g t^2 / 2", "[fix]") {
   CHECK(s.e.fix_value("g", 0) == Approx(pe_all).epsilon(1e-12));
 }
 
+// Gravity and nve/sphere of group all read no group masks (every particle is
+// in it); of another group they act on its particles only.
+TEST_CASE("fix gravity and nve/sphere: group all, and a group that leaves particles out", "[fix]") {
+  struct Groups {
+    std::string gravity, nve;
+  };
+  for (const Groups groups : {Groups{"all", "all"}, Groups{"falling", "all"}, Groups{"all", "falling"}}) {
+    INFO("fix gravity of group " << groups.gravity << ", nve/sphere of group " << groups.nve);
+    Sim s;
+    s.cmds(kBox);
+    s.cmds({"create_atoms 1 single 0 0 0", "create_atoms 1 single 0.1 0 0", "create_atoms 1 single 0.2 0 0",
+            "set type 1 diameter 0.01 density 2000", "velocity all set 0 0 1", "group falling id 1 3",
+            "fix g " + groups.gravity + " gravity 9.81 vector 0 0 -1", "fix i " + groups.nve + " nve/sphere",
+            "run 1000"});
+    const double t = 0.1, g = 9.81;
+    for (long long id : {1, 2, 3}) {
+      INFO("particle " << id);
+      Vec3 x, v;
+      state(s.e, id, x, v);
+      if (id != 2 || (groups.gravity == "all" && groups.nve == "all")) {  // falls
+        CHECK(x[2] == Approx(1.0 * t - 0.5 * g * t * t).epsilon(1e-9));
+        CHECK(v[2] == Approx(1.0 - g * t).epsilon(1e-9));
+      } else if (groups.nve == "all") {  // moves, without gravity
+        CHECK(x[2] == Approx(1.0 * t).epsilon(1e-12));
+        CHECK(v[2] == 1.0);
+      } else {  // not moved
+        CHECK(x[2] == 0.0);
+        CHECK(v[2] == 1.0);
+      }
+    }
+  }
+}
+
 TEST_CASE("fix gravity: spherical and chute directions, variables, errors", "[fix]") {
   Sim s;
   s.cmds(kBox);

@@ -93,6 +93,11 @@ class FixGravity : public Fix {
     const int* const mask = p.mask.data();
     const Vec3 acc = acc_;
     const int bit = groupbit, n = p.nlocal;
+    if (bit == 1) {  // group all (bit 0 is every particle's): no mask to read
+      for (int i = 0; i < n; ++i)
+        f[i] += rmass[i] * acc;
+      return;
+    }
     for (int i = 0; i < n; ++i)
       if (mask[i] & bit) f[i] += rmass[i] * acc;
   }

@@ -110,6 +110,14 @@ class FixNveSphere : public Fix {
   // particles outside the group or in clumps are computed and not used.
   template <Pass kPass>
   void integrate(double dt) {
+    // group all (bit 0 is every particle's): no mask to read
+    if (groupbit == 1)
+      integrate<kPass, true>(dt);
+    else
+      integrate<kPass, false>(dt);
+  }
+  template <Pass kPass, bool kAll>
+  void integrate(double dt) {
     constexpr bool First = kPass != Pass::kSecond;
     constexpr int kKicks = kPass == Pass::kBoth ? 2 : 1;
     Particles& p = *engine_.particles;
@@ -122,7 +130,7 @@ class FixNveSphere : public Fix {
     const tagint* const body = p.body.data();
     const int bit = groupbit, n = p.nlocal;
     auto update = [&](int i, double dtfm, double dtirotate) {
-      if (!(mask[i] & bit) || body[i] >= 0) return;
+      if (!(kAll || (mask[i] & bit)) || body[i] >= 0) return;
       for (int k = 0; k < kKicks; ++k)
         v[i] += dtfm * f[i];
       if constexpr (First) x[i] += dt * v[i];
@@ -144,7 +152,8 @@ class FixNveSphere : public Fix {
     };
     int i = 0;
     for (; i + 1 < n; i += 2) {
-      const bool free0 = (mask[i] & bit) && body[i] < 0, free1 = (mask[i + 1] & bit) && body[i + 1] < 0;
+      const bool free0 = (kAll || (mask[i] & bit)) && body[i] < 0,
+                 free1 = (kAll || (mask[i + 1] & bit)) && body[i + 1] < 0;
       if (!free0 && !free1) continue;  // (clump sub-spheres lie together: skipped without the divisions)
       const Eigen::Array2d m(rmass[i], rmass[i + 1]);
       const Eigen::Array2d r(radius[i], radius[i + 1]);
