@@ -137,8 +137,9 @@ if [ "$contention" = 1 ]; then
     echo "$t0 $(date +%s.%N)" > "$out/$1.span"
     return $rc
   }
-  loop_s() { awk '/^Loop time of/ { print $4 }' "$out/$1.screen"; }
-  atoms() { awk '/^Loop time of/ { print $(NF - 1) }' "$out/$1.screen"; }
+  # (the last run: a share's run of no steps that sorts it comes first)
+  loop_s() { awk '/^Loop time of/ { t = $4 } END { print t }' "$out/$1.screen"; }
+  atoms() { awk '/^Loop time of/ { n = $(NF - 1) } END { print n }' "$out/$1.screen"; }
   t0=$(date +%s%N)
   for ((k = 0; k < nmax; ++k)); do
     share "c.alone$k" "$k" 0 || { echo "scaling.sh: share $k alone failed; see $out/c.alone$k.screen" >&2; exit 1; }

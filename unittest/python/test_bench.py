@@ -269,7 +269,10 @@ class RealRun(unittest.TestCase):
             for k in (0, 1):
                 for name in ("c.alone%d" % k, "c.copy%d" % k):
                     with open(os.path.join(tmp, name + ".screen")) as f:
-                        self.assertIn("for 60 steps", f.read())
+                        screen = f.read()
+                    self.assertIn("for 60 steps", screen)
+                    # the share sorted after the cut by a run of no steps before its discharge
+                    self.assertLess(screen.index("for 0 steps"), screen.index("for 60 steps"))
             # an unknown option: a clear error, exit status 2
             r = subprocess.run(["bash", script, "--rank", "4"], capture_output=True, text=True, cwd=ROOT)
             self.assertEqual(r.returncode, 2)
