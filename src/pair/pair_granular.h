@@ -56,9 +56,10 @@ class PairGranular : public Pair {
   std::int64_t owner_build_ = -1;  // the list build owner_ belongs to
   /// The near list: the entries of the neighbour list whose spheres were
   /// within a quarter of the skin of touching when it was built, their two
-  /// particles (copied, so that the pair loop reads them in step with the
-  /// entries and not from the arrays of all entries), and the positions and
-  /// radii then (owned particles and ghosts). Until some
+  /// particles and history slots (copied, so that the pair loop reads them
+  /// in step with the entries and not from the arrays of all entries; the
+  /// pair loop keeps the slots equal to the entries' own), and the positions
+  /// and radii then (owned particles and ghosts). Until some
   /// particle has moved by half that margin (or a radius changed, or the
   /// list was rebuilt) no other entry can touch, so the pair loop scans only
   /// these; the contacts, their order and so the forces are the same. When it
