@@ -91,6 +91,9 @@ class Fix {
   /// Seconds this rank spent in the fix's timestep hooks since the setup of
   /// the current run (kept by Modify, printed by the run's timing report).
   double run_time = 0.0;
+  /// Whether the group is `all` (index 0, which every particle is in and no
+  /// command removes one from): a loop over the group needs no mask test.
+  bool group_is_all() const { return igroup == 0; }
 
  protected:
   /// The number of particles of the group that are spheres of clumps (collective).

@@ -93,7 +93,7 @@ class FixGravity : public Fix {
     const int* const mask = p.mask.data();
     const Vec3 acc = acc_;
     const int bit = groupbit, n = p.nlocal;
-    if (bit == 1) {  // group all (bit 0 is every particle's): no mask to read
+    if (group_is_all()) {  // no mask to read
       for (int i = 0; i < n; ++i)
         f[i] += rmass[i] * acc;
       return;

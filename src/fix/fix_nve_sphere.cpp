@@ -110,8 +110,8 @@ class FixNveSphere : public Fix {
   // particles outside the group or in clumps are computed and not used.
   template <Pass kPass>
   void integrate(double dt) {
-    // group all (bit 0 is every particle's): no mask to read
-    if (groupbit == 1)
+    // (group all: no mask to read)
+    if (group_is_all())
       integrate<kPass, true>(dt);
     else
       integrate<kPass, false>(dt);
