@@ -11,6 +11,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import unittest
 
@@ -56,7 +57,6 @@ def loaded_objects(trace_dir):
     return out
 
 
-@unittest.skipUnless(os.path.exists("/usr/bin/orterun") and shutil.which("ldd"), "Open MPI's orterun or ldd missing")
 class PortableBundle(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -128,4 +128,8 @@ class PortableBundle(unittest.TestCase):
 
 
 if __name__ == "__main__":
+    if not (os.path.exists("/usr/bin/orterun") and shutil.which("ldd")):
+        # ctest reports exit status 77 as skipped
+        print("SKIPPED: the bundle needs Open MPI's /usr/bin/orterun and ldd")
+        sys.exit(77)
     unittest.main()
