@@ -73,7 +73,7 @@ fi
 cp "$ompi"/*.so "$tmp/ompi/"
 if [ -d /usr/share/openmpi ]; then cp -r /usr/share/openmpi "$tmp/share/"; fi
 # every library the executables and plugins load, and the loader
-{ for f in "$tmp"/real/* "$tmp"/ompi/*.so; do if [ -e "$f" ]; then ldd "$f" || true; fi; done; } 2> /dev/null |
+{ for f in "$tmp/real/"* "$tmp/ompi/"*.so; do if [ -e "$f" ]; then ldd "$f" || true; fi; done; } 2> /dev/null |
   awk '$3 ~ /^\// { print $3 } $1 ~ /^\/.*ld-linux/ { print $1 }' | sort -u |
   while read -r lib; do cp -L "$lib" "$tmp/lib/"; done
 cp -L /lib64/ld-linux-x86-64.so.2 "$tmp/lib/"
